@@ -1,0 +1,14 @@
+// Write-then-rename, so that no half-written file ever looks complete.
+#pragma once
+
+#include <string>
+
+namespace lista::io {
+
+// Writes `content` to "<path>.tmp.<pid>" and renames it to `path`.
+void write_file_atomic(const std::string& path, const std::string& content);
+
+// Commits a temp file to its final name (throws lista::Error on failure).
+void commit_file(const std::string& temp_path, const std::string& final_path);
+
+}  // namespace lista::io

@@ -1,0 +1,24 @@
+// poses.txt / poses_gt.txt: TUM (8 fields) or KITTI (12 fields) per line,
+// told apart by field count; '#' starts a comment.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace lista::io {
+
+struct PoseRecord {
+  double timestamp = 0.0;  // TUM timestamp; KITTI: line index
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+};
+
+// Throws lista::Error "file:line: ..." for a malformed line, a mixed layout or
+// a rotation that is not orthonormal (tolerance 1e-3, then re-orthonormalised).
+std::vector<PoseRecord> read_poses(const std::string& path);
+
+enum class PoseFormat { tum, kitti };
+void write_poses(const std::string& path, const std::vector<PoseRecord>& poses,
+                 PoseFormat format = PoseFormat::tum);  // atomic
+
+}  // namespace lista::io

@@ -1,0 +1,29 @@
+// Objects: clusters of change points, one per mission appearance.
+#pragma once
+
+#include <lista/points.hpp>
+
+#include <string>
+#include <vector>
+
+namespace lista {
+
+struct Object {
+  int id = -1;           // unique within an ObjectSet (and the report)
+  uint32_t mission = 0;  // index into ObjectSet::missions
+  PointSet points;       // common frame, with provenance
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  Eigen::Vector3f bbox_min = Eigen::Vector3f::Zero();
+  Eigen::Vector3f bbox_max = Eigen::Vector3f::Zero();
+  void update_geometry();  // recomputes centroid and bounds from points
+};
+
+struct ObjectSet {
+  std::vector<std::string> missions;
+  std::vector<Object> objects;
+  const Object* find(int id) const;
+  // Renumbers ids 0..n-1 in order (after a stage adds or removes objects).
+  void renumber();
+};
+
+}  // namespace lista

@@ -1,0 +1,45 @@
+// Writing a plugin: one shared library, one exported entry point.
+//
+//   static void register_stages(lista::Registrar& r) {
+//     r.add(MyStage::info(), [](const lista::Params& p) { return std::make_unique<MyStage>(p); });
+//   }
+//   LISTA_PLUGIN(register_stages)
+//
+// The core loads the library with RTLD_NOW, reads the manifest through the
+// Boost.DLL alias `lista_plugin_manifest`, refuses it if the SDK version or
+// build fingerprint differ from its own, then calls register_stages.
+// Libraries are never unloaded.
+#pragma once
+
+#include <lista/stage.hpp>
+#include <lista/version.hpp>
+
+#include <boost/dll/alias.hpp>
+#include <cstdint>
+
+namespace lista {
+
+class Registrar {
+ public:
+  virtual ~Registrar() = default;
+  virtual void add(StageInfo info, StageFactory factory) = 0;
+};
+
+// Plain layout so the core can read the version before touching C++ types.
+struct PluginManifest {
+  uint32_t sdk_version;
+  const char* build_fingerprint;
+  void (*register_stages)(Registrar&);
+};
+
+}  // namespace lista
+
+#define LISTA_PLUGIN(register_fn)                                                       \
+  namespace lista_plugin_detail {                                                        \
+  const ::lista::PluginManifest* manifest() {                                            \
+    static const ::lista::PluginManifest m{LISTA_SDK_VERSION, LISTA_BUILD_FINGERPRINT,   \
+                                           &register_fn};                                \
+    return &m;                                                                           \
+  }                                                                                      \
+  }                                                                                      \
+  BOOST_DLL_ALIAS(lista_plugin_detail::manifest, lista_plugin_manifest)

@@ -1,0 +1,36 @@
+// SDK version and build fingerprint: what a plugin must share with the core
+// to be loaded. Bump LISTA_SDK_VERSION whenever a public header changes the
+// layout of a type that crosses the plugin boundary.
+#pragma once
+
+#include <Eigen/Core>
+
+#define LISTA_SDK_VERSION 1u
+
+#define LISTA_STRINGIFY_IMPL(x) #x
+#define LISTA_STRINGIFY(x) LISTA_STRINGIFY_IMPL(x)
+
+// Everything that changes the binary layout of SDK types: compiler family and
+// major version, libstdc++ string ABI, pointer size and Eigen version (Eigen
+// types cross the boundary). A plugin built with a different fingerprint is
+// refused with a message naming both.
+#if defined(LISTA_FINGERPRINT_OVERRIDE)
+#define LISTA_BUILD_FINGERPRINT LISTA_FINGERPRINT_OVERRIDE
+#else
+#if defined(__clang__)
+#define LISTA_COMPILER_ID "clang" LISTA_STRINGIFY(__clang_major__)
+#elif defined(__GNUC__)
+#define LISTA_COMPILER_ID "gcc" LISTA_STRINGIFY(__GNUC__)
+#else
+#define LISTA_COMPILER_ID "unknown"
+#endif
+#if defined(_GLIBCXX_USE_CXX11_ABI)
+#define LISTA_STRING_ABI "cxx11abi" LISTA_STRINGIFY(_GLIBCXX_USE_CXX11_ABI)
+#else
+#define LISTA_STRING_ABI "cxx11abi?"
+#endif
+#define LISTA_BUILD_FINGERPRINT                                            \
+  LISTA_COMPILER_ID "/" LISTA_STRING_ABI "/ptr" LISTA_STRINGIFY(           \
+      __SIZEOF_POINTER__) "/eigen" LISTA_STRINGIFY(EIGEN_WORLD_VERSION) "." \
+      LISTA_STRINGIFY(EIGEN_MAJOR_VERSION) "." LISTA_STRINGIFY(EIGEN_MINOR_VERSION)
+#endif
