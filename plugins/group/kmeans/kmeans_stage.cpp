@@ -1,0 +1,100 @@
+// group.kmeans: the paper's grouping. Descriptors are clustered with K-means
+// for K = 1..k_max and K is taken at the elbow of the WCSS curve (see
+// kmeans.hpp for the exact rule), unless `k` fixes it.
+#include "group_result.hpp"
+#include "kmeans.hpp"
+
+#include <lista/lista.hpp>
+
+#include <algorithm>
+
+namespace lista::grouping {
+
+namespace {
+
+class KMeansStage : public Stage {
+ public:
+  explicit KMeansStage(const Params& p)
+      : k_(p.get<int>("k")), k_max_(p.get<int>("k_max")) {
+    cfg_.restarts = p.get<int>("restarts");
+    cfg_.max_iterations = p.get<int>("max_iterations");
+  }
+
+  Outputs run(const Inputs& in, Context& ctx) override {
+    const auto& d = in.get<DescriptorSet>("descriptors");
+    check_descriptors(d);
+    const Eigen::MatrixXd x = to_double(d);
+    const int n = static_cast<int>(x.rows());
+    cfg_.seed = ctx.seed();
+    Outputs out;
+    if (n == 0) {
+      Groups g;
+      g.method = "group.kmeans";
+      out.put("groups", std::move(g));
+      return out;
+    }
+
+    KMeansResult chosen;
+    int k = 0;
+    if (k_ > 0) {
+      k = std::min(k_, n);
+      chosen = kmeans(x, k, cfg_);
+    } else {
+      const int kmax = std::min(k_max_, n);
+      std::vector<KMeansResult> runs(kmax);
+      std::vector<double> wcss(kmax);
+      for (int kk = 1; kk <= kmax; ++kk) {
+        ctx.throw_if_cancelled();
+        runs[kk - 1] = kmeans(x, kk, cfg_);
+        wcss[kk - 1] = runs[kk - 1].wcss;
+      }
+      k = elbow_k(wcss);
+      chosen = std::move(runs[k - 1]);
+      std::string curve;
+      for (double w : wcss) curve += (curve.empty() ? "" : " ") + std::to_string(w);
+      ctx.debug("WCSS for K=1.." + std::to_string(kmax) + ": " + curve);
+    }
+    ctx.info(std::to_string(n) + " objects in " + std::to_string(k) + " groups");
+    ctx.record("k", k);
+    ctx.record("wcss", chosen.wcss);
+    out.put("groups", make_groups("group.kmeans", d.object_ids, x, chosen.labels));
+    return out;
+  }
+
+ private:
+  int k_, k_max_;
+  KMeansConfig cfg_;
+};
+
+StageInfo info() {
+  StageInfo s;
+  s.name = "group.kmeans";
+  s.version = "1.0.0";
+  s.summary = "K-means grouping of object descriptors, K by the WCSS elbow";
+  s.doc =
+      "K-means (Lloyd, k-means++ seeding from the run seed, best of `restarts`) on the descriptor rows. "
+      "With k = 0, K-means runs for K = 1..min(k_max, objects) and K is the elbow of the within-cluster "
+      "sum of squares: with K and WCSS both scaled to [0,1], the K farthest below the chord joining K=1 "
+      "and K=Kmax. Fewer than 3 objects, or a flat curve, give one group. Group confidence = 1 - min-max "
+      "normalised mean distance to the centroid (1 = most compact); object confidence = 1 - distance to "
+      "its centroid / the largest such distance.";
+  s.inputs = {{"descriptors", "descriptors", "one descriptor per object"}};
+  s.outputs = {{"groups", "groups", "group per object with confidences"}};
+  s.params = {
+      ParamSpec::integer("k", 0, "fixed number of groups; 0 = choose by the elbow rule").range(0, 1000),
+      ParamSpec::integer("k_max", 10, "largest K tried by the elbow rule").range(1, 1000),
+      ParamSpec::integer("restarts", 10, "k-means++ seedings per K; the lowest WCSS wins").range(1, 1000),
+      ParamSpec::integer("max_iterations", 300, "Lloyd iterations per seeding").range(1, 100000),
+  };
+  return s;
+}
+
+void register_stages(Registrar& r) {
+  r.add(info(), [](const Params& p) { return std::make_unique<KMeansStage>(p); });
+}
+
+}  // namespace
+
+}  // namespace lista::grouping
+
+LISTA_PLUGIN(lista::grouping::register_stages)
