@@ -1,0 +1,48 @@
+// Turns one object's points (any count, partial view, any density, any yaw)
+// into a fixed-size, yaw-canonical point set: the input of the learned
+// descriptor, shared by describe.learned, lista-train and the benchmark so the
+// three always see exactly the same preprocessing.
+//
+// Steps (all O(n) or O(n log n), deterministic):
+//  1. centre on the centroid;
+//  2. yaw: rotate about z so the major principal axis of the horizontal
+//     spread is +x, its sign fixed by the third moment (skew) along it;
+//     objects stand on floors, so z stays up and only yaw is removed;
+//  3. voxel-grid in that frame (cell = extent / grid) so dense near-sensor
+//     patches do not dominate, one centroid per occupied cell;
+//  4. pick exactly `points` cells with a seeded shuffle (repeat cells when
+//     there are fewer), in cell-key order so the result does not depend on
+//     the input order's relation to the frame.
+// Rotating the input about z changes nothing but float rounding.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace lista::objfeat {
+
+struct CanonicalConfig {
+  int points = 256;        // fixed output size
+  int grid = 24;           // voxel cells along the largest extent
+  // Selection seed. describe.learned and lista-train evaluation use this
+  // default so a descriptor is a pure function of the points.
+  uint64_t seed = 0x5eed;
+};
+
+// Per-point input channels: x, y, z (canonical frame, metres), horizontal
+// radius, distance to the centroid.
+constexpr int kCanonicalChannels = 5;
+
+struct CanonicalCloud {
+  // points x kCanonicalChannels, row-major.
+  std::vector<float> features;
+  Eigen::Matrix3f rotation = Eigen::Matrix3f::Identity();  // world -> canonical (about z)
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  int points = 0;
+};
+
+// Throws lista::Error for an empty input or non-positive sizes.
+CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& config);
+
+}  // namespace lista::objfeat

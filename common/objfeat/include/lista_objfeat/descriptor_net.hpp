@@ -1,0 +1,43 @@
+// The learned object descriptor network (libtorch) and its weights file.
+// Include only from .cpp files that must see torch (the describe.learned
+// plugin and lista-train); everything else uses canonical.hpp.
+//
+// Architecture: a PointNet-style shared per-point MLP over the canonical
+// cloud (canonical.hpp: yaw-canonical xyz + radius + distance), max- and
+// mean-pooled (order-invariant; max keeps salient parts, mean is stable
+// under partial views), then an MLP head to `out` dims, L2-normalised.
+//
+// Weights file (little-endian): "LISTADN1", 9 x uint32 config
+// (points grid in w1 w2 w3 head out reserved), uint32 tensor count, then per
+// tensor uint32 name length, name, uint32 element count, float32 data.
+// Next to it, "<file>.sha256" holds the SHA-256 (sha256sum format).
+#pragma once
+
+#include <torch/torch.h>
+
+#include <cstdint>
+#include <string>
+
+namespace lista::objfeat {
+
+struct NetConfig {
+  int points = 256, grid = 24;
+  int in = 5, w1 = 64, w2 = 128, w3 = 256, head = 256, out = 16;
+};
+
+struct DescriptorNetImpl : torch::nn::Module {
+  explicit DescriptorNetImpl(const NetConfig& config);
+  // x: [batch, points, in] -> [batch, out], unit rows.
+  torch::Tensor forward(const torch::Tensor& x);
+  NetConfig config;
+  torch::nn::Linear l1{nullptr}, l2{nullptr}, l3{nullptr}, h1{nullptr}, h2{nullptr};
+};
+TORCH_MODULE(DescriptorNet);
+
+// Writes the weights file and its .sha256 sidecar (temp name, then rename).
+void save_weights(DescriptorNet& net, const std::string& path);
+// Verifies the checksum and layout; throws lista::Error with a one-line
+// reason (missing file, missing/mismatching checksum, bad layout).
+DescriptorNet load_weights(const std::string& path);
+
+}  // namespace lista::objfeat

@@ -1,0 +1,131 @@
+#include <lista_objfeat/descriptor_net.hpp>
+#include <lista_objfeat/sha256.hpp>
+
+#include <lista/error.hpp>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace lista::objfeat {
+namespace {
+
+constexpr char kMagic[8] = {'L', 'I', 'S', 'T', 'A', 'D', 'N', '1'};
+
+void put_u32(std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
+
+struct Reader {
+  const std::string& buf;
+  size_t pos = 0;
+  const std::string& path;
+  void need(size_t n) {
+    if (pos + n > buf.size()) throw Error("model weights '" + path + "' are truncated");
+  }
+  uint32_t u32() {
+    need(4);
+    uint32_t v;
+    std::memcpy(&v, buf.data() + pos, 4);
+    pos += 4;
+    return v;
+  }
+};
+
+}  // namespace
+
+DescriptorNetImpl::DescriptorNetImpl(const NetConfig& c) : config(c) {
+  l1 = register_module("l1", torch::nn::Linear(c.in, c.w1));
+  l2 = register_module("l2", torch::nn::Linear(c.w1, c.w2));
+  l3 = register_module("l3", torch::nn::Linear(c.w2, c.w3));
+  h1 = register_module("h1", torch::nn::Linear(2 * c.w3, c.head));
+  h2 = register_module("h2", torch::nn::Linear(c.head, c.out));
+}
+
+torch::Tensor DescriptorNetImpl::forward(const torch::Tensor& x) {
+  auto f = torch::relu(l1(x));
+  f = torch::relu(l2(f));
+  f = l3(f);
+  auto pooled = torch::cat({std::get<0>(f.max(1)), f.mean(1)}, 1);
+  auto d = h2(torch::relu(h1(pooled)));
+  return torch::nn::functional::normalize(d, torch::nn::functional::NormalizeFuncOptions().dim(1).eps(1e-8));
+}
+
+void save_weights(DescriptorNet& net, const std::string& path) {
+  const NetConfig& c = net->config;
+  std::string buf(kMagic, 8);
+  for (int v : {c.points, c.grid, c.in, c.w1, c.w2, c.w3, c.head, c.out, 0}) put_u32(buf, uint32_t(v));
+  auto params = net->named_parameters();
+  put_u32(buf, uint32_t(params.size()));
+  for (const auto& p : params) {
+    put_u32(buf, uint32_t(p.key().size()));
+    buf += p.key();
+    torch::Tensor t = p.value().detach().to(torch::kFloat32).contiguous();
+    put_u32(buf, uint32_t(t.numel()));
+    buf.append(reinterpret_cast<const char*>(t.data_ptr<float>()), size_t(t.numel()) * 4);
+  }
+  auto write = [](const std::string& file, const std::string& data) {
+    std::string tmp = file + ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::binary);
+      out.write(data.data(), std::streamsize(data.size()));
+      if (!out) throw Error("cannot write '" + tmp + "'");
+    }
+    std::filesystem::rename(tmp, file);
+  };
+  write(path, buf);
+  write(path + ".sha256", sha256_hex(buf) + "  " + std::filesystem::path(path).filename().string() + "\n");
+}
+
+DescriptorNet load_weights(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw Error("model weights '" + path + "' not found (set the 'weights' parameter or LISTA_MODEL_DIR)");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  const std::string buf = ss.str();
+
+  std::ifstream sum_in(path + ".sha256");
+  std::string expected;
+  if (!(sum_in >> expected))
+    throw Error("checksum file '" + path + ".sha256' is missing or empty; cannot trust the weights");
+  if (sha256_hex(buf) != expected)
+    throw Error("model weights '" + path + "' are corrupt: SHA-256 does not match '" + path + ".sha256'");
+
+  if (buf.size() < 8 || std::memcmp(buf.data(), kMagic, 8) != 0)
+    throw Error("'" + path + "' is not a LiSTA descriptor weights file (bad magic)");
+  Reader r{buf, 8, path};
+  NetConfig c;
+  int* fields[] = {&c.points, &c.grid, &c.in, &c.w1, &c.w2, &c.w3, &c.head, &c.out};
+  for (int* f : fields) {
+    uint32_t v = r.u32();
+    if (v == 0 || v > 65536) throw Error("model weights '" + path + "' have an invalid configuration");
+    *f = int(v);
+  }
+  r.u32();  // reserved
+  DescriptorNet net(c);
+  auto params = net->named_parameters();
+  uint32_t count = r.u32();
+  if (count != params.size())
+    throw Error("model weights '" + path + "' hold " + std::to_string(count) + " tensors, the network has " +
+                std::to_string(params.size()));
+  torch::NoGradGuard no_grad;
+  for (uint32_t i = 0; i < count; ++i) {
+    uint32_t len = r.u32();
+    r.need(len);
+    std::string name = buf.substr(r.pos, len);
+    r.pos += len;
+    torch::Tensor* t = params.find(name);
+    if (!t) throw Error("model weights '" + path + "' have an unknown tensor '" + name + "'");
+    uint32_t n = r.u32();
+    if (int64_t(n) != t->numel()) throw Error("model weights '" + path + "': tensor '" + name + "' has the wrong size");
+    r.need(size_t(n) * 4);
+    std::memcpy(t->data_ptr<float>(), buf.data() + r.pos, size_t(n) * 4);
+    r.pos += size_t(n) * 4;
+  }
+  if (r.pos != buf.size()) throw Error("model weights '" + path + "' have trailing bytes");
+  net->eval();
+  return net;
+}
+
+}  // namespace lista::objfeat
