@@ -1,0 +1,139 @@
+#include "voxel_clustering.hpp"
+
+#include <lista/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <unordered_map>
+
+namespace lista::seg {
+namespace {
+
+// 21 bits per axis: +-1e6 voxels, i.e. +-100 km at 10 cm.
+constexpr int64_t kOffset = 1 << 20;
+uint64_t pack(int64_t x, int64_t y, int64_t z) {
+  return (uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset);
+}
+
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];  // path halving
+    return a;
+  }
+  // The smaller root wins, so the result does not depend on visiting order.
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a), b = find(b);
+    if (a == b) return;
+    if (a < b) std::swap(a, b);
+    parent[a] = b;
+  }
+};
+
+// The 13 "forward" offsets of the 26-neighbourhood: visiting each voxel with
+// these covers every adjacent pair once.
+const std::vector<Eigen::Vector3i>& forward_offsets() {
+  static const std::vector<Eigen::Vector3i> offsets = [] {
+    std::vector<Eigen::Vector3i> v;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          Eigen::Vector3i d(dx, dy, dz);
+          if (dx > 0 || (dx == 0 && dy > 0) || (dx == 0 && dy == 0 && dz > 0)) v.push_back(d);
+        }
+    return v;
+  }();
+  return offsets;
+}
+
+}  // namespace
+
+std::vector<std::vector<uint32_t>> cluster_voxels(const std::vector<Eigen::Vector3f>& xyz,
+                                                  const VoxelClusterConfig& config) {
+  if (!(config.tolerance > 0)) throw Error("cluster tolerance must be > 0");
+  const size_t n = xyz.size();
+  if (n == 0) return {};
+  const double inv = 1.0 / config.tolerance;
+
+  // Points grouped by voxel: sort point indices by voxel key.
+  std::vector<uint64_t> key(n);
+  std::vector<Eigen::Vector3i> cell(n);
+  for (size_t i = 0; i < n; ++i) {
+    Eigen::Vector3d c = (xyz[i].cast<double>() * inv).array().floor();
+    if ((c.array().abs() >= double(kOffset - 2)).any())
+      throw Error("point " + std::to_string(i) + " is too far from the origin for the voxel grid");
+    cell[i] = c.cast<int>();
+    key[i] = pack(cell[i].x(), cell[i].y(), cell[i].z());
+  }
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(),
+            [&](uint32_t a, uint32_t b) { return key[a] != key[b] ? key[a] < key[b] : a < b; });
+  std::vector<uint32_t> start;  // voxel v owns order[start[v] .. start[v+1])
+  std::unordered_map<uint64_t, uint32_t> voxel_of_key;
+  for (size_t k = 0; k < n; ++k)
+    if (k == 0 || key[order[k]] != key[order[k - 1]]) {
+      voxel_of_key.emplace(key[order[k]], uint32_t(start.size()));
+      start.push_back(uint32_t(k));
+    }
+  const size_t voxels = start.size();
+  start.push_back(uint32_t(n));
+
+  auto neighbour = [&](uint32_t v, const Eigen::Vector3i& d) -> int64_t {
+    const Eigen::Vector3i c = cell[order[start[v]]] + d;
+    auto it = voxel_of_key.find(pack(c.x(), c.y(), c.z()));
+    return it == voxel_of_key.end() ? -1 : int64_t(it->second);
+  };
+
+  std::vector<uint32_t> root_of_point(n);
+  if (!config.exact) {
+    UnionFind uf(voxels);
+    for (uint32_t v = 0; v < voxels; ++v)
+      for (const auto& d : forward_offsets()) {
+        int64_t w = neighbour(v, d);
+        if (w >= 0) uf.unite(v, uint32_t(w));
+      }
+    for (uint32_t v = 0; v < voxels; ++v)
+      for (uint32_t k = start[v]; k < start[v + 1]; ++k) root_of_point[order[k]] = uf.find(v);
+  } else {
+    // Union-find over points; a pair is tested only if not already joined.
+    UnionFind uf(n);
+    const float tol2 = float(config.tolerance * config.tolerance);
+    auto join_lists = [&](uint32_t v, uint32_t w, bool same) {
+      for (uint32_t a = start[v]; a < start[v + 1]; ++a) {
+        const uint32_t i = order[a];
+        for (uint32_t b = same ? a + 1 : start[w]; b < start[w + 1]; ++b) {
+          const uint32_t j = order[b];
+          if ((xyz[i] - xyz[j]).squaredNorm() <= tol2 && uf.find(i) != uf.find(j)) uf.unite(i, j);
+        }
+      }
+    };
+    for (uint32_t v = 0; v < voxels; ++v) {
+      join_lists(v, v, true);
+      for (const auto& d : forward_offsets()) {
+        int64_t w = neighbour(v, d);
+        if (w >= 0) join_lists(v, uint32_t(w), false);
+      }
+    }
+    for (uint32_t i = 0; i < n; ++i) root_of_point[i] = uf.find(i);
+  }
+
+  // Gather clusters in order of their smallest point index.
+  std::unordered_map<uint32_t, uint32_t> cluster_of_root;
+  std::vector<std::vector<uint32_t>> clusters;
+  for (uint32_t i = 0; i < n; ++i) {
+    auto [it, added] = cluster_of_root.emplace(root_of_point[i], uint32_t(clusters.size()));
+    if (added) clusters.emplace_back();
+    clusters[it->second].push_back(i);
+  }
+  clusters.erase(std::remove_if(clusters.begin(), clusters.end(),
+                                [&](const std::vector<uint32_t>& c) {
+                                  return c.size() < config.min_points || c.size() > config.max_points;
+                                }),
+                 clusters.end());
+  return clusters;
+}
+
+}  // namespace lista::seg
