@@ -1,0 +1,236 @@
+#include "weighted_matcher.hpp"
+
+#include "hungarian.hpp"
+
+#include <lista/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+
+namespace lista::matching {
+
+namespace {
+
+using BoolMatrix = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
+
+struct PairCosts {
+  Eigen::MatrixXd physical, descriptor, weighted;
+  BoolMatrix allowed;
+};
+
+// Scales the entries of `d` where `mask` holds, as configured: "minmax" over
+// the masked entries; "max" divides by max(largest masked entry, floor).
+void normalise(Eigen::MatrixXd& d, const BoolMatrix& mask, const std::string& how, double floor = 0.0) {
+  double lo = std::numeric_limits<double>::max(), hi = 0.0;
+  for (int i = 0; i < d.rows(); ++i)
+    for (int j = 0; j < d.cols(); ++j)
+      if (mask(i, j)) lo = std::min(lo, d(i, j)), hi = std::max(hi, d(i, j));
+  if (how == "max") lo = 0.0, hi = std::max(hi, floor);
+  const double range = hi - lo;
+  for (int i = 0; i < d.rows(); ++i)
+    for (int j = 0; j < d.cols(); ++j)
+      d(i, j) = range > 1e-12 ? std::clamp((d(i, j) - lo) / range, 0.0, 1.0) : 0.0;
+}
+
+// The largest descriptor distance between any two objects of the scene: the
+// descriptor scale for "max" normalisation, so that noise between
+// near-identical objects stays small next to real class differences.
+double descriptor_scale(const ObjectSet& objects, const DescriptorSet& desc) {
+  std::vector<int> rows;
+  for (const Object& o : objects.objects)
+    if (desc.row_of(o.id) >= 0) rows.push_back(desc.row_of(o.id));
+  double best = 0.0;
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t j = i + 1; j < rows.size(); ++j)
+      best = std::max(best, static_cast<double>((desc.values.row(rows[i]) - desc.values.row(rows[j])).norm()));
+  return best;
+}
+
+PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<const Object*>& b,
+                     const DescriptorSet& desc, const Groups* groups, const WeightedMatchConfig& cfg,
+                     double desc_scale) {
+  const int n = static_cast<int>(a.size()), m = static_cast<int>(b.size());
+  PairCosts pc;
+  pc.physical.resize(n, m);
+  pc.descriptor.resize(n, m);
+  pc.allowed.setConstant(n, m, true);
+  Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(n, m);
+  for (int i = 0; i < n; ++i) {
+    const int ra = desc.row_of(a[i]->id);
+    for (int j = 0; j < m; ++j) {
+      const int rb = desc.row_of(b[j]->id);
+      pc.physical(i, j) = (a[i]->centroid - b[j]->centroid).cast<double>().norm();
+      // An object without a descriptor is as unlike everything as possible.
+      pc.descriptor(i, j) = (ra >= 0 && rb >= 0)
+          ? (desc.values.row(ra) - desc.values.row(rb)).cast<double>().norm()
+          : std::numeric_limits<double>::quiet_NaN();
+      bool ok = pc.physical(i, j) <= cfg.max_distance;
+      if (cfg.max_descriptor_distance > 0.0 && !(pc.descriptor(i, j) <= cfg.max_descriptor_distance))
+        ok = false;
+      if (groups && cfg.group_mode != "ignore") {
+        const int ga = groups->group_of(a[i]->id), gb = groups->group_of(b[j]->id);
+        const bool same = ga >= 0 && ga == gb;
+        if (!same && cfg.group_mode == "hard") ok = false;
+        if (!same) cross(i, j) = cfg.group_penalty;
+      }
+      pc.allowed(i, j) = ok;
+    }
+  }
+  double dmax = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j)
+      if (std::isfinite(pc.descriptor(i, j))) dmax = std::max(dmax, pc.descriptor(i, j));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j)
+      if (!std::isfinite(pc.descriptor(i, j))) pc.descriptor(i, j) = dmax;
+  Eigen::MatrixXd p = pc.physical, d = pc.descriptor;
+  normalise(p, pc.allowed, cfg.normalization);
+  normalise(d, pc.allowed, cfg.normalization, desc_scale);
+  pc.weighted = cfg.alpha * p + cfg.beta * d + cross;
+  return pc;
+}
+
+struct UnionFind {
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  size_t root(size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  void join(size_t a, size_t b) { parent[root(b)] = root(a); }
+  std::vector<size_t> parent;
+};
+
+}  // namespace
+
+Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptors,
+                       const Groups* groups, const WeightedMatchConfig& cfg, std::string* warning) {
+  if (cfg.normalization != "max" && cfg.normalization != "minmax")
+    throw Error("normalization must be 'max' or 'minmax', got '" + cfg.normalization + "'");
+  if (cfg.group_mode != "soft" && cfg.group_mode != "hard" && cfg.group_mode != "ignore")
+    throw Error("group_mode must be 'soft', 'hard' or 'ignore', got '" + cfg.group_mode + "'");
+  const double max_cost = cfg.max_cost < 0.0 ? cfg.alpha + cfg.beta : cfg.max_cost;
+  const size_t n_missions = objects.missions.size();
+  for (const Object& o : objects.objects)
+    if (o.mission >= n_missions)
+      throw Error("object " + std::to_string(o.id) + " names mission " + std::to_string(o.mission) +
+                  " of " + std::to_string(n_missions));
+  size_t missing = 0;
+  for (const Object& o : objects.objects)
+    if (descriptors.row_of(o.id) < 0) ++missing;
+  if (missing && warning)
+    *warning = std::to_string(missing) + " objects have no descriptor; treated as unlike all others";
+
+  std::map<int, size_t> index;  // object id -> position in objects.objects
+  for (size_t i = 0; i < objects.objects.size(); ++i) index[objects.objects[i].id] = i;
+  const size_t n_obj = objects.objects.size();
+  std::vector<int> next(n_obj, -1), prev(n_obj, -1);
+  std::vector<double> next_cost(n_obj, 0.0), prev_cost(n_obj, 0.0);
+  std::vector<double> ambiguity(n_obj, 0.0);  // 0 = unambiguous, 1 = a rival as good
+  std::vector<bool> had_candidate(n_obj, false);
+  std::vector<double> best_rejected(n_obj, std::numeric_limits<double>::max());
+  UnionFind chains(n_obj);
+  const double desc_scale = cfg.normalization == "max" ? descriptor_scale(objects, descriptors) : 0.0;
+
+  for (size_t m = 0; m + 1 < n_missions; ++m) {
+    std::vector<const Object*> a, b;
+    for (const Object& o : objects.objects) {
+      if (o.mission == m) a.push_back(&o);
+      if (o.mission == m + 1) b.push_back(&o);
+    }
+    if (a.empty() || b.empty()) continue;
+    PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale);
+    for (int i = 0; i < pc.allowed.rows(); ++i)
+      for (int j = 0; j < pc.allowed.cols(); ++j)
+        if (pc.weighted(i, j) > max_cost) pc.allowed(i, j) = false;
+    // A pair is used only if it costs less than leaving both alone; leaving
+    // costs just above the gate so that a pair exactly at the gate still counts.
+    const double leave = max_cost * (1.0 + 1e-9) + 1e-12;
+    const std::vector<int> assigned = assign_with_gate(pc.weighted, pc.allowed, leave);
+    std::vector<int> col_owner(b.size(), -1);
+    for (size_t i = 0; i < a.size(); ++i)
+      if (assigned[i] >= 0) col_owner[assigned[i]] = static_cast<int>(i);
+
+    auto cost_margin = [&](double w, double rival) {
+      // How much of the rival's cost the chosen pair saves: 0 = tie.
+      return rival <= 0.0 ? (w <= 0.0 ? 1.0 : 0.0) : std::clamp(1.0 - w / rival, 0.0, 1.0);
+    };
+    for (size_t i = 0; i < a.size(); ++i) {
+      const size_t ia = index[a[i]->id];
+      for (size_t j = 0; j < b.size(); ++j) {
+        if (!pc.allowed(i, j)) continue;
+        const size_t jb = index[b[j]->id];
+        had_candidate[ia] = had_candidate[jb] = true;
+        if (assigned[i] != static_cast<int>(j)) {
+          best_rejected[ia] = std::min(best_rejected[ia], pc.weighted(i, j));
+          best_rejected[jb] = std::min(best_rejected[jb], pc.weighted(i, j));
+        }
+      }
+      if (assigned[i] < 0) continue;
+      const int j = assigned[i];
+      const size_t jb = index[b[j]->id];
+      const double w = pc.weighted(i, j);
+      next[ia] = b[j]->id, next_cost[ia] = w;
+      prev[jb] = a[i]->id, prev_cost[jb] = w;
+      chains.join(ia, jb);
+      // Rivals: the next best partner of either end.
+      double rival = std::numeric_limits<double>::max();
+      for (size_t jj = 0; jj < b.size(); ++jj)
+        if (static_cast<int>(jj) != j && pc.allowed(i, jj)) rival = std::min(rival, pc.weighted(i, jj));
+      for (size_t ii = 0; ii < a.size(); ++ii)
+        if (ii != i && pc.allowed(ii, j)) rival = std::min(rival, pc.weighted(ii, j));
+      const double margin = rival == std::numeric_limits<double>::max() ? 1.0 : cost_margin(w, rival);
+      ambiguity[ia] = std::max(ambiguity[ia], 1.0 - margin);
+      ambiguity[jb] = std::max(ambiguity[jb], 1.0 - margin);
+    }
+  }
+
+  auto group_conf = [&](int id) {
+    if (!groups) return 1.0;
+    for (size_t k = 0; k < groups->object_ids.size(); ++k)
+      if (groups->object_ids[k] == id && k < groups->confidence.size()) return groups->confidence[k];
+    return 0.0;
+  };
+  std::map<size_t, std::vector<size_t>> chain_members;
+  for (size_t i = 0; i < n_obj; ++i) chain_members[chains.root(i)].push_back(i);
+
+  Matches out;
+  out.method = "match.weighted";
+  out.objects.resize(n_obj);
+  for (size_t i = 0; i < n_obj; ++i) {
+    const Object& o = objects.objects[i];
+    ObjectChange& c = out.objects[i];
+    c.object_id = o.id;
+    const double g = group_conf(o.id);
+    if (next[i] >= 0 || prev[i] >= 0) {
+      c.status = ChangeStatus::moved;
+      // The partner in the next mission if any, else in the previous one.
+      c.match = next[i] >= 0 ? next[i] : prev[i];
+      c.cost = next[i] >= 0 ? next_cost[i] : prev_cost[i];
+      c.confidence = 0.5 * (1.0 - ambiguity[i]) + 0.5 * g;
+    } else {
+      // Gone by the next mission (or only in the first): removed; otherwise
+      // it appeared: added. A middle-mission object with no partner is
+      // reported as removed when a later mission exists.
+      c.status = o.mission + 1 < n_missions ? ChangeStatus::removed : ChangeStatus::added;
+      if (n_missions == 1) c.status = ChangeStatus::added;
+      // Unmatched: sure when no candidate came near, less so when one was
+      // rejected only narrowly.
+      const double alone = had_candidate[i] ? std::clamp(best_rejected[i] / max_cost, 0.0, 1.0) : 1.0;
+      c.confidence = 0.5 * alone + 0.5 * g;
+    }
+    c.confidence = std::clamp(c.confidence, 0.0, 1.0);
+    std::vector<size_t> members = chain_members[chains.root(i)];
+    std::sort(members.begin(), members.end(), [&](size_t x, size_t y) {
+      return objects.objects[x].mission != objects.objects[y].mission
+                 ? objects.objects[x].mission < objects.objects[y].mission
+                 : objects.objects[x].id < objects.objects[y].id;
+    });
+    for (size_t k : members) c.history.push_back(objects.objects[k].id);
+  }
+  return out;
+}
+
+}  // namespace lista::matching

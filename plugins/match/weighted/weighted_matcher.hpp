@@ -1,0 +1,52 @@
+// Correspondences between the objects of consecutive missions by the paper's
+// weighted distance  w = alpha * norm(physical) + beta * norm(descriptor),
+// solved optimally per mission pair, then statuses, histories and confidences.
+//
+// Normalisation. The paper min-max normalises both distances over the
+// candidate pairs. With near-identical descriptors (two chairs of one model)
+// min-max stretches pure descriptor noise to the full [0,1] range, letting
+// noise overrule the physical term when identical objects swap places. The
+// default ("max") therefore divides by the largest candidate distance only
+// (min-max with the minimum pinned at 0, the smallest possible distance);
+// "minmax" gives the paper's exact form.
+//
+// Groups. Descriptor groups are imperfect (K is estimated; a partial view of
+// a chair can land in another class), so by default the group constraint is
+// soft: a cross-group pair pays `group_penalty` on top of w. "hard" forbids
+// cross-group pairs (the paper's "within each group"); "ignore" drops groups.
+//
+// Gates. A pair is a candidate only if its centroids are at most
+// `max_distance` metres apart (two unrelated changes far apart are never a
+// move), its descriptor distance is at most `max_descriptor_distance` (if > 0)
+// and its weighted cost is at most `max_cost`. With the default max_cost =
+// alpha + beta every same-group pair inside the physical gate is a candidate
+// and a cross-group pair must be clearly closer or more similar than the
+// worst candidate to survive its penalty.
+#pragma once
+
+#include <lista/descriptors.hpp>
+#include <lista/groups.hpp>
+#include <lista/matches.hpp>
+#include <lista/objects.hpp>
+
+#include <string>
+
+namespace lista::matching {
+
+struct WeightedMatchConfig {
+  double alpha = 0.5;               // weight of the physical (centroid) distance
+  double beta = 0.5;                // weight of the descriptor distance
+  std::string normalization = "max";  // "max" or "minmax"
+  std::string group_mode = "soft";  // "soft", "hard" or "ignore"
+  double group_penalty = 0.5;       // soft mode: added to cross-group pairs
+  double max_distance = 5.0;        // m: physical gate
+  double max_descriptor_distance = 0.0;  // descriptor units; 0 = no gate
+  double max_cost = -1.0;           // weighted gate; < 0 means alpha + beta
+};
+
+// Every object of `objects` gets one ObjectChange. `groups` may be null.
+Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptors,
+                       const Groups* groups, const WeightedMatchConfig& cfg,
+                       std::string* warning = nullptr);
+
+}  // namespace lista::matching
