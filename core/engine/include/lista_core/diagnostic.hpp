@@ -1,0 +1,32 @@
+// One problem found in a pipeline before it runs, with where it is.
+#pragma once
+
+#include <lista/error.hpp>
+
+#include <string>
+#include <vector>
+
+namespace lista::core {
+
+struct Diagnostic {
+  SourceLocation where;
+  std::string stage;    // stage id, "" for pipeline-wide problems
+  std::string message;  // without the location
+  // "file:line:col: stage 'id': message"
+  std::string str() const;
+};
+
+struct Diagnostics {
+  std::vector<Diagnostic> errors, warnings;
+  bool ok() const { return errors.empty(); }
+  void error(SourceLocation where, std::string stage, std::string message) {
+    errors.push_back({std::move(where), std::move(stage), std::move(message)});
+  }
+  void warning(SourceLocation where, std::string stage, std::string message) {
+    warnings.push_back({std::move(where), std::move(stage), std::move(message)});
+  }
+  // The first error as a lista::Error (for callers that stop at one).
+  Error first_error() const;
+};
+
+}  // namespace lista::core

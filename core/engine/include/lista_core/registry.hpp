@@ -1,0 +1,39 @@
+// The registry: every stage a loaded plugin library declared, with its
+// factory and the library it came from. A stage name is unique across all
+// libraries; a second registration is an error naming both libraries.
+#pragma once
+
+#include <lista/plugin.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace lista::core {
+
+struct RegisteredStage {
+  StageInfo info;
+  StageFactory factory;
+  std::string library;  // path of the shared library ("" when added in-process)
+};
+
+class Registry : public Registrar {
+ public:
+  // Registrar: adds a stage from the library set by library_scope().
+  void add(StageInfo info, StageFactory factory) override;
+
+  // The library whose register_stages is running (for error messages and records).
+  void set_current_library(std::string path) { current_library_ = std::move(path); }
+
+  const RegisteredStage* find(const std::string& name) const;
+  std::vector<std::string> names() const;  // sorted
+  size_t size() const { return stages_.size(); }
+  // Stage names close to `name` (edit distance), best first.
+  std::vector<std::string> similar(const std::string& name) const;
+
+ private:
+  std::map<std::string, RegisteredStage> stages_;
+  std::string current_library_;
+};
+
+}  // namespace lista::core

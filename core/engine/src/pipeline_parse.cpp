@@ -1,0 +1,270 @@
+// toml11 is used only here: the TOML file becomes a PipelineSpec with a
+// source location on everything a later message may point at.
+#include <lista_core/pipeline.hpp>
+
+#include <toml.hpp>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace lista::core {
+
+namespace {
+
+SourceLocation where(const toml::value& v, const std::string& file) {
+  const auto loc = v.location();
+  SourceLocation s;
+  s.file = file;
+  s.line = static_cast<int>(loc.line());
+  s.column = static_cast<int>(loc.column());
+  return s;
+}
+
+bool valid_id(const std::string& id) {
+  static const std::regex re("[A-Za-z_][A-Za-z0-9_-]*");
+  return std::regex_match(id, re);
+}
+
+const char* toml_type_name(const toml::value& v) {
+  switch (v.type()) {
+    case toml::value_t::boolean: return "bool";
+    case toml::value_t::integer: return "int";
+    case toml::value_t::floating: return "float";
+    case toml::value_t::string: return "string";
+    case toml::value_t::array: return "array";
+    case toml::value_t::table: return "table";
+    default: return "date/time";
+  }
+}
+
+// A TOML value as a parameter value, or the reason it cannot be one.
+std::optional<ParamValue> to_param(const toml::value& v, std::string& problem) {
+  switch (v.type()) {
+    case toml::value_t::boolean: return ParamValue(v.as_boolean());
+    case toml::value_t::integer: return ParamValue(static_cast<int64_t>(v.as_integer()));
+    case toml::value_t::floating: return ParamValue(static_cast<double>(v.as_floating()));
+    case toml::value_t::string: return ParamValue(static_cast<std::string>(v.as_string()));
+    case toml::value_t::array: {
+      const auto& a = v.as_array();
+      if (a.empty()) {
+        problem = "an empty array has no type; write the values or leave the default";
+        return std::nullopt;
+      }
+      bool all_numbers = true, all_strings = true;
+      for (const auto& e : a) {
+        all_numbers &= e.is_integer() || e.is_floating();
+        all_strings &= e.is_string();
+      }
+      if (all_numbers) {
+        std::vector<double> out;
+        for (const auto& e : a) out.push_back(e.is_integer() ? double(e.as_integer()) : double(e.as_floating()));
+        return ParamValue(std::move(out));
+      }
+      if (all_strings) {
+        std::vector<std::string> out;
+        for (const auto& e : a) out.push_back(e.as_string());
+        return ParamValue(std::move(out));
+      }
+      problem = "arrays must hold only numbers or only strings";
+      return std::nullopt;
+    }
+    default:
+      problem = std::string("a ") + toml_type_name(v) + " is not a parameter value";
+      return std::nullopt;
+  }
+}
+
+// The first line of a toml11 error message, without its "[error] " prefix.
+std::string first_line(const std::string& what) {
+  std::string s = what.substr(0, what.find('\n'));
+  if (s.rfind("[error] ", 0) == 0) s = s.substr(8);
+  return s;
+}
+
+void parse_settings(const toml::value& table, PipelineSpec& spec, Diagnostics& d) {
+  const std::string& file = spec.file;
+  for (const auto& [key, v] : table.as_table()) {
+    const SourceLocation at = where(v, file);
+    auto need = [&](bool ok, const char* type) {
+      if (!ok) d.error(at, "", "[pipeline] " + key + " must be " + type + ", got " + toml_type_name(v));
+      return ok;
+    };
+    if (key == "name") {
+      if (need(v.is_string(), "a string")) spec.name = v.as_string();
+    } else if (key == "dataset") {
+      if (need(v.is_string(), "a string")) spec.dataset = v.as_string();
+    } else if (key == "output") {
+      if (need(v.is_string(), "a string")) spec.output = v.as_string();
+    } else if (key == "seed") {
+      if (need(v.is_integer(), "an integer")) {
+        if (v.as_integer() < 0) d.error(at, "", "[pipeline] seed must be >= 0");
+        else spec.seed = static_cast<uint64_t>(v.as_integer());
+      }
+    } else if (key == "threads") {
+      if (need(v.is_integer(), "an integer")) {
+        if (v.as_integer() < 1 || v.as_integer() > 4096) d.error(at, "", "[pipeline] threads must be in [1, 4096]");
+        else spec.threads = static_cast<int>(v.as_integer());
+      }
+    } else {
+      d.error(at, "", "unknown key '" + key + "' in [pipeline] (known: name, seed, threads, dataset, output)");
+    }
+  }
+}
+
+void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& spec, Diagnostics& d) {
+  const std::string& file = spec.file;
+  StageSpec s;
+  s.id = id;
+  s.where = where(table, file);
+  if (!valid_id(id)) d.error(s.where, id, "stage id '" + id + "' must be letters, digits, '_' or '-' (no dots)");
+  for (const auto& [key, v] : table.as_table()) {
+    const SourceLocation at = where(v, file);
+    if (key == "plugin") {
+      if (!v.is_string()) d.error(at, id, std::string("plugin must be a string, got ") + toml_type_name(v));
+      else s.plugin = v.as_string(), s.plugin_where = at;
+    } else if (key == "inputs") {
+      if (!v.is_table()) {
+        d.error(at, id, "inputs must be a table such as inputs = { missions = \"read.missions\" }");
+        continue;
+      }
+      for (const auto& [port, ref] : v.as_table()) {
+        const SourceLocation ref_at = where(ref, file);
+        if (!ref.is_string()) {
+          d.error(ref_at, id, "input '" + port + "' must be a string \"<stage>.<port>\"");
+          continue;
+        }
+        const std::string text = ref.as_string();
+        const size_t dot = text.rfind('.');
+        if (dot == std::string::npos || dot == 0 || dot + 1 == text.size()) {
+          d.error(ref_at, id, "input '" + port + "' = \"" + text + "\" is not of the form \"<stage>.<port>\"");
+          continue;
+        }
+        s.inputs.push_back({port, text.substr(0, dot), text.substr(dot + 1), ref_at});
+      }
+    } else {
+      RawParam p;
+      p.name = key;
+      p.where = at;
+      p.value = to_param(v, p.problem);
+      s.params.push_back(std::move(p));
+    }
+  }
+  if (s.plugin.empty() && !table.as_table().count("plugin"))
+    d.error(s.where, id, "stage has no plugin = \"<kind>.<name>\"");
+  auto by_line = [](const auto& a, const auto& b) {
+    return std::make_pair(a.where.line, a.where.column) < std::make_pair(b.where.line, b.where.column);
+  };
+  std::sort(s.inputs.begin(), s.inputs.end(), by_line);
+  std::sort(s.params.begin(), s.params.end(), by_line);
+  spec.stages.push_back(std::move(s));
+}
+
+PipelineSpec from_toml(const toml::value& root, const std::string& file, Diagnostics& d) {
+  PipelineSpec spec;
+  spec.file = file;
+  for (const auto& [key, v] : root.as_table()) {
+    const SourceLocation at = where(v, file);
+    if (key == "pipeline") {
+      if (!v.is_table()) d.error(at, "", "[pipeline] must be a table");
+      else parse_settings(v, spec, d);
+    } else if (key == "stages") {
+      if (!v.is_table()) {
+        d.error(at, "", "stages must be tables [stages.<id>]");
+        continue;
+      }
+      for (const auto& [id, table] : v.as_table()) {
+        if (!table.is_table()) d.error(where(table, file), id, "stages." + id + " must be a table [stages." + id + "]");
+        else parse_stage(id, table, spec, d);
+      }
+    } else {
+      d.error(at, "", "unknown top-level key '" + key + "' (expected [pipeline] and [stages.<id>])");
+    }
+  }
+  // File order: messages, plans and ties in the topological order follow what the user wrote.
+  std::sort(spec.stages.begin(), spec.stages.end(), [](const StageSpec& a, const StageSpec& b) {
+    return std::make_pair(a.where.line, a.id) < std::make_pair(b.where.line, b.id);
+  });
+  if (spec.stages.empty() && d.errors.empty()) d.error({file, 0, 0}, "", "pipeline has no [stages.<id>] tables");
+  return spec;
+}
+
+PipelineSpec parse_stream(std::istream& in, const std::string& file, Diagnostics& d) {
+  toml::value root;
+  try {
+    root = toml::parse(in, file);
+  } catch (const toml::syntax_error& e) {
+    const auto& loc = e.location();
+    throw Error("TOML syntax error: " + first_line(e.what()))
+        .at({file, static_cast<int>(loc.line()), static_cast<int>(loc.column())});
+  } catch (const toml::exception& e) {
+    const auto& loc = e.location();
+    throw Error("invalid TOML: " + first_line(e.what()))
+        .at({file, static_cast<int>(loc.line()), static_cast<int>(loc.column())});
+  } catch (const std::exception& e) {
+    throw Error(std::string("invalid TOML: ") + first_line(e.what())).at({file, 0, 0});
+  }
+  return from_toml(root, file, d);
+}
+
+}  // namespace
+
+const StageSpec* PipelineSpec::find(const std::string& id) const {
+  for (const auto& s : stages)
+    if (s.id == id) return &s;
+  return nullptr;
+}
+
+PipelineSpec parse_pipeline_file(const std::string& path, Diagnostics& diagnostics) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open pipeline file '" + path + "'");
+  return parse_stream(in, path, diagnostics);
+}
+
+PipelineSpec parse_pipeline_text(const std::string& text, const std::string& file_name, Diagnostics& diagnostics) {
+  std::istringstream in(text);
+  return parse_stream(in, file_name, diagnostics);
+}
+
+Override parse_override(const std::string& argument) {
+  Override o;
+  o.text = argument;
+  const size_t eq = argument.find('=');
+  const std::string target = argument.substr(0, eq);
+  const size_t dot = target.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 == target.size())
+    throw Error("--set '" + argument + "' is not of the form <stage>.<param>=<value>");
+  auto trim = [](std::string s) {
+    const auto b = s.find_first_not_of(" \t"), e = s.find_last_not_of(" \t");
+    return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+  };
+  o.stage = trim(target.substr(0, dot));
+  o.param = trim(target.substr(dot + 1));
+  const std::string text = trim(argument.substr(eq + 1));
+  try {
+    std::istringstream in("v = " + text);
+    const toml::value root = toml::parse(in, "--set");
+    o.value = to_param(root.as_table().at("v"), o.problem);
+  } catch (const std::exception&) {
+    o.value = ParamValue(text);  // a bare word (e.g. sparse) means the string
+  }
+  return o;
+}
+
+std::string Diagnostic::str() const {
+  std::string s;
+  if (where.known()) s += where.str() + ": ";
+  if (!stage.empty()) s += "stage '" + stage + "': ";
+  return s + message;
+}
+
+Error Diagnostics::first_error() const {
+  if (errors.empty()) return Error("no error");
+  const auto& e = errors.front();
+  Error err(e.message);
+  err.at(e.where);
+  if (!e.stage.empty()) err.in_stage(e.stage, "");
+  return err;
+}
+
+}  // namespace lista::core

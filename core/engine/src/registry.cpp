@@ -1,0 +1,34 @@
+#include <lista_core/registry.hpp>
+#include <lista_core/text.hpp>
+
+namespace lista::core {
+
+void Registry::add(StageInfo info, StageFactory factory) {
+  const std::string where = current_library_.empty() ? "the program itself" : current_library_;
+  if (info.name.find('.') == std::string::npos || info.name.front() == '.' || info.name.back() == '.')
+    throw Error("stage name '" + info.name + "' from " + where + " is not of the form <kind>.<name>");
+  if (!factory) throw Error("stage '" + info.name + "' from " + where + " has no factory");
+  if (auto it = stages_.find(info.name); it != stages_.end()) {
+    const std::string first = it->second.library.empty() ? "the program itself" : it->second.library;
+    throw Error("plugin '" + info.name + "' is provided twice: by " + first + " and by " + where);
+  }
+  std::string name = info.name;
+  stages_.emplace(std::move(name), RegisteredStage{std::move(info), std::move(factory), current_library_});
+}
+
+const RegisteredStage* Registry::find(const std::string& name) const {
+  auto it = stages_.find(name);
+  return it == stages_.end() ? nullptr : &it->second;
+}
+
+std::vector<std::string> Registry::names() const {
+  std::vector<std::string> out;
+  for (const auto& [name, stage] : stages_) out.push_back(name);
+  return out;
+}
+
+std::vector<std::string> Registry::similar(const std::string& name) const {
+  return similar_names(name, names());
+}
+
+}  // namespace lista::core

@@ -1,0 +1,253 @@
+// Small stages on SDK types for the core's tests: sources, pass-throughs,
+// sinks and stages that misbehave on purpose. Never installed.
+#include <lista/plugin.hpp>
+
+#include <chrono>
+#include <random>
+#include <thread>
+
+namespace {
+
+using namespace lista;
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+MissionSet make_missions(int missions, int points, uint64_t seed) {
+  MissionSet set;
+  set.dataset = "synthetic";
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  for (int m = 0; m < missions; ++m) {
+    Mission mission;
+    mission.name = "m" + std::to_string(m);
+    auto cloud = std::make_shared<PointSet>();
+    for (int i = 0; i < points; ++i) {
+      cloud->xyz.emplace_back(u(rng), u(rng), u(rng));
+      cloud->scan.push_back(0);
+      cloud->index.push_back(uint32_t(i));
+    }
+    Scan scan;
+    scan.points = cloud;
+    scan.points_in_file = uint32_t(points);
+    mission.scans.push_back(scan);
+    set.missions.push_back(std::move(mission));
+  }
+  return set;
+}
+
+class Source : public Stage {
+ public:
+  explicit Source(const Params& p) : p_(p) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.source";
+    i.version = "1.0.0";
+    i.summary = "synthetic missions of random points";
+    i.outputs = {{"missions", "missions", "the missions"}};
+    i.params = {ParamSpec::integer("count", 100, "points per mission").at_least(0),
+                ParamSpec::integer("missions", 2, "how many missions").range(1, 100),
+                ParamSpec::real("scale", 1.0, "edge length").range(0.001, 1000).unit("m"),
+                ParamSpec::text("mode", "fast", "how to work").one_of({"fast", "exact"}),
+                ParamSpec::boolean("verbose", false, "log more"),
+                ParamSpec::real_list("weights", {1.0, 2.0}, "weights").at_least(0),
+                ParamSpec::text_list("tags", {}, "free tags")};
+    return i;
+  }
+  Outputs run(const Inputs&, Context& ctx) override {
+    ctx.record("start_ms", now_ms());
+    ctx.progress().begin("making points", 4);
+    for (int i = 0; i < 4; ++i) ctx.progress().advance();
+    ctx.progress().end();
+    Outputs out;
+    out.put("missions", make_missions(p_.get<int>("missions"), p_.get<int>("count"), ctx.seed()));
+    ctx.record("end_ms", now_ms());
+    return out;
+  }
+
+ private:
+  Params p_;
+};
+
+// Copies missions; sleeps to make overlap measurable; can fail on request.
+class Passthrough : public Stage {
+ public:
+  explicit Passthrough(const Params& p) : p_(p) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.passthrough";
+    i.version = "1.0.0";
+    i.summary = "missions in, the same missions out";
+    i.inputs = {{"missions", "missions", "any missions"}};
+    i.outputs = {{"missions", "missions", "the same missions"}};
+    i.params = {ParamSpec::integer("sleep_ms", 0, "time to spend").range(0, 60000),
+                ParamSpec::boolean("fail", false, "throw a lista::Error"),
+                ParamSpec::boolean("fail_std", false, "throw a std::runtime_error")};
+    return i;
+  }
+  Outputs run(const Inputs& in, Context& ctx) override {
+    ctx.record("start_ms", now_ms());
+    ctx.record("threads", ctx.threads());
+    std::this_thread::sleep_for(std::chrono::milliseconds(p_.get<int>("sleep_ms")));
+    if (p_.get<bool>("fail")) throw Error("asked to fail");
+    if (p_.get<bool>("fail_std")) throw std::runtime_error("plain failure");
+    Outputs out;
+    out.put("missions", in.at("missions"));
+    ctx.record("end_ms", now_ms());
+    return out;
+  }
+
+ private:
+  Params p_;
+};
+
+// Two inputs and an optional third: fan-in.
+class Join : public Stage {
+ public:
+  explicit Join(const Params&) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.join";
+    i.version = "1.0.0";
+    i.summary = "concatenates missions";
+    i.inputs = {{"a", "missions", "first"}, {"b", "missions", "second"}, {"c", "missions", "third", true}};
+    i.outputs = {{"missions", "missions", "all missions"}};
+    return i;
+  }
+  Outputs run(const Inputs& in, Context& ctx) override {
+    ctx.record("start_ms", now_ms());
+    MissionSet all;
+    for (const char* port : {"a", "b", "c"})
+      if (in.has(port))
+        for (const auto& m : in.get<MissionSet>(port).missions) all.missions.push_back(m);
+    Outputs out;
+    out.put("missions", std::move(all));
+    return out;
+  }
+};
+
+class ToPoints : public Stage {
+ public:
+  explicit ToPoints(const Params&) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.to_points";
+    i.version = "1.0.0";
+    i.summary = "all points of each mission";
+    i.inputs = {{"missions", "missions", "missions"}};
+    i.outputs = {{"points", "points", "points per mission"}};
+    return i;
+  }
+  Outputs run(const Inputs& in, Context&) override {
+    MissionPoints mp;
+    for (const auto& m : in.get<MissionSet>("missions").missions) {
+      mp.missions.push_back(m.name);
+      PointSet s;
+      for (const auto& scan : m.scans) s.append(*scan.points);
+      mp.sets.push_back(std::move(s));
+    }
+    Outputs out;
+    out.put("points", std::move(mp));
+    return out;
+  }
+};
+
+// Records what it received: point count, seed and the run's facts.
+class Sink : public Stage {
+ public:
+  explicit Sink(const Params&) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.sink";
+    i.version = "1.0.0";
+    i.summary = "counts points";
+    i.inputs = {{"points", "points", "points"}};
+    return i;
+  }
+  Outputs run(const Inputs& in, Context& ctx) override {
+    ctx.record("points", double(in.get<MissionPoints>("points").total()));
+    ctx.record("seed", double(ctx.seed()));
+    const RunInfo info = ctx.run_info();
+    ctx.record("finished_before", double(info.finished.size()));
+    ctx.info("sink saw " + std::to_string(in.get<MissionPoints>("points").total()) + " points");
+    return {};
+  }
+};
+
+// Waits until cancelled (at most `timeout_ms`), then honours it.
+class WaitCancel : public Stage {
+ public:
+  explicit WaitCancel(const Params& p) : p_(p) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.wait_cancel";
+    i.version = "1.0.0";
+    i.summary = "runs until Ctrl-C";
+    i.inputs = {{"missions", "missions", "missions"}};
+    i.outputs = {{"missions", "missions", "the same missions"}};
+    i.params = {ParamSpec::integer("timeout_ms", 10000, "give up after").at_least(0)};
+    return i;
+  }
+  Outputs run(const Inputs& in, Context& ctx) override {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(p_.get<int>("timeout_ms"));
+    while (std::chrono::steady_clock::now() < end) {
+      ctx.throw_if_cancelled();
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    Outputs out;
+    out.put("missions", in.at("missions"));
+    return out;
+  }
+
+ private:
+  Params p_;
+};
+
+// Breaks its output contract in the way `mode` says.
+class BadOutput : public Stage {
+ public:
+  explicit BadOutput(const Params& p) : mode_(p.get<std::string>("mode")) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.bad_output";
+    i.version = "1.0.0";
+    i.summary = "misbehaves";
+    i.inputs = {{"missions", "missions", "missions"}};
+    i.outputs = {{"missions", "missions", "missions"}};
+    i.params = {ParamSpec::text("mode", "missing", "how to misbehave").one_of({"missing", "undeclared", "wrong_type"})};
+    return i;
+  }
+  Outputs run(const Inputs& in, Context&) override {
+    Outputs out;
+    if (mode_ == "undeclared") {
+      out.put("missions", in.at("missions"));
+      out.put("extra", in.at("missions"));
+    } else if (mode_ == "wrong_type") {
+      out.put("missions", MissionPoints{});
+    }
+    return out;
+  }
+
+ private:
+  std::string mode_;
+};
+
+template <class S>
+void add(Registrar& r) {
+  r.add(S::info(), [](const Params& p) { return std::make_unique<S>(p); });
+}
+
+void register_stages(Registrar& r) {
+  add<Source>(r);
+  add<Passthrough>(r);
+  add<Join>(r);
+  add<ToPoints>(r);
+  add<Sink>(r);
+  add<WaitCancel>(r);
+  add<BadOutput>(r);
+}
+
+}  // namespace
+
+LISTA_PLUGIN(register_stages)

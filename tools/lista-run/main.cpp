@@ -1,0 +1,160 @@
+// lista-run: loads plugins, validates a pipeline and runs it.
+// Exit codes: 0 ok, 1 pipeline or data error, 2 usage, 130 cancelled.
+#include "describe.hpp"
+
+#include <lista_core/cancel.hpp>
+#include <lista_core/executor.hpp>
+#include <lista_core/loader.hpp>
+#include <lista_core/plan.hpp>
+#include <lista_core/text.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+namespace {
+
+constexpr int exit_ok = 0, exit_error = 1, exit_usage = 2, exit_cancelled = 130;
+
+int fail(const std::string& message, int code = exit_error) {
+  std::cerr << "lista-run: error: " << message << "\n";
+  return code;
+}
+
+struct Options {
+  std::string pipeline, dataset, out, describe;
+  std::vector<std::string> sets, plugin_dirs;
+  int jobs = 1, threads = 0;
+  int64_t seed = -1;
+  bool quiet = false, validate = false, dry_run = false, list_plugins = false, json = false,
+       no_default_plugins = false, verbose = false;
+};
+
+int run(const Options& o) {
+  using namespace lista::core;
+  Registry registry;
+  const LoadResult loaded = load_plugins(registry, plugin_search_path(o.plugin_dirs, !o.no_default_plugins));
+  auto warn_load_errors = [&] {
+    if (!o.quiet)
+      for (const auto& e : loaded.errors) std::cerr << "lista-run: warning: " << e << "\n";
+  };
+
+  if (o.list_plugins) {
+    std::cout << lista_run::list_plugins(registry);
+    warn_load_errors();
+    return exit_ok;
+  }
+  if (!o.describe.empty()) {
+    const RegisteredStage* stage = registry.find(o.describe);
+    if (!stage) {
+      warn_load_errors();
+      return fail("unknown plugin '" + o.describe + "'" + did_you_mean(o.describe, registry.names()) +
+                  "; see lista-run --list-plugins");
+    }
+    std::cout << (o.json ? lista_run::describe_json(*stage) : lista_run::describe_text(*stage));
+    return exit_ok;
+  }
+  if (o.pipeline.empty()) return fail("no pipeline given; usage: lista-run PIPELINE.toml (see --help)", exit_usage);
+
+  std::vector<Override> overrides;
+  for (const auto& s : o.sets) {
+    try {
+      overrides.push_back(parse_override(s));
+    } catch (const lista::Error& e) {
+      return fail(e.what(), exit_usage);
+    }
+  }
+
+  Diagnostics diagnostics;
+  Plan plan;
+  try {
+    const PipelineSpec spec = parse_pipeline_file(o.pipeline, diagnostics);
+    plan = build_plan(spec, overrides, registry, diagnostics, loaded.errors);
+  } catch (const lista::Error& e) {
+    if (o.validate) {
+      // A syntax error is a verdict too.
+      Diagnostics d;
+      d.error(e.location(), "", e.message());
+      std::cout << lista_run::verdict_json(d);
+      return exit_error;
+    }
+    return fail(e.what());
+  }
+  if (o.validate) {
+    std::cout << lista_run::verdict_json(diagnostics);
+    return diagnostics.ok() ? exit_ok : exit_error;
+  }
+  if (!o.quiet)
+    for (const auto& w : diagnostics.warnings) std::cerr << "lista-run: warning: " << w.str() << "\n";
+  if (!diagnostics.ok()) {
+    warn_load_errors();
+    for (const auto& e : diagnostics.errors) std::cerr << "lista-run: error: " << e.str() << "\n";
+    return exit_error;
+  }
+  if (o.dry_run) {
+    std::cout << plan.describe();
+    return exit_ok;
+  }
+
+  RunOptions options;
+  options.jobs = o.jobs;
+  options.threads = o.threads;
+  if (o.seed >= 0) options.seed = static_cast<uint64_t>(o.seed);
+  options.dataset = o.dataset;
+  options.output = o.out;
+  options.pipeline_file = o.pipeline;
+  options.quiet = o.quiet;
+  options.min_level = o.verbose ? lista::LogLevel::debug : lista::LogLevel::info;
+  install_sigint_handler();
+  try {
+    execute(plan, options);
+  } catch (const lista::Cancelled&) {
+    std::cerr << "lista-run: cancelled\n";
+    return exit_cancelled;
+  } catch (const lista::Error& e) {
+    return fail(e.what());
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+  return exit_ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"lista-run: run a LiSTA change-detection pipeline"};
+  Options o;
+  app.add_option("pipeline", o.pipeline, "pipeline TOML file");
+  app.add_option("--dataset", o.dataset, "dataset folder (overrides [pipeline].dataset)");
+  app.add_option("--out", o.out, "output folder (overrides [pipeline].output)");
+  app.add_option("--set", o.sets, "override a parameter: <stage>.<param>=<value> (TOML value; bare word = string)");
+  app.add_option("-j,--jobs", o.jobs, "stages run at once")->check(CLI::Range(1, 256));
+  app.add_option("--threads", o.threads, "total thread budget (default: [pipeline].threads or all cores)")
+      ->check(CLI::Range(1, 4096));
+  app.add_option("--seed", o.seed, "random seed (overrides [pipeline].seed)")->check(CLI::NonNegativeNumber);
+  app.add_flag("-q,--quiet", o.quiet, "only errors: no progress, no info lines");
+  app.add_flag("-v,--verbose", o.verbose, "also debug messages");
+  app.add_option("--plugin-dir", o.plugin_dirs, "extra folder with plugin libraries (repeatable)");
+  app.add_flag("--no-default-plugins", o.no_default_plugins,
+               "do not load lib/lista-plugins next to liblista_core (test plugins in isolation)");
+  app.add_flag("--validate", o.validate, "check the pipeline and print a JSON verdict");
+  app.add_flag("--dry-run", o.dry_run, "print the execution plan without running it");
+  app.add_flag("--list-plugins", o.list_plugins, "list the available plugins");
+  app.add_option("--describe", o.describe, "describe a plugin: ports and parameters");
+  app.add_flag("--json", o.json, "with --describe: JSON output");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    return fail(std::string(e.what()) + " (see --help)", exit_usage);
+  }
+  if (o.validate && o.dry_run) return fail("--validate and --dry-run exclude each other", exit_usage);
+  try {
+    return run(o);
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+}
