@@ -1,0 +1,107 @@
+#include "ground_removal.hpp"
+
+#include <lista/error.hpp>
+#include <lista_pcl/convert.hpp>
+
+#include <pcl/ModelCoefficients.h>
+#include <pcl/sample_consensus/method_types.h>
+#include <pcl/sample_consensus/model_types.h>
+#include <pcl/segmentation/sac_segmentation.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <set>
+#include <thread>
+
+namespace lista::filter {
+namespace {
+
+using Cell = std::pair<int64_t, int64_t>;
+Cell cell_of(const Eigen::Vector3f& p, double size) {
+  return {int64_t(std::floor(p.x() / size)), int64_t(std::floor(p.y() / size))};
+}
+
+// Ground points of one tile.
+std::vector<uint32_t> ground_in_tile(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
+                                     const PointSet& points, const std::vector<uint32_t>& tile,
+                                     const GroundConfig& c) {
+  std::vector<uint32_t> ground;
+  std::vector<uint32_t> remaining = tile;
+  for (int attempt = 0; attempt < c.planes_per_tile && remaining.size() >= c.min_points; ++attempt) {
+    pcl::SACSegmentation<pcl::PointXYZ> sac;  // fixed internal seed: deterministic
+    sac.setOptimizeCoefficients(true);
+    sac.setModelType(pcl::SACMODEL_PERPENDICULAR_PLANE);
+    sac.setMethodType(pcl::SAC_RANSAC);
+    sac.setAxis(Eigen::Vector3f::UnitZ());
+    sac.setEpsAngle(c.max_slope_deg * M_PI / 180.0);
+    sac.setDistanceThreshold(c.distance);
+    sac.setMaxIterations(c.max_iterations);
+    sac.setInputCloud(cloud);
+    auto idx = std::make_shared<pcl::Indices>(remaining.begin(), remaining.end());
+    sac.setIndices(idx);
+    pcl::PointIndices inliers;
+    pcl::ModelCoefficients coeff;
+    sac.segment(inliers, coeff);
+    if (inliers.indices.size() < c.min_points || coeff.values.size() != 4) break;
+
+    Eigen::Vector4f plane(coeff.values[0], coeff.values[1], coeff.values[2], coeff.values[3]);
+    if (plane.z() < 0) plane = -plane;  // normal up: negative distance = under the plane
+    const float norm = plane.head<3>().norm();
+    if (!(norm > 0) || std::acos(std::min(1.f, plane.z() / norm)) > c.max_slope_deg * M_PI / 180.0 + 1e-3)
+      break;
+    plane /= norm;
+
+    std::set<Cell> footprint;
+    for (auto i : inliers.indices) footprint.insert(cell_of(points.xyz[i], c.footprint_cell));
+    size_t below = 0;
+    for (auto i : tile) {
+      const auto& p = points.xyz[i];
+      if (plane.head<3>().dot(p) + plane.w() < -2.0 * c.distance &&
+          footprint.count(cell_of(p, c.footprint_cell)))
+        ++below;
+    }
+    if (double(below) <= c.max_below_fraction * double(inliers.indices.size()))
+      for (auto i : inliers.indices) ground.push_back(uint32_t(i));
+
+    // Try the next plane on what is left (a lower level, or the floor under a table).
+    std::vector<uint32_t> sorted_in(inliers.indices.begin(), inliers.indices.end());
+    std::sort(sorted_in.begin(), sorted_in.end());
+    std::vector<uint32_t> rest;
+    std::set_difference(remaining.begin(), remaining.end(), sorted_in.begin(), sorted_in.end(),
+                        std::back_inserter(rest));
+    remaining.swap(rest);
+  }
+  return ground;
+}
+
+}  // namespace
+
+std::vector<uint32_t> find_ground(const PointSet& points, const GroundConfig& c, int threads) {
+  if (!(c.tile_size > 0) || !(c.distance > 0) || !(c.footprint_cell > 0))
+    throw Error("tile_size, distance and footprint_cell must be > 0");
+  if (points.empty()) return {};
+  std::map<Cell, std::vector<uint32_t>> tiles;  // ordered: deterministic
+  for (uint32_t i = 0; i < points.size(); ++i) tiles[cell_of(points.xyz[i], c.tile_size)].push_back(i);
+  std::vector<const std::vector<uint32_t>*> list;
+  for (auto& [k, v] : tiles) list.push_back(&v);
+
+  auto cloud = pcl_convert::to_xyz(points);
+  std::vector<std::vector<uint32_t>> found(list.size());
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t t; (t = next++) < list.size();) found[t] = ground_in_tile(cloud, points, *list[t], c);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::min<int>(threads, int(list.size())); ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+
+  std::vector<uint32_t> ground;
+  for (auto& f : found) ground.insert(ground.end(), f.begin(), f.end());
+  std::sort(ground.begin(), ground.end());
+  return ground;
+}
+
+}  // namespace lista::filter

@@ -1,0 +1,89 @@
+// filter.ground: removes ground points (per-tile RANSAC planes).
+#include "ground_removal.hpp"
+
+#include <lista/data.hpp>
+#include <lista/plugin.hpp>
+
+#include <algorithm>
+
+namespace lista::filter {
+namespace {
+
+class GroundFilterStage : public Stage {
+ public:
+  explicit GroundFilterStage(const Params& p) {
+    c_.tile_size = p.get<double>("tile_size");
+    c_.distance = p.get<double>("distance");
+    c_.max_slope_deg = p.get<double>("max_slope");
+    c_.planes_per_tile = p.get<int>("planes_per_tile");
+    c_.min_points = size_t(p.get<int64_t>("min_points"));
+    c_.footprint_cell = p.get<double>("footprint_cell");
+    c_.max_below_fraction = p.get<double>("max_below_fraction");
+    c_.max_iterations = p.get<int>("max_iterations");
+  }
+
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "filter.ground";
+    i.version = "1.0.0";
+    i.summary = "Ground removal by per-tile RANSAC plane fitting (PCL)";
+    i.doc =
+        "Cuts each mission's change points into square xy tiles of `tile_size`. In each tile up to "
+        "`planes_per_tile` planes within `max_slope` of horizontal are fitted in turn by RANSAC "
+        "(pcl::SACSegmentation, SACMODEL_PERPENDICULAR_PLANE about z), each on the points the "
+        "previous ones left. A plane is ground when at most `max_below_fraction` of its inlier "
+        "count lies more than 2*distance under it within its own footprint (cells of "
+        "`footprint_cell`): floors, ramps and each level of a multi-level floor pass, table and "
+        "box tops do not (their sides and legs are under them). Only that plane's inliers "
+        "(within `distance`) are removed. Tiles run in parallel; RANSAC uses PCL's fixed seed.";
+    i.inputs = {{"changes", "points", "per-mission change points"}};
+    i.outputs = {{"changes", "points", "the points that are not ground"}};
+    i.params = {
+        ParamSpec::real("tile_size", 4.0, "xy tile edge; one plane set per tile").range(0.5, 100).unit("m"),
+        ParamSpec::real("distance", 0.05, "inlier distance to the ground plane").range(0.005, 1).unit("m"),
+        ParamSpec::real("max_slope", 15.0, "steepest plane taken as ground").range(0, 45).unit("deg"),
+        ParamSpec::integer("planes_per_tile", 3, "candidate planes tried per tile").range(1, 20),
+        ParamSpec::integer("min_points", 30, "fewest inliers for a ground plane").range(3, 1e9),
+        ParamSpec::real("footprint_cell", 0.25, "cell of the under-the-plane test").range(0.01, 10).unit("m"),
+        ParamSpec::real("max_below_fraction", 0.05, "under-plane points per inlier allowed").range(0, 1),
+        ParamSpec::integer("max_iterations", 200, "RANSAC iterations per plane").range(10, 100000),
+    };
+    return i;
+  }
+
+  Outputs run(const Inputs& in, Context& context) override {
+    const auto& changes = in.get<MissionPoints>("changes");
+    MissionPoints out;
+    out.missions = changes.missions;
+    size_t removed = 0;
+    for (const auto& s : changes.sets) {
+      context.throw_if_cancelled();
+      const auto ground = find_ground(s, c_, context.threads());
+      std::vector<uint32_t> keep;
+      keep.reserve(s.size() - ground.size());
+      size_t g = 0;
+      for (uint32_t i = 0; i < s.size(); ++i) {
+        if (g < ground.size() && ground[g] == i) { ++g; continue; }
+        keep.push_back(i);
+      }
+      removed += ground.size();
+      out.sets.push_back(s.select(keep));
+    }
+    context.record("removed_points", double(removed));
+    Outputs o;
+    o.put("changes", std::move(out));
+    return o;
+  }
+
+ private:
+  GroundConfig c_;
+};
+
+void register_stages(Registrar& r) {
+  r.add(GroundFilterStage::info(), [](const Params& p) { return std::make_unique<GroundFilterStage>(p); });
+}
+
+}  // namespace
+}  // namespace lista::filter
+
+LISTA_PLUGIN(lista::filter::register_stages)

@@ -1,0 +1,67 @@
+#include "morphology.hpp"
+
+#include <lista/error.hpp>
+
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace lista::filter {
+namespace {
+
+constexpr int64_t kOffset = 1 << 20;
+uint64_t pack(int64_t x, int64_t y, int64_t z) {
+  return (uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset);
+}
+Eigen::Vector3i unpack(uint64_t k) {
+  return {int(int64_t((k >> 42) & 0x1FFFFF) - kOffset), int(int64_t((k >> 21) & 0x1FFFFF) - kOffset),
+          int(int64_t(k & 0x1FFFFF) - kOffset)};
+}
+
+template <class F>
+void for_neighbours(uint64_t k, F&& f) {
+  const Eigen::Vector3i c = unpack(k);
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz)
+        if (dx || dy || dz) f(pack(c.x() + dx, c.y() + dy, c.z() + dz));
+}
+
+}  // namespace
+
+std::vector<uint32_t> morphology_keep(const PointSet& points, const MorphologyConfig& c) {
+  if (!(c.voxel > 0)) throw Error("voxel must be > 0");
+  const double inv = 1.0 / c.voxel;
+  std::vector<uint64_t> key(points.size());
+  std::unordered_set<uint64_t> occupied;
+  for (size_t i = 0; i < points.size(); ++i) {
+    Eigen::Vector3d v = (points.xyz[i].cast<double>() * inv).array().floor();
+    if ((v.array().abs() >= double(kOffset - 2)).any())
+      throw Error("point " + std::to_string(i) + " is too far from the origin for the voxel grid");
+    key[i] = pack(int64_t(v.x()), int64_t(v.y()), int64_t(v.z()));
+    occupied.insert(key[i]);
+  }
+  // Erosion (rank filter over the 26-neighbourhood).
+  std::unordered_set<uint64_t> kept;
+  for (uint64_t k : occupied) {
+    int n = 0;
+    for_neighbours(k, [&](uint64_t q) { n += int(occupied.count(q)); });
+    if (n >= c.min_neighbours) kept.insert(k);
+  }
+  // Dilation, only onto voxels that were occupied.
+  for (int step = 0; step < c.dilate_steps; ++step) {
+    std::vector<uint64_t> grow;
+    for (uint64_t k : kept)
+      for_neighbours(k, [&](uint64_t q) {
+        if (occupied.count(q) && !kept.count(q)) grow.push_back(q);
+      });
+    if (grow.empty()) break;
+    kept.insert(grow.begin(), grow.end());
+  }
+  std::vector<uint32_t> keep;
+  for (uint32_t i = 0; i < points.size(); ++i)
+    if (kept.count(key[i])) keep.push_back(i);
+  return keep;
+}
+
+}  // namespace lista::filter
