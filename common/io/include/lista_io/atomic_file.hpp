@@ -12,3 +12,8 @@ void write_file_atomic(const std::string& path, const std::string& content);
 void commit_file(const std::string& temp_path, const std::string& final_path);
 
 }  // namespace lista::io
+
+namespace lista::io {
+// The temp name write_file_atomic uses for `path` ("<path>.tmp.<pid>").
+std::string temp_name(const std::string& path);
+}  // namespace lista::io

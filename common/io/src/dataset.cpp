@@ -1,0 +1,169 @@
+// Reading missions and datasets (data contract, sect. 1): poses.txt + scans/,
+// or the VIEWPOINT layout (map-frame .pcd scans carrying the sensor pose).
+#include <lista/error.hpp>
+#include <lista_io/dataset.hpp>
+#include <lista_io/pcd.hpp>
+#include <lista_io/poses.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+namespace fs = std::filesystem;
+
+namespace lista::io {
+
+namespace {
+
+bool is_scan_file(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".pcd" || ext == ".ply" || ext == ".bin";
+}
+
+std::vector<std::string> files_in(const fs::path& dir, bool pcd_only) {
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!it->is_regular_file()) continue;
+    const fs::path& p = it->path();
+    if (pcd_only ? p.extension() == ".pcd" : is_scan_file(p)) out.push_back(p.string());
+  }
+  if (ec) throw Error(dir.string() + ": cannot list (" + ec.message() + ")");
+  std::sort(out.begin(), out.end());  // by file name: same folder, so full path order = name order
+  return out;
+}
+
+bool is_mission_dir(const fs::path& dir) {
+  if (fs::is_regular_file(dir / "poses.txt")) return true;
+  return !files_in(dir, true).empty();  // VIEWPOINT layout
+}
+
+// Runs fn(i) for i in [0, n) on up to `threads` threads; rethrows the first error.
+template <class Fn>
+void parallel_for(size_t n, int threads, Fn fn) {
+  const size_t workers = std::min<size_t>(std::max(1, threads), n);
+  if (workers <= 1) {
+    for (size_t i = 0; i < n; ++i) fn(i);
+    return;
+  }
+  std::atomic<size_t> next{0};
+  std::exception_ptr error;
+  std::mutex mutex;
+  auto work = [&] {
+    for (size_t i; (i = next.fetch_add(1)) < n;) {
+      try {
+        fn(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        next = n;  // stop handing out work
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (size_t w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
+std::vector<std::string> list_missions(const std::string& dataset_dir) {
+  const fs::path root(dataset_dir);
+  if (!fs::is_directory(root)) throw Error(dataset_dir + ": dataset folder does not exist");
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec))
+    if (it->is_directory() && is_mission_dir(it->path())) names.push_back(it->path().filename().string());
+  if (ec) throw Error(dataset_dir + ": cannot list (" + ec.message() + ")");
+  std::sort(names.begin(), names.end());
+  if (names.empty()) {
+    // A single mission folder given as the dataset.
+    if (is_mission_dir(root)) return {"."};
+    throw Error(dataset_dir + ": no missions (expected folders with poses.txt and scans/, or .pcd scans with VIEWPOINT)");
+  }
+  return names;
+}
+
+Mission read_mission(const std::string& mission_dir, const DatasetOptions& options) {
+  const fs::path dir(mission_dir);
+  if (!fs::is_directory(dir)) throw Error(mission_dir + ": mission folder does not exist");
+  Mission m;
+  m.dir = mission_dir;
+  m.name = fs::weakly_canonical(dir).filename().string();
+  const bool viewpoint_layout = !fs::exists(dir / "poses.txt");
+  std::vector<std::string> files;
+  std::vector<PoseRecord> poses;
+  if (viewpoint_layout) {
+    files = files_in(dir, true);
+    if (files.empty())
+      throw Error(mission_dir + ": empty mission (no poses.txt, no .pcd scans)");
+  } else {
+    poses = read_poses((dir / "poses.txt").string());
+    if (!fs::is_directory(dir / "scans")) throw Error(mission_dir + ": has poses.txt but no scans/ folder");
+    files = files_in(dir / "scans", false);
+    if (poses.empty() && files.empty()) throw Error(mission_dir + ": empty mission (no poses, no scans)");
+    if (files.size() != poses.size())
+      throw Error(mission_dir + ": " + std::to_string(files.size()) + " scan files in scans/ but " +
+                  std::to_string(poses.size()) + " poses in poses.txt");
+  }
+  m.scans.resize(files.size());
+  std::vector<size_t> skipped(files.size(), 0);
+  const bool need_read = options.load_points || viewpoint_layout;
+  parallel_for(files.size(), options.threads, [&](size_t i) {
+    Scan& s = m.scans[i];
+    s.file = files[i];
+    if (!viewpoint_layout) {
+      s.timestamp = poses[i].timestamp;
+      s.pose = poses[i].pose;
+    } else {
+      s.timestamp = double(i);
+    }
+    if (!need_read) {
+      s.points = std::make_shared<const PointSet>();
+      return;
+    }
+    ScanFile f = read_scan(files[i], static_cast<uint32_t>(i));
+    if (viewpoint_layout) {
+      // Points are in the map frame: bring them into the sensor frame.
+      s.pose = f.viewpoint.value_or(Eigen::Isometry3d::Identity());
+      const Eigen::Isometry3f inv = s.pose.inverse().cast<float>();
+      for (auto& p : f.points.xyz) p = inv * p;
+    }
+    s.points_in_file = f.points_in_file;
+    skipped[i] = f.skipped_nonfinite;
+    if (!options.load_points) f.points = PointSet();
+    s.points = std::make_shared<const PointSet>(std::move(f.points));
+  });
+  for (size_t k : skipped) m.skipped_nonfinite += k;
+  if (fs::is_regular_file(dir / "poses_gt.txt")) {
+    const auto gt = read_poses((dir / "poses_gt.txt").string());
+    if (gt.size() != m.scans.size())
+      throw Error(mission_dir + "/poses_gt.txt: " + std::to_string(gt.size()) + " poses for " +
+                  std::to_string(m.scans.size()) + " scans");
+    for (const auto& r : gt) m.poses_gt.push_back(r.pose);
+  }
+  return m;
+}
+
+MissionSet read_dataset(const std::string& dataset_dir, const DatasetOptions& options) {
+  MissionSet set;
+  set.dataset = dataset_dir;
+  std::vector<std::string> names = options.missions.empty() ? list_missions(dataset_dir) : options.missions;
+  for (const auto& name : names) {
+    const fs::path dir = name == "." ? fs::path(dataset_dir) : fs::path(dataset_dir) / name;
+    if (!fs::is_directory(dir)) throw Error(dataset_dir + ": no mission '" + name + "'");
+    for (const auto& seen : set.missions)
+      if (seen.name == name) throw Error(dataset_dir + ": mission '" + name + "' listed twice");
+    set.missions.push_back(read_mission(dir.string(), options));
+    if (name != ".") set.missions.back().name = name;
+  }
+  return set;
+}
+
+}  // namespace lista::io

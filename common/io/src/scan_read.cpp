@@ -1,0 +1,98 @@
+// read_scan: dispatch by extension; the PCD and KITTI .bin scan readers.
+#include "pcd_format.hpp"
+#include "scan_format.hpp"
+#include "text_util.hpp"
+
+#include <lista/error.hpp>
+#include <lista_io/pcd.hpp>
+
+#include <algorithm>
+#include <cstring>
+
+namespace lista::io {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  const auto dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id) {
+  detail::PcdData d;
+  detail::load_pcd(path, d);
+  const int fx = d.find("x"), fy = d.find("y"), fz = d.find("z");
+  if (fx < 0 || fy < 0 || fz < 0) throw Error(path + ": PCD file lacks one of the fields x, y, z");
+  const int fi = d.find("intensity"), fl = d.find("label");
+  ScanFile s;
+  const size_t n = d.points;
+  s.points_in_file = static_cast<uint32_t>(n);
+  s.points.reserve(n);
+  if (fi >= 0) s.points.intensity.reserve(n);
+  if (fl >= 0) s.points.label.reserve(n);
+  if (d.encoding != "ascii" && d.fields[fx].type == 'F' && d.fields[fx].size == 4 && d.fields[fy].size == 4 &&
+      d.fields[fy].type == 'F' && d.fields[fz].type == 'F' && d.fields[fz].size == 4) {
+    // Fast path: float32 coordinates read straight from the buffer.
+    const bool fast_i = fi >= 0 && d.fields[fi].type == 'F' && d.fields[fi].size == 4;
+    const bool fast_l = fl >= 0 && d.fields[fl].type == 'U' && d.fields[fl].size == 4;
+    for (size_t i = 0; i < n; ++i) {
+      float x, y, z, in = 0.f;
+      uint32_t lb = 0;
+      std::memcpy(&x, d.base[fx] + i * d.step[fx], 4);
+      std::memcpy(&y, d.base[fy] + i * d.step[fy], 4);
+      std::memcpy(&z, d.base[fz] + i * d.step[fz], 4);
+      if (fi >= 0) {
+        if (fast_i) std::memcpy(&in, d.base[fi] + i * d.step[fi], 4);
+        else in = static_cast<float>(d.value(fi, i));
+      }
+      if (fl >= 0) {
+        if (fast_l) std::memcpy(&lb, d.base[fl] + i * d.step[fl], 4);
+        else lb = static_cast<uint32_t>(d.value(fl, i));
+      }
+      detail::add_point(s, scan_id, uint32_t(i), x, y, z, fi >= 0, in, fl >= 0, lb);
+    }
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      const float in = fi >= 0 ? static_cast<float>(d.value(fi, i)) : 0.f;
+      const uint32_t lb = fl >= 0 ? static_cast<uint32_t>(d.value(fl, i)) : 0u;
+      detail::add_point(s, scan_id, uint32_t(i), float(d.value(fx, i)), float(d.value(fy, i)),
+                        float(d.value(fz, i)), fi >= 0, in, fl >= 0, lb);
+    }
+  }
+  if (!d.viewpoint_identity) s.viewpoint = d.viewpoint;
+  return s;
+}
+
+ScanFile read_kitti_bin(const std::string& path, uint32_t scan_id) {
+  const std::string bytes = detail::read_whole_file(path);
+  if (bytes.size() % 16 != 0)
+    throw Error(path + ": KITTI .bin size " + std::to_string(bytes.size()) +
+                " is not a multiple of 16 bytes (float32 x y z intensity)");
+  const size_t n = bytes.size() / 16;
+  ScanFile s;
+  s.points_in_file = static_cast<uint32_t>(n);
+  s.points.reserve(n);
+  s.points.intensity.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    float v[4];
+    std::memcpy(v, bytes.data() + i * 16, 16);
+    detail::add_point(s, scan_id, uint32_t(i), v[0], v[1], v[2], true, v[3], false, 0);
+  }
+  return s;
+}
+
+}  // namespace
+
+ScanFile read_scan(const std::string& path, uint32_t scan_id) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".pcd") return read_pcd_scan(path, scan_id);
+  if (ext == ".ply") return detail::read_ply(path, scan_id);
+  if (ext == ".bin") return read_kitti_bin(path, scan_id);
+  throw Error(path + ": unknown scan file type '" + ext + "' (expected .pcd, .ply or .bin)");
+}
+
+}  // namespace lista::io

@@ -1,0 +1,128 @@
+#include "test_util.hpp"
+
+#include <lista_io/dataset.hpp>
+#include <lista_io/pcd.hpp>
+#include <lista_io/poses.hpp>
+
+#include <cmath>
+
+using namespace lista;
+using namespace lista::io;
+using namespace lista_io_test;
+namespace fs = std::filesystem;
+
+namespace {
+
+PointSet scan_points(int scan, size_t n) {
+  PointSet p;
+  for (size_t i = 0; i < n; ++i) {
+    p.xyz.emplace_back(float(scan), float(i), 1.f);
+    p.intensity.push_back(0.5f);
+    p.label.push_back(uint32_t(i % 3));
+  }
+  if (n > 1) p.xyz[1].x() = NAN;  // one non-finite point per scan
+  return p;
+}
+
+// A mission folder with `scans` scans of `n` points, in the given encoding.
+void make_mission(const fs::path& dir, int scans, size_t n, bool with_gt = false) {
+  fs::create_directories(dir / "scans");
+  std::vector<PoseRecord> poses;
+  for (int s = 0; s < scans; ++s) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.pcd", s);
+    write_scan_pcd((dir / "scans" / name).string(), scan_points(s, n),
+                   s % 2 ? PcdEncoding::binary_compressed : PcdEncoding::binary);
+    PoseRecord r;
+    r.timestamp = s;
+    r.pose.translation() = Eigen::Vector3d(s, 0, 0);
+    poses.push_back(r);
+  }
+  write_poses((dir / "poses.txt").string(), poses);
+  if (with_gt) {
+    for (auto& r : poses) r.pose.translation().y() += 10;
+    write_poses((dir / "poses_gt.txt").string(), poses, PoseFormat::kitti);
+  }
+}
+
+}  // namespace
+
+TEST(Dataset, ReadsMissionsSortedWithProvenanceInParallel) {
+  const auto root = temp_dir("ds");
+  make_mission(root / "b_second", 3, 10, true);
+  make_mission(root / "a_first", 4, 5);
+  fs::create_directories(root / "notes");  // not a mission: ignored
+  EXPECT_EQ(list_missions(root.string()), (std::vector<std::string>{"a_first", "b_second"}));
+  DatasetOptions opt;
+  opt.threads = 3;
+  const MissionSet set = read_dataset(root.string(), opt);
+  ASSERT_EQ(set.missions.size(), 2u);
+  const Mission& a = set.missions[0];
+  EXPECT_EQ(a.name, "a_first");
+  ASSERT_EQ(a.scans.size(), 4u);
+  EXPECT_EQ(a.skipped_nonfinite, 4u);
+  EXPECT_TRUE(a.poses_gt.empty());
+  for (size_t s = 0; s < 4; ++s) {
+    const PointSet& p = *a.scans[s].points;
+    EXPECT_EQ(a.scans[s].points_in_file, 5u);
+    ASSERT_EQ(p.size(), 4u);
+    EXPECT_EQ(p.scan[0], s);
+    EXPECT_EQ(p.index[1], 2u);  // index 1 was the non-finite point
+    EXPECT_EQ(p.xyz[0].x(), float(s));
+    EXPECT_EQ(a.scans[s].pose.translation().x(), double(s));
+  }
+  const Mission& b = set.missions[1];
+  ASSERT_EQ(b.poses_gt.size(), 3u);
+  EXPECT_DOUBLE_EQ(b.poses_gt[2].translation().y(), 10.0);
+  EXPECT_EQ(b.point_count(), 27u);
+
+  DatasetOptions only;
+  only.missions = {"b_second"};
+  only.load_points = false;
+  const MissionSet one = read_dataset(root.string(), only);
+  ASSERT_EQ(one.missions.size(), 1u);
+  EXPECT_EQ(one.missions[0].name, "b_second");
+  EXPECT_EQ(one.missions[0].scans[0].points->size(), 0u);
+}
+
+TEST(Dataset, ErrorsAreClear) {
+  const auto root = temp_dir("ds");
+  make_mission(root / "m", 3, 4);
+  fs::remove(root / "m" / "scans" / "000002.pcd");
+  expect_error([&] { read_mission((root / "m").string()); }, "2 scan files in scans/ but 3 poses in poses.txt");
+  fs::create_directories(root / "empty" / "scans");
+  write_text(root / "empty" / "poses.txt", "# nothing\n");
+  expect_error([&] { read_mission((root / "empty").string()); }, "empty mission");
+  expect_error([&] { read_dataset(root.string(), DatasetOptions{{"nope"}}); }, "no mission 'nope'");
+  const auto none = temp_dir("ds_none");
+  expect_error([&] { list_missions(none.string()); }, "no missions");
+  expect_error([&] { list_missions((none / "absent").string()); }, "does not exist");
+  make_mission(root / "g", 2, 4, true);
+  write_text(root / "g" / "poses_gt.txt", "0 0 0 0 0 0 0 1\n");
+  expect_error([&] { read_mission((root / "g").string()); }, "poses_gt.txt: 1 poses for 2 scans");
+  make_mission(root / "bad", 1, 4);
+  write_text(root / "bad" / "scans" / "000000.pcd", "FIELDS x\n");
+  expect_error([&] { read_mission((root / "bad").string(), DatasetOptions{{}, true, 2}); }, "000000.pcd");
+}
+
+TEST(Dataset, ViewpointLayoutPutsPointsInSensorFrame) {
+  const auto root = temp_dir("vp");
+  Eigen::Isometry3d vp = Eigen::Isometry3d::Identity();
+  vp.translate(Eigen::Vector3d(5, 0, 1));
+  vp.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  std::vector<float> x = {5.f}, y = {2.f}, z = {1.f};  // map frame: 2 m ahead along map y
+  for (const char* name : {"b.pcd", "a.pcd"})
+    write_pcd((root / name).string(), 1, {{"x", 'F', x.data()}, {"y", 'F', y.data()}, {"z", 'F', z.data()}},
+              PcdEncoding::binary, vp);
+  EXPECT_EQ(list_missions(root.string()), std::vector<std::string>{"."});
+  const MissionSet set = read_dataset(root.string());
+  ASSERT_EQ(set.missions.size(), 1u);
+  const Mission& m = set.missions[0];
+  ASSERT_EQ(m.scans.size(), 2u);
+  EXPECT_NE(m.scans[0].file.find("a.pcd"), std::string::npos);
+  EXPECT_TRUE(m.scans[0].pose.isApprox(vp, 1e-9));
+  const Eigen::Vector3f p = m.scans[0].points->xyz[0];
+  EXPECT_NEAR(p.x(), 2.f, 1e-5);  // sensor x = map y after the 90 degree yaw
+  EXPECT_NEAR(p.y(), 0.f, 1e-5);
+  EXPECT_NEAR(p.z(), 0.f, 1e-5);
+}
