@@ -1,0 +1,71 @@
+// register.svd: the paper's registration of moved objects (shared centroid,
+// orientation from the SVD of the covariance); see svd_registration.hpp.
+#include "register_objects.hpp"
+#include "svd_registration.hpp"
+
+#include <lista/lista.hpp>
+
+#include <atomic>
+
+namespace lista::registration {
+
+namespace {
+
+class SvdStage : public Stage {
+ public:
+  explicit SvdStage(const Params& p) : tolerance_(p.get<double>("ambiguity_tolerance")) {}
+
+  Outputs run(const Inputs& in, Context& ctx) override {
+    const auto& objects = in.get<ObjectSet>("objects");
+    const auto& matches = in.get<Matches>("matches");
+    std::atomic<int> ambiguous{0};
+    Matches out = register_matches(objects, matches, [&](const Object& s, const Object& t) {
+      const PrincipalFrame fs = principal_frame(s.points.xyz, tolerance_);
+      const PrincipalFrame ft = principal_frame(t.points.xyz, tolerance_);
+      if (fs.ambiguous_sign || fs.ambiguous_axes || ft.ambiguous_sign || ft.ambiguous_axes) ++ambiguous;
+      return svd_transform(fs, ft);
+    }, ctx);
+    out.method = matches.method + "+register.svd";
+    if (ambiguous > 0)
+      ctx.warn(std::to_string(ambiguous.load()) +
+               " moved pairs have near-symmetric shapes; their SVD orientation may be off by a flip "
+               "(use register.icp)");
+    ctx.record("ambiguous_pairs", ambiguous.load());
+    Outputs o;
+    o.put("matches", std::move(out));
+    return o;
+  }
+
+ private:
+  double tolerance_;
+};
+
+StageInfo info() {
+  StageInfo s;
+  s.name = "register.svd";
+  s.version = "1.0.0";
+  s.summary = "6-DoF transform of each moved object: shared centroid, orientation from covariance SVD";
+  s.doc =
+      "For each matched pair, each object's principal frame is its centroid and the singular vectors of "
+      "its point covariance (decreasing variance); the first two axes are signed so the points' skew "
+      "along them is positive, the third is their cross product. T = F_match * F_object^-1, so "
+      "p_match = T * p. Caveats: symmetric shapes leave axis signs undetermined (a 180 degree flip), "
+      "near-equal variances leave the axes undetermined, partial views bias centroid and axes; such "
+      "pairs are counted in the 'ambiguous_pairs' metric. register.icp refines these.";
+  s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
+  s.outputs = {{"matches", "matches", "the matches with a transform for every moved object"}};
+  s.params = {ParamSpec::real("ambiguity_tolerance", 0.05,
+                              "relative skew / variance gap below which a frame is reported ambiguous")
+                  .range(0.0, 1.0)};
+  return s;
+}
+
+void register_stages(Registrar& r) {
+  r.add(info(), [](const Params& p) { return std::make_unique<SvdStage>(p); });
+}
+
+}  // namespace
+
+}  // namespace lista::registration
+
+LISTA_PLUGIN(lista::registration::register_stages)
