@@ -1,0 +1,145 @@
+// The simulator's pieces on their own: footprints, placement without
+// interpenetration, change kinds, sensor geometry and the Embree ray caster.
+#include "footprint.hpp"
+#include "layout.hpp"
+#include "presets.hpp"
+#include "raycaster.hpp"
+#include "scanner.hpp"
+#include "scenario.hpp"
+#include "sensor.hpp"
+#include "shapes.hpp"
+
+#include <lista/error.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace lista::sim;
+
+TEST(Footprint, SeparatingAxes) {
+  Footprint a{{0, 0}, {1, 0.5}, 0.0};
+  Footprint b{{2.5, 0}, {1, 0.5}, 0.0};
+  EXPECT_FALSE(overlaps(a, b));
+  EXPECT_TRUE(overlaps(a, b, 0.6));  // a 0.6 m gap requirement closes the 0.5 m gap
+  b.yaw = M_PI / 2;                   // now 0.5 wide along x: still apart
+  EXPECT_FALSE(overlaps(a, b));
+  b.centre = {1.4, 0.0};
+  EXPECT_TRUE(overlaps(a, b));
+  Footprint c{{1.6, 1.6}, {0.5, 0.5}, M_PI / 4};  // diamond near a's corner, but apart
+  EXPECT_FALSE(overlaps(a, c));
+}
+
+TEST(Shapes, EveryClassStandsOnTheFloorWithRealisticSize) {
+  std::vector<std::string> classes = indoor_classes();
+  for (const auto& c : outdoor_classes()) classes.push_back(c);
+  for (const auto& cls : classes)
+    for (uint64_t v = 0; v < 5; ++v) {
+      const Shape s = make_shape(cls, v);
+      Eigen::Vector3f lo, hi;
+      s.mesh.bounds(lo, hi);
+      EXPECT_NEAR(lo.z(), 0.0f, 1e-5) << s.id;
+      EXPECT_NEAR(lo.x() + hi.x(), 0.0f, 1e-4) << s.id;
+      EXPECT_GT(s.height, 0.1f) << s.id;
+      EXPECT_LT(s.height, 3.5f) << s.id;
+      EXPECT_GT(s.size(), 0.2f) << s.id;
+      EXPECT_LT(s.size(), 13.0f) << s.id;
+    }
+  // Same variant, same geometry; another variant, other parameters.
+  EXPECT_EQ(make_shape("chair", 3).mesh.vertices, make_shape("chair", 3).mesh.vertices);
+  EXPECT_NE(make_shape("table", 3).half_extent, make_shape("table", 4).half_extent);
+  EXPECT_THROW(make_shape("spaceship", 0), lista::Error);
+}
+
+TEST(Scenario, NoObjectInterpenetratesAnotherOrTheStructure) {
+  for (const std::string name : {"tiny", "demo", "exp2", "exp3", "fsc"})
+    for (uint64_t seed : {1, 2}) {
+      const Preset p = make_preset(name);
+      const Scenario sc = plan_scenario(build_layout(p.layout, seed), p.changes, p.route, seed);
+      for (const auto& m : sc.missions) {
+        std::vector<std::pair<uint32_t, Footprint>> fps;
+        for (const auto& [id, pose] : m.objects) fps.emplace_back(id, footprint_of(sc.shapes[sc.object_shape.at(id)], pose));
+        for (size_t i = 0; i < fps.size(); ++i) {
+          for (size_t j = i + 1; j < fps.size(); ++j)
+            EXPECT_FALSE(overlaps(fps[i].second, fps[j].second))
+                << name << " seed " << seed << " mission " << m.name << ": " << fps[i].first << " vs " << fps[j].first;
+          EXPECT_FALSE(overlaps_any(fps[i].second, sc.layout.obstacles)) << name << " object " << fps[i].first;
+          EXPECT_FALSE(overlaps_any(fps[i].second, sc.layout.corridor())) << name << " object on the route";
+        }
+      }
+    }
+}
+
+TEST(Scenario, ChangesOfEveryKindIncludingShortMovesAndSwaps) {
+  const Preset p = make_preset("exp1");
+  const Scenario sc = plan_scenario(build_layout(p.layout, 11), p.changes, p.route, 11);
+  ASSERT_EQ(sc.missions.size(), 2u);
+  const auto& a = sc.missions[0].objects;
+  const auto& b = sc.missions[1].objects;
+  int removed = 0, added = 0, short_moves = 0, swaps = 0;
+  for (const auto& [id, pose] : a) {
+    const auto it = b.find(id);
+    if (it == b.end()) {
+      ++removed;
+      continue;
+    }
+    const double d = (it->second.translation() - pose.translation()).norm();
+    const Shape& s = sc.shapes[sc.object_shape.at(id)];
+    if (d > 0.05 && d < s.size()) ++short_moves;
+    // A swap: another object of the same shape was where this one is now.
+    for (const auto& [other, other_pose] : a)
+      if (other != id && sc.object_shape.at(other) == sc.object_shape.at(id) &&
+          (other_pose.translation() - it->second.translation()).norm() < 1e-9)
+        ++swaps;
+  }
+  for (const auto& [id, pose] : b)
+    if (!a.count(id)) ++added;
+  EXPECT_EQ(removed, p.changes.removals);
+  EXPECT_EQ(added, p.changes.additions);
+  EXPECT_GE(short_moves, p.changes.short_moves);
+  EXPECT_GE(swaps, 2 * p.changes.swaps);
+  EXPECT_EQ(sc.missions[0].people.size(), size_t(p.changes.people));
+}
+
+TEST(Sensor, BeamTablesMatchTheDatasheets) {
+  const SensorModel os0 = make_sensor("os0-128");
+  EXPECT_EQ(os0.elevations.size(), 128u);
+  EXPECT_NEAR(os0.elevations.front(), -M_PI / 4, 1e-9);
+  EXPECT_NEAR(os0.elevations.back(), M_PI / 4, 1e-9);
+  EXPECT_EQ(os0.columns, 1024);
+  const SensorModel xt = make_sensor("xt32");
+  EXPECT_EQ(xt.elevations.size(), 32u);
+  EXPECT_NEAR(xt.elevations.front() * 180 / M_PI, -16.0, 1e-9);
+  EXPECT_NEAR(xt.elevations.back() * 180 / M_PI, 15.0, 1e-9);
+  EXPECT_EQ(xt.max_range, 120.0);
+  EXPECT_EQ(make_sensor("vlp16").elevations.size(), 16u);
+  EXPECT_EQ(make_sensor("vlp16", 900).columns, 900);
+  EXPECT_THROW(make_sensor("lidar9000"), lista::Error);
+}
+
+TEST(RayScene, HitsAWallAtTheRightRangeWithItsLabel) {
+  RayScene scene;
+  TriMesh wall;
+  wall.add_box({5.0f, -10.0f, -10.0f}, {5.2f, 10.0f, 10.0f});
+  scene.add(wall, Eigen::Isometry3f::Identity(), 42, 0.8f);
+  scene.commit();
+  const Hit h = scene.intersect({0, 0, 0}, {1, 0, 0}, 0.1f, 100.0f);
+  EXPECT_NEAR(h.t, 5.0f, 1e-5);
+  EXPECT_EQ(h.label, 42u);
+  EXPECT_NEAR(std::abs(h.normal.x()), 1.0f, 1e-5);
+  EXPECT_LT(scene.intersect({0, 0, 0}, {-1, 0, 0}, 0.1f, 100.0f).t, 0.0f);  // nothing behind
+  EXPECT_LT(scene.intersect({0, 0, 0}, {1, 0, 0}, 0.1f, 4.0f).t, 0.0f);     // beyond max range
+
+  // A full sweep inside: every point near 5 m along x, labelled 42, noise ~cm.
+  SensorModel s = make_sensor("vlp16", 360);
+  s.dropout = 0.0;
+  SweepOptions so;
+  so.threads = 2;
+  const lista::PointSet pts = sweep(scene, nullptr, s, Eigen::Isometry3d::Identity(), so);
+  ASSERT_GT(pts.size(), 1000u);
+  pts.check_consistent();
+  for (size_t i = 0; i < pts.size(); ++i) {
+    EXPECT_NEAR(pts.xyz[i].x(), 5.0f, 0.1f);
+    EXPECT_EQ(pts.label[i], 42u);
+  }
+}

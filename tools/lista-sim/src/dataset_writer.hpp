@@ -1,0 +1,30 @@
+// Renders a planned scenario into a dataset in the layout of the data
+// contract, sect. 1, plus ground_truth.json (sect. 3).
+#pragma once
+
+#include "scenario.hpp"
+#include "sensor.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lista::sim {
+
+struct WriteOptions {
+  std::string out;        // dataset folder
+  uint64_t seed = 0;
+  int threads = 1;
+  bool overwrite = false; // replace the mission folders and ground truth already there
+  bool progress = false;  // progress lines on stderr
+};
+
+struct WriteStats {
+  std::vector<size_t> points_per_mission;
+  std::vector<size_t> scans_per_mission;
+  double seconds = 0.0;
+};
+
+WriteStats write_dataset(const Scenario& scenario, const SensorModel& sensor, const WriteOptions& options);
+
+}  // namespace lista::sim

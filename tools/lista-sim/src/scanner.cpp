@@ -1,0 +1,77 @@
+#include "scanner.hpp"
+
+#include "rng.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lista::sim {
+
+PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const SensorModel& sensor,
+               const Eigen::Isometry3d& T_world_sensor, const SweepOptions& options) {
+  const int beams = int(sensor.elevations.size());
+  const size_t rays = sensor.rays();
+  // One slot per ray, compacted afterwards in ray order: the output does not
+  // depend on how the threads split the work.
+  std::vector<Eigen::Vector3f> xyz(rays);
+  std::vector<float> intensity(rays);
+  std::vector<uint32_t> label(rays);
+  std::vector<uint8_t> valid(rays, 0);
+
+  const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
+  const Eigen::Vector3f origin = T_world_sensor.translation().cast<float>();
+  std::vector<float> cos_e(beams), sin_e(beams);
+  for (int b = 0; b < beams; ++b) {
+    cos_e[b] = float(std::cos(sensor.elevations[b]));
+    sin_e[b] = float(std::sin(sensor.elevations[b]));
+  }
+
+#pragma omp parallel for schedule(dynamic, 16) num_threads(std::max(1, options.threads))
+  for (int c = 0; c < sensor.columns; ++c) {
+    const double az = 2.0 * M_PI * c / sensor.columns;
+    const float ca = float(std::cos(az)), sa = float(std::sin(az));
+    for (int b = 0; b < beams; ++b) {
+      const size_t r = size_t(c) * beams + b;
+      const Eigen::Vector3f dir_s(cos_e[b] * ca, cos_e[b] * sa, sin_e[b]);
+      const Eigen::Vector3f dir = R * dir_s;
+      Hit hit = scene.intersect(origin, dir, float(sensor.min_range), float(sensor.max_range));
+      if (dynamic_scene) {
+        const float tmax = hit.t > 0 ? hit.t : float(sensor.max_range);
+        const Hit h2 = dynamic_scene->intersect(origin, dir, float(sensor.min_range), tmax);
+        if (h2.t > 0) hit = h2;
+      }
+      if (hit.t < 0) continue;
+      const uint64_t h = hash_combine(options.key, r);
+      const float cos_inc = std::abs(hit.normal.dot(dir));
+      // Returns get lost at random and more often at grazing incidence.
+      double p_drop = sensor.dropout;
+      if (cos_inc < 0.15f) p_drop += 0.5 * (0.15 - cos_inc) / 0.15;
+      if (hash_uniform(h) < p_drop) continue;
+      const double range = hit.t + sensor.range_sigma * hash_normal(mix64(h + 1));
+      if (range < sensor.min_range || range > sensor.max_range) continue;
+      // Calibrated reflectivity: Lambertian in the incidence angle, 5% noise.
+      const double value = 255.0 * hit.reflectivity * std::max(0.05f, cos_inc) * (1.0 + 0.05 * hash_normal(mix64(h + 2)));
+      xyz[r] = dir_s * float(range);
+      intensity[r] = float(std::clamp(value, 0.0, 255.0));
+      label[r] = hit.label;
+      valid[r] = 1;
+    }
+  }
+
+  PointSet out;
+  const size_t n = size_t(std::count(valid.begin(), valid.end(), uint8_t(1)));
+  out.xyz.reserve(n);
+  out.intensity.reserve(n);
+  out.label.reserve(n);
+  for (size_t r = 0; r < rays; ++r) {
+    if (!valid[r]) continue;
+    out.xyz.push_back(xyz[r]);
+    out.intensity.push_back(intensity[r]);
+    out.label.push_back(label[r]);
+    out.index.push_back(uint32_t(out.index.size()));
+  }
+  out.scan.assign(out.size(), options.scan_id);
+  return out;
+}
+
+}  // namespace lista::sim

@@ -1,0 +1,30 @@
+// `lista-sim views`: partial scans of single objects from random viewpoints
+// and sensors, for training and benchmarking descriptors (docs/datasets.md).
+#pragma once
+
+#include "shapes.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lista::sim {
+
+struct ViewsOptions {
+  std::string out;
+  int objects = 100;          // object instances
+  int views_per_object = 8;
+  uint64_t seed = 1;
+  int threads = 1;
+  bool overwrite = false;
+  bool progress = false;
+  std::vector<Shape> extra_shapes;  // sweethome3d meshes, if loaded
+};
+
+struct ViewsStats {
+  size_t views = 0, shapes = 0, points = 0;
+};
+
+ViewsStats write_views(const ViewsOptions& options);
+
+}  // namespace lista::sim
