@@ -34,6 +34,12 @@ struct PluginManifest {
 
 }  // namespace lista
 
+// Declared here so a plugin's own tests, linked against the plugin library,
+// can reach its manifest: lista_plugin_detail::manifest()->register_stages(r).
+namespace lista_plugin_detail {
+const ::lista::PluginManifest* manifest();
+}
+
 #define LISTA_PLUGIN(register_fn)                                                       \
   namespace lista_plugin_detail {                                                        \
   const ::lista::PluginManifest* manifest() {                                            \
