@@ -1,0 +1,16 @@
+// changes.ply: every object point in the common frame, coloured by status
+// (removed red, added green, moved blue), with `object`, `mission` and
+// `status` (0 removed, 1 added, 2 moved) as properties. Binary little endian,
+// opened directly by CloudCompare, Open3D and MeshLab.
+#pragma once
+
+#include "report_model.hpp"
+
+#include <string>
+
+namespace lista::report_html {
+
+// Returns the file content (the caller writes it atomically).
+std::string change_ply(const ReportModel& model);
+
+}  // namespace lista::report_html

@@ -1,0 +1,122 @@
+#include "charts.hpp"
+
+#include "svg.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lista::report_html {
+
+namespace {
+
+std::vector<const ObjectView*> of_mission(const ReportModel& model, size_t m) {
+  std::vector<const ObjectView*> out;
+  for (const auto& v : model.objects)
+    if (v.object->mission == m) out.push_back(&v);
+  return out;
+}
+
+}  // namespace
+
+std::string render_match_matrix(const ReportModel& model, const DescriptorSet* descriptors, size_t a,
+                                size_t b) {
+  const auto rows = of_mission(model, a), cols = of_mission(model, b);
+  if (rows.empty() || cols.empty()) return "<p class=\"empty\">No objects to compare in this pair.</p>\n";
+
+  // Distances, then min-max normalised to a similarity in [0, 1].
+  Eigen::MatrixXd dist(rows.size(), cols.size());
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t j = 0; j < cols.size(); ++j) {
+      int ri = descriptors ? descriptors->row_of(rows[i]->object->id) : -1;
+      int rj = descriptors ? descriptors->row_of(cols[j]->object->id) : -1;
+      if (ri >= 0 && rj >= 0)
+        dist(i, j) = (descriptors->values.row(ri) - descriptors->values.row(rj)).norm();
+      else
+        dist(i, j) = (rows[i]->object->centroid - cols[j]->object->centroid).norm();
+    }
+  const double dmin = dist.minCoeff(), dmax = dist.maxCoeff();
+  const double span = dmax - dmin > 1e-12 ? dmax - dmin : 1.0;
+
+  const int cell = int(std::clamp(600.0 / std::max(rows.size(), cols.size()), 14.0, 40.0));
+  const int margin = 48;
+  const int w = margin + cell * int(cols.size()) + 10, h = margin + cell * int(rows.size()) + 10;
+  std::string svg = "<svg class=\"match-matrix\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
+                    std::to_string(w) + "\" height=\"" + std::to_string(h) + "\">\n";
+  const double font = std::min(12.0, cell * 0.45);
+  for (size_t j = 0; j < cols.size(); ++j)
+    svg += "<text x=\"" + fmt(margin + cell * (j + 0.5), 1) + "\" y=\"" + fmt(margin - 6, 1) +
+           "\" font-size=\"" + fmt(font, 1) + "\" text-anchor=\"middle\">" +
+           std::to_string(cols[j]->object->id) + "</text>\n";
+  for (size_t i = 0; i < rows.size(); ++i) {
+    svg += "<text x=\"" + fmt(margin - 6, 1) + "\" y=\"" + fmt(margin + cell * (i + 0.5) + font / 3, 1) +
+           "\" font-size=\"" + fmt(font, 1) + "\" text-anchor=\"end\">" +
+           std::to_string(rows[i]->object->id) + "</text>\n";
+    for (size_t j = 0; j < cols.size(); ++j) {
+      const double similarity = 1.0 - (dist(i, j) - dmin) / span;
+      const bool matched = rows[i]->match == cols[j]->object->id;
+      svg += "<rect x=\"" + std::to_string(margin + cell * int(j)) + "\" y=\"" +
+             std::to_string(margin + cell * int(i)) + "\" width=\"" + std::to_string(cell) +
+             "\" height=\"" + std::to_string(cell) + "\" fill=\"" + heat(similarity).css() +
+             "\" stroke=\"" + (matched ? "#000" : "#ddd") + "\" stroke-width=\"" +
+             (matched ? "2.5" : "0.5") + "\"><title>" + std::to_string(rows[i]->object->id) + " vs " +
+             std::to_string(cols[j]->object->id) + ": similarity " + fmt(similarity) +
+             (matched ? ", matched, confidence " + fmt(rows[i]->confidence) : "") + "</title></rect>\n";
+      if (matched && cell >= 24)
+        svg += "<text x=\"" + fmt(margin + cell * (j + 0.5), 1) + "\" y=\"" +
+               fmt(margin + cell * (i + 0.5) + font / 3, 1) + "\" font-size=\"" + fmt(font * 0.8, 1) +
+               "\" text-anchor=\"middle\">" + fmt(rows[i]->confidence) + "</text>\n";
+    }
+  }
+  svg += "<text x=\"4\" y=\"14\" font-size=\"11\">rows: " + escape(model.missions[a]) +
+         ", columns: " + escape(model.missions[b]) + "</text>\n</svg>\n";
+  return svg;
+}
+
+std::string render_pca(const ReportModel& model, const DescriptorSet& descriptors) {
+  const Eigen::Index n = descriptors.values.rows();
+  if (n < 2 || descriptors.values.cols() < 1) return {};
+  Eigen::MatrixXd X = descriptors.values.cast<double>();
+  X.rowwise() -= X.colwise().mean();
+  const Eigen::MatrixXd cov = X.transpose() * X / double(n - 1);
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
+  // Eigenvalues ascend: the last two columns are the principal axes.
+  const Eigen::Index d = cov.rows();
+  Eigen::MatrixXd axes(d, 2);
+  axes.col(0) = eig.eigenvectors().col(d - 1);
+  axes.col(1) = d > 1 ? Eigen::VectorXd(eig.eigenvectors().col(d - 2)) : Eigen::VectorXd::Zero(d);
+  const Eigen::MatrixXd P = X * axes;
+
+  const double w = 560, h = 420, pad = 40;
+  const Eigen::Vector2d lo = P.colwise().minCoeff(), hi = P.colwise().maxCoeff();
+  auto sx = [&](double v) { return pad + (v - lo.x()) / std::max(1e-12, hi.x() - lo.x()) * (w - 2 * pad); };
+  auto sy = [&](double v) { return h - pad - (v - lo.y()) / std::max(1e-12, hi.y() - lo.y()) * (h - 2 * pad); };
+  std::string svg = "<svg class=\"pca\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" + fmt(w, 0) +
+                    "\" height=\"" + fmt(h, 0) + "\">\n<rect x=\"0\" y=\"0\" width=\"" + fmt(w, 0) +
+                    "\" height=\"" + fmt(h, 0) + "\" fill=\"#fafafa\" stroke=\"#ccc\"/>\n";
+  svg += "<text x=\"" + fmt(w / 2, 0) + "\" y=\"" + fmt(h - 8, 0) +
+         "\" font-size=\"12\" text-anchor=\"middle\">PC 1</text><text x=\"12\" y=\"" + fmt(h / 2, 0) +
+         "\" font-size=\"12\" transform=\"rotate(-90 12 " + fmt(h / 2, 0) + ")\">PC 2</text>\n";
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const int id = descriptors.object_ids[i];
+    const ObjectView* v = model.find(id);
+    const int group = v ? v->group : -1;
+    const Rgb colour = palette(group);
+    const double x = sx(P(i, 0)), y = sy(P(i, 1));
+    const bool first = v && v->object->mission == 0;
+    if (first)
+      svg += "<circle cx=\"" + fmt(x, 1) + "\" cy=\"" + fmt(y, 1) + "\" r=\"6\" fill=\"" + colour.css() + "\"";
+    else
+      svg += "<rect x=\"" + fmt(x - 5, 1) + "\" y=\"" + fmt(y - 5, 1) + "\" width=\"10\" height=\"10\" fill=\"" +
+             colour.css() + "\"";
+    svg += "><title>object " + std::to_string(id) + ", group " + std::to_string(group) + "</title>" +
+           (first ? "</circle>" : "</rect>") + "\n";
+    svg += "<text x=\"" + fmt(x + 7, 1) + "\" y=\"" + fmt(y - 6, 1) + "\" font-size=\"10\">" +
+           std::to_string(id) + "</text>\n";
+  }
+  svg += "</svg>\n";
+  return svg;
+}
+
+}  // namespace lista::report_html

@@ -1,0 +1,113 @@
+#include "html_page.hpp"
+
+#include "charts.hpp"
+#include "svg.hpp"
+
+#include <cmath>
+#include <map>
+
+namespace lista::report_html {
+
+namespace {
+
+const char* kStyle = R"(<style>
+body{font-family:system-ui,-apple-system,"Segoe UI",Helvetica,Arial,sans-serif;margin:24px;color:#222;max-width:1200px}
+h1{font-size:24px;margin-bottom:4px} h2{font-size:18px;margin-top:32px;border-bottom:1px solid #ddd;padding-bottom:4px}
+.summary span{display:inline-block;margin-right:18px;font-size:16px}
+.removed{color:#d62728} .added{color:#2ca02c} .moved{color:#1f77b4}
+table{border-collapse:collapse;font-size:13px} td,th{border:1px solid #ddd;padding:3px 8px;text-align:right}
+th{background:#f4f4f4} td.text{text-align:left}
+svg.topdown{width:100%;height:auto;border:1px solid #ccc;background:#fff}
+.legend span{margin-right:16px} pre{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}
+</style>)";
+
+std::string motion_text(const ObjectView& v) {
+  if (!v.transform) return "";
+  const Eigen::Matrix4d& T = *v.transform;
+  const double t = T.block<3, 1>(0, 3).norm();
+  const double cos_angle = std::clamp((T.block<3, 3>(0, 0).trace() - 1.0) / 2.0, -1.0, 1.0);
+  return fmt(t, 2) + " m, " + fmt(std::acos(cos_angle) * 180.0 / M_PI, 1) + "&deg;";
+}
+
+std::string vec(const Eigen::Vector3f& p) {
+  return fmt(p.x()) + ", " + fmt(p.y()) + ", " + fmt(p.z());
+}
+
+}  // namespace
+
+std::string render_page(const MissionSet& missions, const ReportModel& model,
+                        const DescriptorSet* descriptors, const RunInfo& run, const PageOptions& options) {
+  std::map<std::string, int> counts;
+  for (const auto& v : model.objects) ++counts[to_string(v.status)];
+
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
+                     escape(options.title) + "</title>" + kStyle + "</head>\n<body>\n";
+  html += "<h1>" + escape(options.title) + "</h1>\n<p>Missions: ";
+  for (size_t m = 0; m < model.missions.size(); ++m)
+    html += (m ? " &rarr; " : "") + escape(model.missions[m]);
+  html += "</p>\n<p class=\"summary\"><span class=\"removed\">removed: " + std::to_string(counts["removed"]) +
+          "</span><span class=\"added\">added: " + std::to_string(counts["added"]) +
+          "</span><span class=\"moved\">moved: " + std::to_string(counts["moved"]) +
+          "</span><span>objects: " + std::to_string(model.objects.size()) + "</span></p>\n";
+
+  for (size_t a = 0; a + 1 < model.missions.size(); ++a) {
+    const size_t b = a + 1;
+    html += "<h2>Change map: " + escape(model.missions[a]) + " &rarr; " + escape(model.missions[b]) + "</h2>\n";
+    html += "<p class=\"legend\"><span class=\"removed\">&#9632; removed</span><span class=\"added\">&#9632; added"
+            "</span><span class=\"moved\">&#9632; moved (arrow: from " + escape(model.missions[a]) + " to " +
+            escape(model.missions[b]) + ")</span><span>grey: static map</span></p>\n";
+    html += render_topdown(missions, model, a, b, options.topdown);
+    html += "<h2>Match matrix: " + escape(model.missions[a]) + " &times; " + escape(model.missions[b]) + "</h2>\n";
+    html += "<p>Cell colour: object similarity (" +
+            std::string(descriptors ? "descriptor" : "physical") +
+            " distance, min-max normalised; darker = more alike). Outlined: reported match with its confidence.</p>\n";
+    html += render_match_matrix(model, descriptors, a, b);
+  }
+
+  if (descriptors) {
+    const std::string pca = render_pca(model, *descriptors);
+    if (!pca.empty()) {
+      html += "<h2>Descriptors (" + escape(descriptors->method) + ", " + std::to_string(descriptors->dim()) +
+              "-d) by PCA</h2>\n<p>Colour: group; circle: first mission, square: later missions.</p>\n" + pca;
+    }
+  }
+
+  html += "<h2>Objects</h2>\n<table class=\"objects\"><tr><th>id</th><th>mission</th><th>status</th><th>group</th>"
+          "<th>confidence</th><th>match</th><th>centroid (m)</th><th>points</th><th>motion</th></tr>\n";
+  for (const auto& v : model.objects) {
+    const std::string status = to_string(v.status);
+    html += "<tr class=\"object-row\" data-id=\"" + std::to_string(v.object->id) + "\"><td>" +
+            std::to_string(v.object->id) + "</td><td class=\"text\">" + escape(model.missions[v.object->mission]) +
+            "</td><td class=\"text " + status + "\">" + status + "</td><td>" +
+            (v.group >= 0 ? std::to_string(v.group) : "") + "</td><td>" + fmt(v.confidence) + "</td><td>" +
+            (v.match >= 0 ? std::to_string(v.match) : "") + "</td><td>" + vec(v.object->centroid) + "</td><td>" +
+            std::to_string(v.object->points.size()) + "</td><td>" + motion_text(v) + "</td></tr>\n";
+  }
+  html += "</table>\n";
+
+  html += "<h2>Stages</h2>\n<table class=\"timings\"><tr><th>stage</th><th>plugin</th><th>time (s)</th>"
+          "<th>peak memory (MiB)</th></tr>\n";
+  for (const auto& s : run.finished)
+    html += "<tr><td class=\"text\">" + escape(s.id) + "</td><td class=\"text\">" + escape(s.plugin) + "</td><td>" +
+            fmt(s.seconds, 3) + "</td><td>" + fmt(s.peak_rss_bytes / 1048576.0, 0) + "</td></tr>\n";
+  html += "</table>\n<h2>Provenance</h2>\n<table class=\"provenance\">";
+  auto row = [&](const std::string& k, const std::string& v) {
+    html += "<tr><th>" + escape(k) + "</th><td class=\"text\">" + escape(v) + "</td></tr>";
+  };
+  row("LiSTA", run.lista_version);
+  row("git revision", run.git_revision);
+  row("pipeline", run.pipeline_file);
+  row("dataset", run.dataset);
+  row("seed", std::to_string(run.seed));
+  row("threads", std::to_string(run.threads));
+  for (const auto& p : run.plugins) row("plugin " + p.name, p.version + " (" + p.library + ")");
+  html += "</table>\n";
+  if (!run.pipeline_resolved.empty())
+    html += "<details><summary>Resolved pipeline</summary><pre>" + escape(run.pipeline_resolved) + "</pre></details>\n";
+  // Marks a complete render: tests read these attributes from the DOM.
+  html += "<script>document.body.dataset.objects=document.querySelectorAll('tr.object-row').length;"
+          "document.body.dataset.rendered='ok';</script>\n</body></html>\n";
+  return html;
+}
+
+}  // namespace lista::report_html

@@ -1,0 +1,93 @@
+// report.html: the change report people look at. Writes <out>/report.html
+// (self-contained: inline SVG and an embedded PNG, no network) and
+// <out>/changes.ply (coloured change cloud), each written atomically.
+#include "change_ply.hpp"
+#include "html_page.hpp"
+#include "report_model.hpp"
+
+#include <lista/lista.hpp>
+#include <lista_io/atomic_file.hpp>
+
+#include <filesystem>
+
+namespace lista::report_html {
+
+namespace {
+
+class HtmlReportStage : public Stage {
+ public:
+  explicit HtmlReportStage(const Params& p)
+      : path_(p.get<std::string>("path")), write_ply_(p.get<bool>("ply")) {
+    options_.title = p.get<std::string>("title");
+    options_.topdown.pixels = p.get<int>("pixels");
+    options_.topdown.max_map_points = p.get<uint64_t>("max_map_points");
+  }
+
+  Outputs run(const Inputs& in, Context& ctx) override {
+    const RunInfo run = ctx.run_info();
+    const std::string dir = path_.empty() ? run.output_dir : path_;
+    if (dir.empty())
+      throw Error("no output folder: set 'path' or run with --out DIR");
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw Error("cannot create output folder '" + dir + "': " + ec.message());
+
+    const auto& missions = in.get<MissionSet>("missions");
+    const auto& objects = in.get<ObjectSet>("objects");
+    const Groups* groups = in.has("groups") ? &in.get<Groups>("groups") : nullptr;
+    const Matches* matches = in.has("matches") ? &in.get<Matches>("matches") : nullptr;
+    const DescriptorSet* descriptors = in.has("descriptors") ? &in.get<DescriptorSet>("descriptors") : nullptr;
+    if (objects.missions.size() != missions.missions.size())
+      throw Error("objects name " + std::to_string(objects.missions.size()) + " missions but " +
+                  std::to_string(missions.missions.size()) + " missions were read");
+
+    const ReportModel model = build_model(objects, groups, matches);
+    const std::string page = render_page(missions, model, descriptors, run, options_);
+    io::write_file_atomic((std::filesystem::path(dir) / "report.html").string(), page);
+    if (write_ply_) io::write_file_atomic((std::filesystem::path(dir) / "changes.ply").string(), change_ply(model));
+    ctx.info("wrote " + (std::filesystem::path(dir) / "report.html").string());
+    return {};
+  }
+
+ private:
+  std::string path_;
+  bool write_ply_;
+  PageOptions options_;
+};
+
+StageInfo info() {
+  StageInfo s;
+  s.name = "report.html";
+  s.version = "1.0.0";
+  s.summary = "Self-contained HTML change report with top-down maps, match matrix and descriptor plot";
+  s.doc =
+      "Writes <out>/report.html: per consecutive mission pair a top-down change map (static map in grey, "
+      "removed red, added green, moved blue joined by an arrow, ids labelled), the object match matrix with "
+      "similarity as a heat map and matched pairs outlined with their confidence, the descriptors reduced to "
+      "2-D by PCA coloured by group, a table of objects, per-stage timings and provenance. Also writes "
+      "<out>/changes.ply (object points coloured by status, with object, mission and status properties).";
+  s.inputs = {{"missions", "missions", "missions as aligned (static map, mission names)"},
+              {"objects", "objects", "changed objects"},
+              {"groups", "groups", "descriptor groups", true},
+              {"matches", "matches", "statuses, matches and transforms", true},
+              {"descriptors", "descriptors", "object descriptors, for the match matrix and PCA plot", true}};
+  s.params = {
+      ParamSpec::text("path", "", "output folder; empty = the run's --out folder"),
+      ParamSpec::text("title", "LiSTA change report", "page title"),
+      ParamSpec::integer("pixels", 1000, "longest side of each top-down map image").range(64, 8000).unit("px"),
+      ParamSpec::integer("max_map_points", 2000000, "static map points sampled per mission pair")
+          .range(1000, 1e9),
+      ParamSpec::boolean("ply", true, "also write changes.ply"),
+  };
+  return s;
+}
+
+void register_stages(Registrar& r) {
+  r.add(info(), [](const Params& p) { return std::make_unique<HtmlReportStage>(p); });
+}
+
+}  // namespace
+
+}  // namespace lista::report_html
+
+LISTA_PLUGIN(lista::report_html::register_stages)

@@ -1,0 +1,32 @@
+// The facts every part of the HTML report draws from, gathered once from the
+// stage inputs: per object its mission, status, group, confidence and motion.
+#pragma once
+
+#include <lista/data.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lista::report_html {
+
+struct ObjectView {
+  const Object* object = nullptr;
+  ChangeStatus status = ChangeStatus::added;
+  int group = -1;
+  double confidence = 0.0;
+  int match = -1;
+  std::optional<Eigen::Matrix4d> transform;
+};
+
+struct ReportModel {
+  std::vector<std::string> missions;
+  std::vector<ObjectView> objects;  // in ObjectSet order
+  const ObjectView* find(int id) const;
+};
+
+// Without `matches`, an object of the first mission is `removed` and any later
+// one `added` (the same rule as io.report).
+ReportModel build_model(const ObjectSet& objects, const Groups* groups, const Matches* matches);
+
+}  // namespace lista::report_html

@@ -1,0 +1,231 @@
+#include <gtest/gtest.h>
+
+#include <lista/basic_context.hpp>
+#include <lista/lista.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace lista_plugin_detail {
+const lista::PluginManifest* manifest();
+}
+
+namespace {
+
+// A room of 4 walls scanned from two origins, plus three changed objects:
+// one removed (mission A), one added (B) and one moved (A -> B).
+struct Scene {
+  lista::MissionSet missions;
+  lista::ObjectSet objects;
+  lista::Groups groups;
+  lista::Matches matches;
+  lista::DescriptorSet descriptors;
+};
+
+lista::PointSet box_points(const Eigen::Vector3f& centre, float half, int n, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-half, half);
+  lista::PointSet p;
+  for (int i = 0; i < n; ++i) {
+    p.xyz.push_back(centre + Eigen::Vector3f(u(rng), u(rng), u(rng)));
+    p.scan.push_back(0);
+    p.index.push_back(uint32_t(i));
+  }
+  return p;
+}
+
+Scene make_scene() {
+  Scene s;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-5, 5), h(0, 2.5);
+  for (const char* name : {"A", "B"}) {
+    lista::Mission m;
+    m.name = name;
+    lista::Scan scan;
+    auto pts = std::make_shared<lista::PointSet>();
+    for (int i = 0; i < 4000; ++i) {
+      const float t = u(rng), z = h(rng);
+      const Eigen::Vector3f wall[4] = {{t, -5, z}, {t, 5, z}, {-5, t, z}, {5, t, z}};
+      pts->xyz.push_back(wall[i % 4]);
+      pts->scan.push_back(0);
+      pts->index.push_back(uint32_t(i));
+    }
+    scan.points = pts;
+    m.scans.push_back(scan);
+    s.missions.missions.push_back(m);
+  }
+  s.objects.missions = {"A", "B"};
+  const Eigen::Vector3f centres[4] = {{-2, -2, 0.4f}, {2, 2, 0.4f}, {0, -3, 0.4f}, {1, -3, 0.4f}};
+  const uint32_t mission_of[4] = {0, 1, 0, 1};
+  for (int i = 0; i < 4; ++i) {
+    lista::Object o;
+    o.id = i;
+    o.mission = mission_of[i];
+    o.points = box_points(centres[i], 0.3f, 200, rng);
+    o.update_geometry();
+    s.objects.objects.push_back(o);
+  }
+  s.groups.method = "test";
+  s.groups.object_ids = {0, 1, 2, 3};
+  s.groups.group = {0, 1, 2, 2};
+  s.groups.confidence = {0.9, 0.8, 0.95, 0.95};
+  s.groups.count = 3;
+  s.matches.objects = {{0, lista::ChangeStatus::removed},
+                       {1, lista::ChangeStatus::added},
+                       {2, lista::ChangeStatus::moved, 3, 0.1, 0.95, true},
+                       {3, lista::ChangeStatus::moved, 2, 0.1, 0.95, true}};
+  s.matches.objects[2].transform(0, 3) = 1.0;
+  s.matches.objects[3].transform(0, 3) = -1.0;
+  s.descriptors.method = "test";
+  s.descriptors.object_ids = {0, 1, 2, 3};
+  s.descriptors.values.resize(4, 3);
+  s.descriptors.values << 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0.1f, 0.99f;
+  return s;
+}
+
+fs::path temp_dir(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() / ("lista_report_html_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+struct Capture : lista::Registrar {
+  lista::StageInfo info;
+  lista::StageFactory factory;
+  void add(lista::StageInfo i, lista::StageFactory f) override {
+    info = std::move(i);
+    factory = std::move(f);
+  }
+};
+
+// Creates the stage through the plugin's own manifest, as the core does.
+Capture registered() {
+  Capture capture;
+  const lista::PluginManifest* m = lista_plugin_detail::manifest();
+  EXPECT_EQ(m->sdk_version, LISTA_SDK_VERSION);
+  m->register_stages(capture);
+  return capture;
+}
+
+fs::path write_report(const Scene& s, const std::string& name, bool with_descriptors = true) {
+  const fs::path dir = temp_dir(name);
+  lista::BasicContext ctx("html");
+  ctx.info.output_dir = dir.string();
+  ctx.info.finished = {{"read", "io.missions", 0.5, 1 << 20}};
+  Capture plugin = registered();
+  lista::Inputs in;
+  in.set("missions", lista::Data::make(s.missions));
+  in.set("objects", lista::Data::make(s.objects));
+  in.set("groups", lista::Data::make(s.groups));
+  in.set("matches", lista::Data::make(s.matches));
+  if (with_descriptors) in.set("descriptors", lista::Data::make(s.descriptors));
+  auto stage = plugin.factory(lista::Params::defaults(plugin.info.params));
+  stage->run(in, ctx);
+  return dir;
+}
+
+size_t count(const std::string& text, const std::string& needle) {
+  size_t n = 0;
+  for (size_t pos = text.find(needle); pos != std::string::npos; pos = text.find(needle, pos + 1)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(ReportHtml, RegistersUnderItsName) {
+  Capture plugin = registered();
+  EXPECT_EQ(plugin.info.name, "report.html");
+  EXPECT_EQ(plugin.info.kind(), "report");
+  ASSERT_NE(plugin.info.input("objects"), nullptr);
+  EXPECT_TRUE(plugin.info.input("descriptors")->optional);
+}
+
+TEST(ReportHtml, WritesEveryPart) {
+  const Scene s = make_scene();
+  const fs::path dir = write_report(s, "parts");
+  const std::string html = read(dir / "report.html");
+  EXPECT_EQ(count(html, "<tr class=\"object-row\""), 4u);
+  EXPECT_EQ(count(html, "<svg class=\"topdown\""), 1u);
+  EXPECT_EQ(count(html, "<svg class=\"match-matrix\""), 1u);
+  EXPECT_EQ(count(html, "<svg class=\"pca\""), 1u);
+  EXPECT_EQ(count(html, "marker-end="), 1u) << "one arrow for the one moved pair";
+  EXPECT_NE(html.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos) << "embedded PNG";
+  EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org")) << "no external resources";
+  EXPECT_NE(html.find("removed: 1"), std::string::npos);
+  EXPECT_NE(html.find("moved: 2"), std::string::npos);
+  EXPECT_NE(html.find("io.missions"), std::string::npos) << "stage timings";
+  EXPECT_FALSE(fs::exists(dir / "report.html.tmp"));
+  fs::remove_all(dir);
+}
+
+TEST(ReportHtml, WithoutDescriptorsUsesPhysicalDistanceAndNoPca) {
+  const fs::path dir = write_report(make_scene(), "nodesc", false);
+  const std::string html = read(dir / "report.html");
+  EXPECT_EQ(count(html, "<svg class=\"pca\""), 0u);
+  EXPECT_NE(html.find("physical distance"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST(ReportHtml, ChangePlyHasOneVertexPerObjectPoint) {
+  const Scene s = make_scene();
+  const fs::path dir = write_report(s, "ply");
+  const std::string ply = read(dir / "changes.ply");
+  ASSERT_EQ(ply.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u);
+  EXPECT_NE(ply.find("element vertex 800\n"), std::string::npos);
+  const size_t header_end = ply.find("end_header\n") + 11;
+  EXPECT_EQ(ply.size() - header_end, 800u * (3 * 4 + 3 + 4 + 4 + 1));
+  fs::remove_all(dir);
+}
+
+TEST(ReportHtml, NoOutputFolderIsAClearError) {
+  Capture plugin = registered();
+  lista::BasicContext ctx("html");
+  lista::Inputs in;
+  const Scene s = make_scene();
+  in.set("missions", lista::Data::make(s.missions));
+  in.set("objects", lista::Data::make(s.objects));
+  auto stage = plugin.factory(lista::Params::defaults(plugin.info.params));
+  try {
+    stage->run(in, ctx);
+    FAIL() << "expected an error";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--out"), std::string::npos);
+  }
+}
+
+// Opens the page in headless Chromium: the inline script must have run to the
+// end (no error) and counted every object row in the rendered DOM.
+TEST(ReportHtml, RendersInHeadlessChromium) {
+  if (!fs::exists("/usr/bin/chromium")) {
+    if (std::getenv("CI")) FAIL() << "chromium is not installed (setup.sh installs it)";
+    GTEST_SKIP() << "chromium not installed";
+  }
+  const fs::path dir = write_report(make_scene(), "chromium");
+  const fs::path profile = dir / "profile";
+  const std::string cmd =
+      "/usr/bin/chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+      "--disable-background-networking --disable-component-update --disable-sync --user-data-dir=" +
+      profile.string() + " --dump-dom file://" + (dir / "report.html").string() + " 2>/dev/null";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string dom;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, pipe)) dom.append(buf, n);
+  const int status = ::pclose(pipe);
+  EXPECT_EQ(status, 0);
+  EXPECT_NE(dom.find("data-rendered=\"ok\""), std::string::npos) << dom.substr(0, 400);
+  EXPECT_NE(dom.find("data-objects=\"4\""), std::string::npos);
+  fs::remove_all(dir);
+}

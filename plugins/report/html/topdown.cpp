@@ -1,0 +1,179 @@
+#include "topdown.hpp"
+
+#include "svg.hpp"
+
+#include <stb/stb_image_write.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lista::report_html {
+
+namespace {
+
+struct Raster {
+  int width = 1, height = 1;
+  double x0 = 0, y1 = 0, res = 0.05;  // x of column 0, y of row 0, metres per pixel
+  int col(double x) const { return int((x - x0) / res); }
+  int row(double y) const { return int((y1 - y) / res); }
+  bool inside(int c, int r) const { return c >= 0 && r >= 0 && c < width && r < height; }
+};
+
+// Map points of both missions in the common frame, floor and ceiling cut away
+// by height percentiles so walls and furniture remain.
+std::vector<Eigen::Vector3f> static_map(const MissionSet& missions, size_t a, size_t b, size_t budget) {
+  size_t total = missions.missions[a].point_count() + missions.missions[b].point_count();
+  const size_t stride = std::max<size_t>(1, total / std::max<size_t>(1, budget));
+  std::vector<Eigen::Vector3f> pts;
+  pts.reserve(total / stride + 16);
+  for (size_t m : {a, b}) {
+    const Mission& mission = missions.missions[m];
+    for (size_t s = 0; s < mission.scans.size(); ++s) {
+      if (!mission.scans[s].points) continue;
+      const Eigen::Isometry3f T = mission.sensor_to_common(s).cast<float>();
+      const auto& xyz = mission.scans[s].points->xyz;
+      for (size_t i = (s * 7) % stride; i < xyz.size(); i += stride) pts.push_back(T * xyz[i]);
+    }
+  }
+  if (pts.size() < 100) return pts;
+  std::vector<float> z(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) z[i] = pts[i].z();
+  auto pct = [&](double q) {
+    auto it = z.begin() + size_t(q * (z.size() - 1));
+    std::nth_element(z.begin(), it, z.end());
+    return *it;
+  };
+  const float floor_z = pct(0.03), ceiling_z = pct(0.97);
+  const float lo = floor_z + 0.15f, hi = ceiling_z - 0.15f;
+  if (hi <= lo) return pts;
+  std::vector<Eigen::Vector3f> kept;
+  kept.reserve(pts.size());
+  for (const auto& p : pts)
+    if (p.z() > lo && p.z() < hi) kept.push_back(p);
+  return kept;
+}
+
+void write_png(void* context, void* data, int size) {
+  auto* out = static_cast<std::vector<uint8_t>*>(context);
+  const auto* bytes = static_cast<const uint8_t*>(data);
+  out->insert(out->end(), bytes, bytes + size);
+}
+
+std::string status_name(const ObjectView& v) { return to_string(v.status); }
+
+}  // namespace
+
+std::string render_topdown(const MissionSet& missions, const ReportModel& model, size_t a, size_t b,
+                           const TopdownOptions& options) {
+  const auto map = static_map(missions, a, b, options.max_map_points);
+
+  // Bounds over the map and every object of the pair.
+  Eigen::Vector2d lo(1e30, 1e30), hi(-1e30, -1e30);
+  auto grow = [&](const Eigen::Vector3f& p) {
+    lo = lo.cwiseMin(p.head<2>().cast<double>());
+    hi = hi.cwiseMax(p.head<2>().cast<double>());
+  };
+  for (const auto& p : map) grow(p);
+  std::vector<const ObjectView*> shown;
+  for (const auto& v : model.objects)
+    if (v.object->mission == a || v.object->mission == b) {
+      shown.push_back(&v);
+      grow(v.object->bbox_min);
+      grow(v.object->bbox_max);
+    }
+  if (lo.x() > hi.x()) lo = hi = Eigen::Vector2d::Zero();
+  lo -= Eigen::Vector2d(0.5, 0.5);
+  hi += Eigen::Vector2d(0.5, 0.5);
+
+  Raster r;
+  const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+  r.res = std::clamp(extent / std::max(64, options.pixels), 0.01, 1.0);
+  r.width = std::max(1, int(std::ceil((hi.x() - lo.x()) / r.res)));
+  r.height = std::max(1, int(std::ceil((hi.y() - lo.y()) / r.res)));
+  r.x0 = lo.x();
+  r.y1 = hi.y();
+
+  // Static map as point density, log-scaled so sparse far walls stay visible.
+  std::vector<uint32_t> density(size_t(r.width) * r.height, 0);
+  for (const auto& p : map) {
+    const int c = r.col(p.x()), w = r.row(p.y());
+    if (r.inside(c, w)) ++density[size_t(w) * r.width + c];
+  }
+  std::vector<uint32_t> nonzero;
+  for (uint32_t d : density)
+    if (d) nonzero.push_back(d);
+  double top = 1;
+  if (!nonzero.empty()) {
+    auto it = nonzero.begin() + size_t(0.95 * (nonzero.size() - 1));
+    std::nth_element(nonzero.begin(), it, nonzero.end());
+    top = std::max<double>(1, *it);
+  }
+  std::vector<uint8_t> rgb(size_t(r.width) * r.height * 3, 255);
+  for (size_t i = 0; i < density.size(); ++i) {
+    if (!density[i]) continue;
+    const double t = std::min(1.0, std::log1p(density[i]) / std::log1p(top));
+    const uint8_t g = uint8_t(225 - 150 * t);
+    rgb[3 * i] = rgb[3 * i + 1] = rgb[3 * i + 2] = g;
+  }
+  // Object points on top, coloured by status; the later mission of a moved
+  // pair is drawn darker so both places can be told apart.
+  for (const ObjectView* v : shown) {
+    Rgb colour = status_colour(status_name(*v));
+    if (v->status == ChangeStatus::moved && v->object->mission == b)
+      colour = {uint8_t(colour.r / 2), uint8_t(colour.g / 2), uint8_t(colour.b / 2 + 60)};
+    for (const auto& p : v->object->points.xyz) {
+      const int c = r.col(p.x()), w = r.row(p.y());
+      if (!r.inside(c, w)) continue;
+      uint8_t* px = &rgb[(size_t(w) * r.width + c) * 3];
+      px[0] = colour.r;
+      px[1] = colour.g;
+      px[2] = colour.b;
+    }
+  }
+  std::vector<uint8_t> png;
+  stbi_write_png_to_func(&write_png, &png, r.width, r.height, 3, rgb.data(), r.width * 3);
+
+  auto px = [&](const Eigen::Vector3f& p) {
+    return std::make_pair((p.x() - r.x0) / r.res, (r.y1 - p.y()) / r.res);
+  };
+  std::string svg = "<svg class=\"topdown\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " +
+                    std::to_string(r.width) + " " + std::to_string(r.height) + "\" data-pair=\"" +
+                    escape(missions.missions[a].name + "-" + missions.missions[b].name) + "\">\n";
+  svg += "<defs><marker id=\"arrow" + std::to_string(a) +
+         "\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"6\" markerHeight=\"6\" "
+         "orient=\"auto-start-reverse\"><path d=\"M0,0 L10,5 L0,10 z\" fill=\"#111\"/></marker></defs>\n";
+  svg += "<image width=\"" + std::to_string(r.width) + "\" height=\"" + std::to_string(r.height) +
+         "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
+  const double font = std::max(10.0, r.width / 70.0);
+  for (const ObjectView* v : shown) {
+    const auto [x0, y0] = px(Eigen::Vector3f(v->object->bbox_min.x(), v->object->bbox_max.y(), 0));
+    const auto [x1, y1] = px(Eigen::Vector3f(v->object->bbox_max.x(), v->object->bbox_min.y(), 0));
+    const Rgb colour = status_colour(status_name(*v));
+    svg += "<rect x=\"" + fmt(x0, 1) + "\" y=\"" + fmt(y0, 1) + "\" width=\"" + fmt(x1 - x0, 1) +
+           "\" height=\"" + fmt(y1 - y0, 1) + "\" fill=\"none\" stroke=\"" + colour.css() +
+           "\" stroke-width=\"" + fmt(font / 6, 1) + "\"/>\n";
+    svg += "<text x=\"" + fmt(x1 + 2, 1) + "\" y=\"" + fmt(y0 + font * 0.8, 1) + "\" font-size=\"" +
+           fmt(font, 1) + "\" fill=\"" + colour.css() + "\" class=\"object-label\">" +
+           std::to_string(v->object->id) + "</text>\n";
+    if (v->status == ChangeStatus::moved && v->object->mission == a && v->match >= 0) {
+      const ObjectView* partner = model.find(v->match);
+      if (partner && partner->object->mission == b) {
+        const auto [ax, ay] = px(v->object->centroid);
+        const auto [bx, by] = px(partner->object->centroid);
+        svg += "<line x1=\"" + fmt(ax, 1) + "\" y1=\"" + fmt(ay, 1) + "\" x2=\"" + fmt(bx, 1) +
+               "\" y2=\"" + fmt(by, 1) + "\" stroke=\"#111\" stroke-width=\"" + fmt(font / 5, 1) +
+               "\" marker-end=\"url(#arrow" + std::to_string(a) + ")\"/>\n";
+      }
+    }
+  }
+  // Scale bar: 1 m, 5 m or 10 m depending on the map size.
+  const double bar_m = extent > 60 ? 10 : extent > 15 ? 5 : 1;
+  const double bar_px = bar_m / r.res;
+  svg += "<g class=\"scale\"><rect x=\"10\" y=\"" + fmt(r.height - 20, 1) + "\" width=\"" + fmt(bar_px, 1) +
+         "\" height=\"4\" fill=\"#111\"/><text x=\"10\" y=\"" + fmt(r.height - 26, 1) +
+         "\" font-size=\"" + fmt(font, 1) + "\">" + fmt(bar_m, 0) + " m</text></g>\n";
+  svg += "</svg>\n";
+  return svg;
+}
+
+}  // namespace lista::report_html
