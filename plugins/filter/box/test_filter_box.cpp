@@ -1,4 +1,4 @@
-#include "test_support.hpp"
+#include "../../segment/testing/test_support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 #include "mls_smoothing.hpp"
-#include "test_support.hpp"
+#include "../../segment/testing/test_support.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 #include "../voxel/voxel_clustering.hpp"
 #include "euclidean_clustering.hpp"
-#include "test_support.hpp"
+#include "../testing/test_support.hpp"
 
 #include <gtest/gtest.h>
 

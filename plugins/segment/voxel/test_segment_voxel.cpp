@@ -1,4 +1,4 @@
-#include "test_support.hpp"
+#include "../testing/test_support.hpp"
 #include "voxel_clustering.hpp"
 
 #include <gtest/gtest.h>

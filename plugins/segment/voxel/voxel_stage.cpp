@@ -1,6 +1,6 @@
 // segment.voxel: connected components over occupied voxels (union-find); the
 // fast default segmenter.
-#include "mission_objects.hpp"
+#include "../common/mission_objects.hpp"
 #include "voxel_clustering.hpp"
 
 #include <lista/data.hpp>

@@ -1,3 +1,4 @@
+// Header only, shared by the segment.* plugins (no plugin links another).
 // Runs a per-mission clustering over every mission (in parallel, up to the
 // stage's thread budget) and gathers the clusters into an ObjectSet: one
 // Object per cluster per mission, ids 0..n-1 in mission then cluster order,

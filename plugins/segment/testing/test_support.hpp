@@ -1,5 +1,6 @@
-// Test helpers: synthetic clouds and running the plugin's stage through its
-// exported manifest, as the core would.
+// Test helpers shared by the filter.* and segment.* plugin tests (header
+// only; each test links just its own plugin): synthetic clouds, and running
+// the plugin's stage through its exported manifest, as the core would.
 #pragma once
 
 #include <lista/basic_context.hpp>
@@ -9,10 +10,6 @@
 #include <map>
 #include <set>
 #include <random>
-
-namespace lista_plugin_detail {
-const ::lista::PluginManifest* manifest();
-}
 
 namespace test_support {
 

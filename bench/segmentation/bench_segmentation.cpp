@@ -1,0 +1,181 @@
+// lista-bench-segmentation: times segment.voxel (voxel and exact modes)
+// against stock PCL Euclidean cluster extraction (segment.euclidean) on the
+// same synthetic change clouds in one run, checks that exact mode gives PCL's
+// clusters, and times the filters. Object recovery (IoU > 0.5 with a true
+// object) is shown for each filter chain, as a sanity check of the chain.
+#include "filter/ground/ground_removal.hpp"
+#include "filter/mls/mls_smoothing.hpp"
+#include "filter/morphology/morphology.hpp"
+#include "segment/euclidean/euclidean_clustering.hpp"
+#include "segment/voxel/voxel_clustering.hpp"
+#include "synthetic_changes.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <map>
+
+using namespace lista;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// Median wall time of `repeat` runs, in seconds.
+double time_it(int repeat, const std::function<void()>& f) {
+  std::vector<double> t;
+  for (int r = 0; r < repeat; ++r) {
+    auto t0 = Clock::now();
+    f();
+    t.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+// True objects (label > 0) recovered by a cluster with IoU > 0.5.
+size_t recovered(const std::vector<std::vector<uint32_t>>& clusters, const std::vector<uint32_t>& label,
+                 const std::vector<uint32_t>& original_index, const std::map<uint32_t, size_t>& size_of) {
+  size_t n = 0;
+  for (const auto& c : clusters) {
+    std::map<uint32_t, size_t> count;
+    for (auto i : c) count[label[original_index[i]]]++;
+    for (auto& [id, k] : count)
+      if (id != 0) {
+        const double iou = double(k) / double(c.size() + size_of.at(id) - k);
+        n += iou > 0.5;
+      }
+  }
+  return n;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"segmentation benchmark: segment.voxel vs PCL Euclidean clustering"};
+  bench::SyntheticChangeConfig sc;
+  int missions = 3, repeat = 3;
+  double tolerance = 0.1;
+  bool with_mls = true;
+  app.add_option("--objects", sc.objects, "objects per mission");
+  app.add_option("--spacing", sc.spacing, "surface sample spacing, m");
+  app.add_option("--missions", missions, "missions (clouds)");
+  app.add_option("--repeat", repeat, "timed repeats (median reported)");
+  app.add_option("--tolerance", tolerance, "cluster tolerance / voxel, m");
+  app.add_option("--seed", sc.seed, "seed");
+  app.add_flag("!--no-mls", with_mls, "skip the (slow) MLS timing");
+  CLI11_PARSE(app, argc, argv);
+
+  std::vector<PointSet> clouds;
+  std::vector<std::vector<uint32_t>> labels;
+  size_t total = 0;
+  for (int m = 0; m < missions; ++m) {
+    auto cfg = sc;
+    cfg.seed = sc.seed + uint64_t(m);
+    std::vector<uint32_t> label;
+    clouds.push_back(bench::synthetic_changes(cfg, &label));
+    labels.push_back(std::move(label));
+    total += clouds.back().size();
+  }
+  std::printf("synthetic change clouds: %d missions, %zu points (%.0f per mission), %d objects each, "
+              "tolerance %.3f m, one thread, median of %d\n\n",
+              missions, total, double(total) / missions, sc.objects, tolerance, repeat);
+
+  seg::VoxelClusterConfig vox;
+  vox.tolerance = tolerance;
+  vox.min_points = 20;
+  seg::VoxelClusterConfig exact = vox;
+  exact.exact = true;
+  seg::EuclideanClusterConfig ec;
+  ec.tolerance = tolerance;
+  ec.min_points = 20;
+
+  size_t n_vox = 0, n_exact = 0, n_pcl = 0;
+  bool same = true;
+  const double t_vox = time_it(repeat, [&] {
+    n_vox = 0;
+    for (auto& c : clouds) n_vox += seg::cluster_voxels(c.xyz, vox).size();
+  });
+  const double t_exact = time_it(repeat, [&] {
+    n_exact = 0;
+    for (auto& c : clouds) n_exact += seg::cluster_voxels(c.xyz, exact).size();
+  });
+  const double t_pcl = time_it(repeat, [&] {
+    n_pcl = 0;
+    for (auto& c : clouds) n_pcl += seg::cluster_euclidean(c, ec).size();
+  });
+  for (auto& c : clouds) same &= seg::cluster_voxels(c.xyz, exact) == seg::cluster_euclidean(c, ec);
+
+  std::printf("| clustering | time (s) | vs PCL | clusters |\n|---|---|---|---|\n");
+  std::printf("| PCL EuclideanClusterExtraction (segment.euclidean) | %.3f | 1.00x | %zu |\n", t_pcl, n_pcl);
+  std::printf("| segment.voxel connectivity=exact | %.3f | %.1fx faster | %zu |\n", t_exact, t_pcl / t_exact, n_exact);
+  std::printf("| segment.voxel connectivity=voxel (default) | %.3f | %.1fx faster | %zu |\n", t_vox, t_pcl / t_vox, n_vox);
+  std::printf("\nexact mode gives PCL's clusters point for point: %s\n\n", same ? "yes" : "NO");
+
+  // Filter timings and the chain's object recovery.
+  filter::GroundConfig gc;
+  filter::MorphologyConfig mc;
+  std::vector<std::vector<uint32_t>> after_ground(clouds.size()), after_morph(clouds.size());
+  const double t_ground = time_it(repeat, [&] {
+    for (size_t m = 0; m < clouds.size(); ++m) {
+      auto g = filter::find_ground(clouds[m], gc, 1);
+      std::vector<uint32_t> keep;
+      size_t k = 0;
+      for (uint32_t i = 0; i < clouds[m].size(); ++i) {
+        if (k < g.size() && g[k] == i) { ++k; continue; }
+        keep.push_back(i);
+      }
+      after_ground[m] = keep;
+    }
+  });
+  const double t_morph = time_it(repeat, [&] {
+    for (size_t m = 0; m < clouds.size(); ++m) {
+      auto sub = clouds[m].select(after_ground[m]);
+      auto keep = filter::morphology_keep(sub, mc);
+      after_morph[m].clear();
+      for (auto i : keep) after_morph[m].push_back(after_ground[m][i]);
+    }
+  });
+  double t_mls = 0;
+  if (with_mls)
+    t_mls = time_it(1, [&] {
+      for (auto& c : clouds) filter::mls_smooth(c, filter::MlsConfig{}, 1);
+    });
+
+  size_t truth_objects = 0;
+  auto chain = [&](const std::vector<std::vector<uint32_t>>& subsets, double* seconds) {
+    size_t found = 0;
+    auto t0 = Clock::now();
+    for (size_t m = 0; m < clouds.size(); ++m) {
+      std::map<uint32_t, size_t> size_of;
+      for (auto l : labels[m]) size_of[l]++;
+      auto sub = clouds[m].select(subsets[m]);
+      found += recovered(seg::cluster_voxels(sub.xyz, vox), labels[m], subsets[m], size_of);
+    }
+    if (seconds) *seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return found;
+  };
+  std::vector<std::vector<uint32_t>> all(clouds.size());
+  for (size_t m = 0; m < clouds.size(); ++m) {
+    all[m].resize(clouds[m].size());
+    for (uint32_t i = 0; i < clouds[m].size(); ++i) all[m][i] = i;
+    truth_objects += size_t(sc.objects);
+  }
+  std::printf("| filter | time (s) | points left |\n|---|---|---|\n");
+  size_t left_g = 0, left_m = 0;
+  for (auto& v : after_ground) left_g += v.size();
+  for (auto& v : after_morph) left_m += v.size();
+  std::printf("| filter.ground | %.3f | %zu of %zu |\n", t_ground, left_g, total);
+  std::printf("| filter.morphology (after ground) | %.3f | %zu |\n", t_morph, left_m);
+  if (with_mls) std::printf("| filter.mls (radius 0.1) | %.3f | %zu |\n", t_mls, total);
+  std::printf("\n| chain before segment.voxel | true objects recovered (IoU > 0.5) |\n|---|---|\n");
+  std::printf("| none | %zu of %zu |\n", chain(all, nullptr), truth_objects);
+  std::printf("| filter.ground | %zu of %zu |\n", chain(after_ground, nullptr), truth_objects);
+  double t_seg = 0;
+  std::printf("| filter.ground + filter.morphology | %zu of %zu |\n", chain(after_morph, &t_seg), truth_objects);
+  std::printf("\nground + morphology + segment.voxel, one thread: %.3f s for %zu points\n",
+              t_ground + t_morph + t_seg, total);
+  return same ? 0 : 1;
+}

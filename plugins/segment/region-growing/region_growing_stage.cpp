@@ -1,0 +1,72 @@
+// segment.region-growing: PCL region growing with normals per mission.
+#include "../common/mission_objects.hpp"
+#include "region_growing.hpp"
+
+#include <lista/data.hpp>
+#include <lista/plugin.hpp>
+
+namespace lista::seg {
+namespace {
+
+class RegionGrowingStage : public Stage {
+ public:
+  explicit RegionGrowingStage(const Params& p) {
+    c_.normal_neighbours = p.get<int>("normal_neighbours");
+    c_.neighbours = p.get<int>("neighbours");
+    c_.smoothness_deg = p.get<double>("smoothness");
+    c_.curvature = p.get<double>("curvature");
+    c_.min_points = size_t(p.get<int64_t>("min_points"));
+    c_.max_points = size_t(p.get<int64_t>("max_points"));
+    if (c_.max_points < c_.min_points) throw Error("max_points is below min_points");
+  }
+
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "segment.region-growing";
+    i.version = "1.0.0";
+    i.summary = "PCL region growing with normals: splits clusters that touch";
+    i.doc =
+        "Estimates normals (pcl::NormalEstimationOMP, k = normal_neighbours) and grows regions "
+        "(pcl::RegionGrowing, k = neighbours): a neighbour joins when its normal is within "
+        "`smoothness` of the current point's, and growth continues from points with curvature "
+        "below `curvature` (surface variation l0/(l0+l1+l2); the default 0.05 stops growth at "
+        "creases, 1 lets it run through them). Objects touching along a crease (resting on a surface, against a "
+        "wall) come apart where Euclidean clustering joins them; the price is that a strongly "
+        "faceted object can split into faces, so keep `smoothness` above the angle between "
+        "k-neighbour normals across a rounded edge. Points in regions outside [min_points, "
+        "max_points] are dropped. Missions run in parallel.";
+    i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
+    i.outputs = {{"objects", "objects", "one object per region per mission"}};
+    i.params = {
+        ParamSpec::integer("normal_neighbours", 16, "k nearest points for each normal").range(3, 500),
+        ParamSpec::integer("neighbours", 16, "k nearest points tested while growing").range(3, 500),
+        ParamSpec::real("smoothness", 30.0, "largest normal angle between neighbours").range(0.1, 180).unit("deg"),
+        ParamSpec::real("curvature", 0.05, "growth continues only from points flatter than this (1 = any)").range(0, 1),
+        ParamSpec::integer("min_points", 20, "smallest region kept").range(1, 2e9),
+        ParamSpec::integer("max_points", 5000000, "largest region kept").range(1, 2e9),
+    };
+    return i;
+  }
+
+  Outputs run(const Inputs& in, Context& context) override {
+    ObjectSet objects = objects_from_missions(
+        in.get<MissionPoints>("changes"), context,
+        [&](const PointSet& s, int threads) { return cluster_region_growing(s, c_, threads); });
+    context.record("objects", double(objects.objects.size()));
+    Outputs out;
+    out.put("objects", std::move(objects));
+    return out;
+  }
+
+ private:
+  RegionGrowingConfig c_;
+};
+
+void register_stages(Registrar& r) {
+  r.add(RegionGrowingStage::info(), [](const Params& p) { return std::make_unique<RegionGrowingStage>(p); });
+}
+
+}  // namespace
+}  // namespace lista::seg
+
+LISTA_PLUGIN(lista::seg::register_stages)
