@@ -3,6 +3,8 @@
 // same synthetic change clouds in one run, checks that exact mode gives PCL's
 // clusters, and times the filters. Object recovery (IoU > 0.5 with a true
 // object) is shown for each filter chain, as a sanity check of the chain.
+// With --changes DIR the clouds are real change points instead: every .pcd
+// in DIR (e.g. the changes/ folder a lista-run writes), one per mission.
 #include "filter/ground/ground_removal.hpp"
 #include "filter/mls/mls_smoothing.hpp"
 #include "filter/morphology/morphology.hpp"
@@ -10,11 +12,14 @@
 #include "segment/voxel/voxel_clustering.hpp"
 #include "synthetic_changes.hpp"
 
+#include <lista_io/pcd.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <map>
 
@@ -59,6 +64,7 @@ int main(int argc, char** argv) {
   int missions = 3, repeat = 3;
   double tolerance = 0.1;
   bool with_mls = true;
+  std::string changes_dir;
   app.add_option("--objects", sc.objects, "objects per mission");
   app.add_option("--spacing", sc.spacing, "surface sample spacing, m");
   app.add_option("--missions", missions, "missions (clouds)");
@@ -66,22 +72,43 @@ int main(int argc, char** argv) {
   app.add_option("--tolerance", tolerance, "cluster tolerance / voxel, m");
   app.add_option("--seed", sc.seed, "seed");
   app.add_flag("!--no-mls", with_mls, "skip the (slow) MLS timing");
+  app.add_option("--changes", changes_dir, "folder of real change clouds (*.pcd, one per mission) instead of synthetic ones")
+      ->check(CLI::ExistingDirectory);
   CLI11_PARSE(app, argc, argv);
 
   std::vector<PointSet> clouds;
-  std::vector<std::vector<uint32_t>> labels;
+  std::vector<std::vector<uint32_t>> labels;  // synthetic only
   size_t total = 0;
-  for (int m = 0; m < missions; ++m) {
-    auto cfg = sc;
-    cfg.seed = sc.seed + uint64_t(m);
-    std::vector<uint32_t> label;
-    clouds.push_back(bench::synthetic_changes(cfg, &label));
-    labels.push_back(std::move(label));
-    total += clouds.back().size();
+  if (!changes_dir.empty()) {
+    std::vector<std::string> files;
+    for (const auto& e : std::filesystem::directory_iterator(changes_dir))
+      if (e.path().extension() == ".pcd") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) {
+      std::fprintf(stderr, "lista-bench-segmentation: error: no .pcd files in %s\n", changes_dir.c_str());
+      return 2;
+    }
+    for (uint32_t m = 0; m < files.size(); ++m) {
+      clouds.push_back(io::read_scan(files[m], m).points);
+      total += clouds.back().size();
+    }
+    missions = int(clouds.size());
+    std::printf("real change clouds from %s: %d missions, %zu points (%.0f per mission), "
+                "tolerance %.3f m, one thread, median of %d\n\n",
+                changes_dir.c_str(), missions, total, double(total) / missions, tolerance, repeat);
+  } else {
+    for (int m = 0; m < missions; ++m) {
+      auto cfg = sc;
+      cfg.seed = sc.seed + uint64_t(m);
+      std::vector<uint32_t> label;
+      clouds.push_back(bench::synthetic_changes(cfg, &label));
+      labels.push_back(std::move(label));
+      total += clouds.back().size();
+    }
+    std::printf("synthetic change clouds: %d missions, %zu points (%.0f per mission), %d objects each, "
+                "tolerance %.3f m, one thread, median of %d\n\n",
+                missions, total, double(total) / missions, sc.objects, tolerance, repeat);
   }
-  std::printf("synthetic change clouds: %d missions, %zu points (%.0f per mission), %d objects each, "
-              "tolerance %.3f m, one thread, median of %d\n\n",
-              missions, total, double(total) / missions, sc.objects, tolerance, repeat);
 
   seg::VoxelClusterConfig vox;
   vox.tolerance = tolerance;
@@ -170,6 +197,16 @@ int main(int argc, char** argv) {
   std::printf("| filter.ground | %.3f | %zu of %zu |\n", t_ground, left_g, total);
   std::printf("| filter.morphology (after ground) | %.3f | %zu |\n", t_morph, left_m);
   if (with_mls) std::printf("| filter.mls (radius 0.1) | %.3f | %zu |\n", t_mls, total);
+  if (labels.empty()) {  // real clouds: no truth here (score them with lista-eval)
+    double t_seg = 0;
+    auto t0 = Clock::now();
+    size_t n = 0;
+    for (size_t m = 0; m < clouds.size(); ++m) n += seg::cluster_voxels(clouds[m].select(after_morph[m]).xyz, vox).size();
+    t_seg = std::chrono::duration<double>(Clock::now() - t0).count();
+    std::printf("\nground + morphology + segment.voxel, one thread: %.3f s for %zu points, %zu clusters\n",
+                t_ground + t_morph + t_seg, total, n);
+    return same ? 0 : 1;
+  }
   std::printf("\n| chain before segment.voxel | true objects recovered (IoU > 0.5) |\n|---|---|\n");
   std::printf("| none | %zu of %zu |\n", chain(all, nullptr), truth_objects);
   std::printf("| filter.ground | %zu of %zu |\n", chain(after_ground, nullptr), truth_objects);

@@ -13,6 +13,8 @@ namespace {
 double inside(const Object& a, const Object& b, double margin) {
   if (a.points.empty()) return 0.0;
   const Eigen::Vector3f lo = b.bbox_min.array() - float(margin), hi = b.bbox_max.array() + float(margin);
+  // Most pairs are far apart: disjoint boxes need no point test.
+  if ((a.bbox_max.array() < lo.array()).any() || (a.bbox_min.array() > hi.array()).any()) return 0.0;
   size_t n = 0;
   for (const auto& p : a.points.xyz) n += (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
   return double(n) / double(a.points.size());
@@ -46,8 +48,11 @@ std::vector<uint32_t> adjacent_missions(uint32_t m, size_t missions) {
 
 }  // namespace
 
-ObjectSet merge_split_by_overlap(const ObjectSet& in, const OverlapConfig& c, OverlapStats* stats) {
+ObjectSet merge_split_by_overlap(const ObjectSet& input, const OverlapConfig& c, OverlapStats* stats) {
   if (c.margin < 0 || c.merge_gap < 0) throw Error("margin and merge_gap must be >= 0");
+  // Work on a copy with bounds recomputed: the rule must not trust stale boxes.
+  ObjectSet in = input;
+  for (auto& o : in.objects) o.update_geometry();
   OverlapStats st;
   const size_t n = in.objects.size();
   std::map<uint32_t, std::vector<size_t>> by_mission;

@@ -87,3 +87,11 @@ TEST(SegmentOverlap, StageRejectsObjectOfUnknownMission) {
   auto out = run_stage("segment.overlap", "objects", lista::Data::make(ok));
   EXPECT_EQ(out.at("objects").as<lista::ObjectSet>().objects.size(), 1u);
 }
+
+TEST(SegmentOverlap, DoesNotTrustStaleBounds) {
+  // Bounds left at zero by an upstream stage: the rule recomputes them.
+  auto in = make({box_object(0, {0, 0, 0}, {0.4f, 0.6f, 0.6f}), box_object(0, {0.6f, 0, 0}, {1.0f, 0.6f, 0.6f}),
+                  box_object(1, {0, 0, 0}, {1.0f, 0.6f, 0.6f})});
+  for (auto& o : in.objects) o.bbox_min = o.bbox_max = Eigen::Vector3f::Zero();
+  EXPECT_EQ(lista::seg::merge_split_by_overlap(in, {}).objects.size(), 2u);
+}
