@@ -1,0 +1,19 @@
+// Small point-cloud helpers on plain Eigen vectors (no PCL): voxel centroids
+// and the levelled local frame that descriptors and submaps are built in.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace lista::align {
+
+using Cloud = std::vector<Eigen::Vector3f>;
+
+// One centroid per occupied voxel of edge `voxel`, ordered by voxel key.
+Cloud voxel_downsample(const Cloud& points, double voxel);
+
+// The pose with roll and pitch removed: same origin, z up, same heading.
+// Descriptors are built in it so that yaw is the only rotation left to search.
+Eigen::Isometry3d levelled_frame(const Eigen::Isometry3d& pose);
+
+}  // namespace lista::align

@@ -1,0 +1,35 @@
+// Pairwise registration of two local clouds with PCL's Generalized ICP,
+// coarse to fine, and an honest fitness (overlap and inlier RMSE measured
+// after the fact with a k-d tree), so that a wrong loop closure can be refused.
+#pragma once
+
+#include <lista_alignkit/cloud_ops.hpp>
+
+#include <Eigen/Geometry>
+#include <string>
+
+namespace lista::align {
+
+struct RegistrationOptions {
+  std::string method = "gicp";  // "gicp" or "icp" (point-to-point)
+  double voxel = 0.2;           // m; fine-stage downsampling
+  double coarse_distance = 2.0; // m; max correspondence distance of the coarse stage
+  double fine_distance = 0.5;   // m; of the fine stage
+  int max_iterations = 40;      // per stage
+  double inlier_distance = 0.3; // m; for the fitness measure
+};
+
+struct RegistrationResult {
+  bool converged = false;
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  // source -> target
+  double overlap = 0.0;         // share of source points with a target point within inlier_distance
+  double reverse_overlap = 0.0; // share of target points with a source point within inlier_distance
+  double inlier_rmse = 0.0;     // m, over the source inliers
+};
+
+// Aligns `source` onto `target` starting from `guess` (source -> target).
+// Both are expected already downsampled to about options.voxel.
+RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
+                                   const Eigen::Isometry3d& guess, const RegistrationOptions& options);
+
+}  // namespace lista::align

@@ -1,0 +1,78 @@
+#include "icp_stage.hpp"
+
+#include <lista/basic_context.hpp>
+#include <lista/data.hpp>
+#include <lista_alignkit/synthetic_scene.hpp>
+#include <lista_alignkit/trajectory_error.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace lista;
+using namespace lista::align;
+using namespace lista::align::testing;
+
+namespace {
+
+Eigen::Isometry3d offset(double x, double y, double z, double yaw_deg) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  t.translation() = Eigen::Vector3d(x, y, z);
+  return t;
+}
+
+const MissionSet& run(const MissionSet& set, BasicContext& ctx, Outputs& out) {
+  auto stage = make_icp_stage(Params::defaults(icp_stage_info().params));
+  Inputs in;
+  in.set("missions", Data::make(set));
+  out = stage->run(in, ctx);
+  return out.at("missions").as<MissionSet>();
+}
+
+}  // namespace
+
+TEST(AlignIcp, UndoesAPureOffset) {
+  const Scene hall = make_hall(30, 20, 40, 7);
+  const auto route = loop_route(30, 20, 4.0, 2.0, 0.0);
+  const auto route_b = loop_route(30, 20, 4.0, 2.0, 5.0, 0.3);
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, route, route, 1));
+  // Mission b: exact odometry in a map frame offset by 0.6 m and 4 degrees.
+  const Eigen::Isometry3d map_from_world = offset(0.6, -0.4, 0.05, 4);
+  std::vector<Eigen::Isometry3d> poses_b;
+  for (const auto& p : route_b) poses_b.push_back(map_from_world * p);
+  set.missions.push_back(make_mission("b", hall, route_b, poses_b, 2));
+
+  BasicContext ctx("align", 2, 0);
+  Outputs out;
+  const MissionSet& aligned = run(set, ctx, out);
+  const auto before = trajectory_error(set);
+  const auto after = trajectory_error(aligned);
+  ASSERT_TRUE(before && after);
+  EXPECT_GT(before->rmse, 0.3);
+  EXPECT_LT(after->rmse, 0.03);
+  EXPECT_TRUE(aligned.missions[0].to_common.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(aligned.missions[1].scans[4].pose.isApprox(set.missions[1].scans[4].pose));  // poses untouched
+  EXPECT_LT((aligned.missions[1].to_common.translation() - map_from_world.inverse().translation()).norm(), 0.05);
+  EXPECT_GT(ctx.info.metrics["align"].at("overlap_b"), 0.5);
+}
+
+TEST(AlignIcp, RefusesMapsThatDoNotOverlap) {
+  const Scene hall = make_hall(30, 20, 40, 7);
+  const Scene field = make_field(3);
+  const auto route = loop_route(30, 20, 4.0, 4.0, 0.0);
+  MissionSet set;
+  set.missions.push_back(make_mission("hall", hall, route, route, 1));
+  std::vector<Eigen::Isometry3d> far;
+  for (const auto& p : route) far.push_back(offset(500, 0, 0, 0) * p);
+  set.missions.push_back(make_mission("field", field, far, far, 2));
+  BasicContext ctx("align", 1, 0);
+  Outputs out;
+  try {
+    run(set, ctx, out);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'field'"), std::string::npos) << e.what();
+  }
+}

@@ -1,0 +1,249 @@
+#include "joint_alignment.hpp"
+
+#include <lista/error.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <optional>
+#include <set>
+
+namespace lista::align {
+
+namespace {
+
+struct Graph {
+  std::vector<size_t> offset;  // first node of each mission
+  std::vector<Eigen::Isometry3d> nodes;
+  std::vector<bool> fixed;
+  std::vector<PoseGraphEdge> odometry;
+};
+
+size_t node_of(const Graph& g, const Keyframe& k) { return g.offset[k.mission] + k.scan; }
+
+// The closure as a relative pose between the two scans' sensor poses.
+Eigen::Isometry3d closure_measurement(const MissionSet& set, const std::vector<Keyframe>& kf, const Closure& c) {
+  const Keyframe& r = kf[c.reference];
+  const Keyframe& q = kf[c.query];
+  const auto& pose_r = set.missions[r.mission].scans[r.scan].pose;
+  const auto& pose_q = set.missions[q.mission].scans[q.scan].pose;
+  return pose_r.inverse() * r.frame * c.reference_T_query * q.frame.inverse() * pose_q;
+}
+
+// Keyframe frame in the common frame under the current node estimates.
+Eigen::Isometry3d frame_in_common(const MissionSet& set, const Graph& g, const Keyframe& k) {
+  return g.nodes[node_of(g, k)] * set.missions[k.mission].scans[k.scan].pose.inverse() * k.frame;
+}
+
+// Initial map -> common transforms: a spanning tree over missions from the
+// reference, each link the best-fitting closure between the two missions.
+std::vector<Eigen::Isometry3d> initial_transforms(const MissionSet& set, const std::vector<Keyframe>& kf,
+                                                  const std::vector<Closure>& closures,
+                                                  const JointAlignmentReport& report) {
+  const size_t n = set.missions.size();
+  std::map<std::pair<size_t, size_t>, const Closure*> best;
+  for (const auto& c : closures) {
+    const auto key = std::make_pair(kf[c.reference].mission, kf[c.query].mission);
+    auto it = best.find(key);
+    if (it == best.end() || c.rmse < it->second->rmse) best[key] = &c;
+  }
+  std::vector<std::optional<Eigen::Isometry3d>> to_common(n);
+  to_common[0] = Eigen::Isometry3d::Identity();
+  std::deque<size_t> queue{0};
+  while (!queue.empty()) {
+    const size_t m = queue.front();
+    queue.pop_front();
+    for (const auto& [pair, c] : best) {
+      const Eigen::Isometry3d ref_T_query = implied_map_transform(kf, *c);
+      if (pair.first == m && !to_common[pair.second]) {
+        to_common[pair.second] = *to_common[m] * ref_T_query;
+        queue.push_back(pair.second);
+      } else if (pair.second == m && !to_common[pair.first]) {
+        to_common[pair.first] = *to_common[m] * ref_T_query.inverse();
+        queue.push_back(pair.first);
+      }
+    }
+  }
+  std::string isolated, detached;
+  for (size_t m = 0; m < n; ++m) {
+    if (to_common[m]) continue;
+    std::string& list = report.closures_per_mission[m] == 0 ? isolated : detached;
+    list += (list.empty() ? "'" : ", '") + set.missions[m].name + "'";
+  }
+  if (!isolated.empty())
+    throw Error("mission " + isolated + " links to no other mission: no verified loop closure (" +
+                std::to_string(report.candidates) + " candidates, " + std::to_string(report.verified) +
+                " verified in all); the missions must overlap, or relax max_descriptor_distance / min_overlap");
+  if (!detached.empty())
+    throw Error("mission " + detached + " is not connected to the reference mission '" + set.missions[0].name +
+                "' by loop closures; every mission must be linked to the reference through overlapping missions");
+  std::vector<Eigen::Isometry3d> out;
+  for (auto& t : to_common) out.push_back(*t);
+  return out;
+}
+
+std::vector<PoseGraphEdge> closure_edges(const MissionSet& set, const Graph& g, const std::vector<Keyframe>& kf,
+                                         const std::vector<Closure>& closures, const JointAlignmentOptions& o) {
+  std::vector<PoseGraphEdge> edges;
+  for (const auto& c : closures) {
+    PoseGraphEdge e;
+    e.from = node_of(g, kf[c.reference]);
+    e.to = node_of(g, kf[c.query]);
+    e.measurement = closure_measurement(set, kf, c);
+    e.sigma_translation = o.closure_sigma_translation;
+    e.sigma_rotation = o.closure_sigma_rotation;
+    e.robust = true;
+    edges.push_back(e);
+  }
+  return edges;
+}
+
+PoseGraphSummary solve(Graph& g, const std::vector<PoseGraphEdge>& closures, PoseGraphOptions options) {
+  std::vector<PoseGraphEdge> edges = g.odometry;
+  edges.insert(edges.end(), closures.begin(), closures.end());
+  return optimise_pose_graph(g.nodes, g.fixed, edges, options);
+}
+
+// Verified closures whose measurement the current estimate agrees with.
+std::vector<Closure> agreeing(const MissionSet& set, const Graph& g, const std::vector<Keyframe>& kf,
+                              const std::vector<Closure>& closures, const ConsistencyOptions& o) {
+  std::vector<Closure> out;
+  for (const auto& c : closures) {
+    const Eigen::Isometry3d est = g.nodes[node_of(g, kf[c.reference])].inverse() * g.nodes[node_of(g, kf[c.query])];
+    const Eigen::Isometry3d err = closure_measurement(set, kf, c).inverse() * est;
+    if (err.translation().norm() <= o.distance / 4 &&
+        Eigen::AngleAxisd(Eigen::Quaterniond(err.linear()).normalized()).angle() <= o.angle / 2)
+      out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace
+
+MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o, Context& ctx,
+                          JointAlignmentReport& report) {
+  if (set.missions.empty()) throw Error("no missions to align");
+  for (const auto& m : set.missions)
+    if (m.scans.empty()) throw Error("mission '" + m.name + "' has no scans");
+  MissionSet out = set;  // scans' point data is shared, not copied
+  const size_t n = set.missions.size();
+  report = {};
+  report.closures_per_mission.assign(n, 0);
+  if (n == 1) {
+    out.missions[0].to_common = Eigen::Isometry3d::Identity();
+    return out;
+  }
+  const int threads = ctx.threads();
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&start] {
+    return std::to_string(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()) + " s";
+  };
+
+  const std::vector<Keyframe> kf = make_keyframes(set, o.keyframes, threads);
+  report.keyframes = kf.size();
+  ctx.throw_if_cancelled();
+  const std::vector<Candidate> candidates = find_candidates(kf, n, o.candidates, threads);
+  report.candidates = candidates.size();
+  ctx.info(std::to_string(kf.size()) + " keyframes, " + std::to_string(candidates.size()) +
+           " Scan Context candidates after " + elapsed());
+  ctx.throw_if_cancelled();
+  const std::vector<Closure> verified = verify_candidates(kf, candidates, {}, o.verify, threads);
+  report.verified = verified.size();
+  std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency);
+  report.consistent = closures.size();
+  for (const auto& c : closures) {
+    ++report.closures_per_mission[kf[c.reference].mission];
+    ++report.closures_per_mission[kf[c.query].mission];
+  }
+  ctx.info(std::to_string(verified.size()) + " closures verified, " + std::to_string(closures.size()) +
+           " consistent after " + elapsed());
+  const std::vector<Eigen::Isometry3d> to_common = initial_transforms(set, kf, closures, report);
+
+  Graph g;
+  for (size_t m = 0; m < n; ++m) {
+    const Mission& mission = set.missions[m];
+    g.offset.push_back(g.nodes.size());
+    for (size_t s = 0; s < mission.scans.size(); ++s) {
+      g.nodes.push_back(to_common[m] * mission.scans[s].pose);
+      g.fixed.push_back(m == 0 && (o.fix_reference_mission || s == 0));
+      if (s == 0) continue;
+      PoseGraphEdge e;
+      e.from = g.offset[m] + s - 1;
+      e.to = g.offset[m] + s;
+      e.measurement = mission.scans[s - 1].pose.inverse() * mission.scans[s].pose;
+      e.sigma_translation = o.odometry_sigma_translation;
+      e.sigma_rotation = o.odometry_sigma_rotation;
+      g.odometry.push_back(e);
+    }
+  }
+
+  // First solve without the robust loss: the vetted closures start far from
+  // their optimum (the drift), where a robust loss would hardly pull.
+  PoseGraphOptions plain = o.graph;
+  plain.loss = "none";
+  plain.threads = threads;
+  const PoseGraphSummary first = solve(g, closure_edges(set, g, kf, closures, o), plain);
+  report.initial_cost = first.initial_cost;
+  // Closures the vote refused may agree with the solved graph (drift can make
+  // early and late closures look inconsistent with each other).
+  closures = agreeing(set, g, kf, verified, o.consistency);
+
+  std::set<std::pair<size_t, size_t>> closed;
+  for (const auto& c : closures) closed.insert({c.reference, c.query});
+  for (int round = 0; round < o.refine_rounds; ++round) {
+    ctx.throw_if_cancelled();
+    // Proximity closures: keyframes now close in the common frame.
+    std::vector<Candidate> near;
+    std::vector<Eigen::Isometry3d> guesses;
+    std::vector<Eigen::Isometry3d> frames;
+    for (const auto& k : kf) frames.push_back(frame_in_common(set, g, k));
+    for (size_t q = 0; q < kf.size(); ++q) {
+      for (size_t a = 0; a < kf[q].mission; ++a) {
+        size_t best = kf.size();
+        double best_d = o.refine_radius;
+        for (size_t r = 0; r < kf.size(); ++r) {
+          if (kf[r].mission != a) continue;
+          const double d = (frames[r].translation() - frames[q].translation()).norm();
+          if (d <= best_d) {
+            best_d = d;
+            best = r;
+          }
+        }
+        if (best == kf.size() || closed.count({best, q})) continue;
+        near.push_back({best, q, 1.0, 0.0});
+        guesses.push_back(frames[best].inverse() * frames[q]);
+      }
+    }
+    const std::vector<Closure> found = verify_candidates(kf, near, guesses, o.verify, threads);
+    for (const auto& c : found) closed.insert({c.reference, c.query});
+    closures.insert(closures.end(), found.begin(), found.end());
+    report.proximity += found.size();
+    ctx.info("refine round " + std::to_string(round + 1) + ": " + std::to_string(near.size()) +
+             " proximity candidates, " + std::to_string(found.size()) + " verified after " + elapsed());
+    PoseGraphOptions robust = o.graph;
+    robust.threads = threads;
+    const PoseGraphSummary s = solve(g, closure_edges(set, g, kf, closures, o), robust);
+    report.final_cost = s.final_cost;
+    if (found.empty()) break;
+  }
+  if (o.refine_rounds == 0) {
+    PoseGraphOptions robust = o.graph;
+    robust.threads = threads;
+    report.final_cost = solve(g, closure_edges(set, g, kf, closures, o), robust).final_cost;
+  }
+  report.final_closures = closures.size();
+
+  // Each mission keeps its own map frame up to one rigid transform: anchored
+  // at its first scan, the rest of the correction goes into the scan poses.
+  for (size_t m = 0; m < n; ++m) {
+    Mission& mission = out.missions[m];
+    const Eigen::Isometry3d tc =
+        m == 0 ? Eigen::Isometry3d::Identity() : g.nodes[g.offset[m]] * set.missions[m].scans[0].pose.inverse();
+    mission.to_common = tc;
+    const Eigen::Isometry3d tc_inv = tc.inverse();
+    for (size_t s = 0; s < mission.scans.size(); ++s) mission.scans[s].pose = tc_inv * g.nodes[g.offset[m] + s];
+  }
+  return out;
+}
+
+}  // namespace lista::align

@@ -1,0 +1,44 @@
+// The multi-mission pose graph: every mission's odometry chain plus the
+// inter-mission loop closures, initialised from the closures (a spanning tree
+// over missions from the reference) and optimised jointly. Split from the
+// stage so that tests can drive it with plain options.
+#pragma once
+
+#include "loop_closures.hpp"
+#include "pose_graph.hpp"
+
+#include <lista/context.hpp>
+#include <lista/missions.hpp>
+
+#include <map>
+#include <string>
+
+namespace lista::align {
+
+struct JointAlignmentOptions {
+  KeyframeOptions keyframes;
+  CandidateOptions candidates;
+  VerifyOptions verify;
+  ConsistencyOptions consistency;
+  PoseGraphOptions graph;
+  double odometry_sigma_translation = 0.02;  // m per consecutive-scan edge
+  double odometry_sigma_rotation = 0.005;    // rad
+  double closure_sigma_translation = 0.05;   // m
+  double closure_sigma_rotation = 0.01;      // rad
+  bool fix_reference_mission = true;         // else only its first pose
+  int refine_rounds = 1;                     // rounds of closures proposed by proximity after a solve
+  double refine_radius = 3.0;                // m between keyframes in the common frame
+};
+
+struct JointAlignmentReport {
+  size_t keyframes = 0, candidates = 0, verified = 0, consistent = 0, proximity = 0, final_closures = 0;
+  double initial_cost = 0.0, final_cost = 0.0;
+  std::vector<size_t> closures_per_mission;
+};
+
+// Returns a copy of `missions` (point data shared) with corrected scan poses and
+// to_common. Throws lista::Error naming any mission that links to no other.
+MissionSet align_missions(const MissionSet& missions, const JointAlignmentOptions& options, Context& context,
+                          JointAlignmentReport& report);
+
+}  // namespace lista::align

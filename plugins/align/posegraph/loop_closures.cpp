@@ -1,0 +1,185 @@
+#include "loop_closures.hpp"
+
+#include "ring_key_index.hpp"
+
+#include <lista/error.hpp>
+#include <lista_alignkit/parallel.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+
+namespace lista::align {
+
+namespace {
+
+double rotation_angle(const Eigen::Matrix3d& r) {
+  return Eigen::AngleAxisd(Eigen::Quaterniond(r).normalized()).angle();
+}
+
+// Scans within `distance` of path length either side of `centre`.
+std::pair<size_t, size_t> submap_span(const Mission& m, size_t centre, double distance) {
+  size_t lo = centre, hi = centre;
+  double travelled = 0.0;
+  while (lo > 0) {
+    travelled += (m.scans[lo].pose.translation() - m.scans[lo - 1].pose.translation()).norm();
+    if (travelled > distance) break;
+    --lo;
+  }
+  travelled = 0.0;
+  while (hi + 1 < m.scans.size()) {
+    travelled += (m.scans[hi + 1].pose.translation() - m.scans[hi].pose.translation()).norm();
+    if (travelled > distance) break;
+    ++hi;
+  }
+  return {lo, hi};
+}
+
+}  // namespace
+
+std::vector<Keyframe> make_keyframes(const MissionSet& set, const KeyframeOptions& o, int threads) {
+  std::vector<Keyframe> keyframes;
+  for (size_t mi = 0; mi < set.missions.size(); ++mi) {
+    const Mission& m = set.missions[mi];
+    Eigen::Isometry3d last;
+    for (size_t s = 0; s < m.scans.size(); ++s) {
+      const Eigen::Isometry3d& pose = m.scans[s].pose;
+      const bool take = s == 0 || (pose.translation() - last.translation()).norm() >= o.keyframe_distance ||
+                        rotation_angle(last.linear().transpose() * pose.linear()) >= o.keyframe_angle;
+      if (!take) continue;
+      Keyframe k;
+      k.mission = mi;
+      k.scan = s;
+      k.frame = levelled_frame(pose);
+      keyframes.push_back(std::move(k));
+      last = pose;
+    }
+  }
+  const double max_r = o.scan_context.max_radius;
+  parallel_for(keyframes.size(), threads, [&](size_t i) {
+    Keyframe& k = keyframes[i];
+    const Mission& m = set.missions[k.mission];
+    const auto [lo, hi] = submap_span(m, k.scan, o.submap_distance);
+    Cloud local;
+    const Eigen::Isometry3d frame_inv = k.frame.inverse();
+    for (size_t s = lo; s <= hi; ++s) {
+      if (!m.scans[s].points) continue;
+      const Eigen::Isometry3f t = (frame_inv * m.scans[s].pose).cast<float>();
+      for (const auto& p : m.scans[s].points->xyz) {
+        const Eigen::Vector3f q = t * p;
+        if (q.head<2>().squaredNorm() < max_r * max_r) local.push_back(q);
+      }
+    }
+    k.descriptor = make_scan_context(local, o.scan_context);
+    k.submap = voxel_downsample(local, o.voxel);
+  });
+  return keyframes;
+}
+
+std::vector<Candidate> find_candidates(const std::vector<Keyframe>& keyframes, size_t mission_count,
+                                       const CandidateOptions& o, int threads) {
+  std::vector<std::vector<size_t>> members(mission_count);
+  for (size_t i = 0; i < keyframes.size(); ++i) members[keyframes[i].mission].push_back(i);
+  std::vector<std::unique_ptr<RingKeyIndex>> indices;
+  for (const auto& list : members) {
+    std::vector<Eigen::VectorXf> keys;
+    for (size_t i : list) keys.push_back(keyframes[i].descriptor.ring_key);
+    indices.push_back(std::make_unique<RingKeyIndex>(keys));
+  }
+  // One slot per (query keyframe, earlier mission): filled in parallel, read in order.
+  std::vector<std::vector<Candidate>> found(keyframes.size());
+  parallel_for(keyframes.size(), threads, [&](size_t q) {
+    const Keyframe& query = keyframes[q];
+    for (size_t a = 0; a < query.mission; ++a) {
+      Candidate best;
+      bool any = false;
+      for (size_t j : indices[a]->nearest(query.descriptor.ring_key, o.neighbours)) {
+        const size_t r = members[a][j];
+        const ScanContextMatch match = compare(keyframes[r].descriptor, query.descriptor);
+        if (match.distance <= o.max_distance && (!any || match.distance < best.distance)) {
+          best = {r, q, match.distance, match.yaw};
+          any = true;
+        }
+      }
+      if (any) found[q].push_back(best);
+    }
+  });
+  std::map<std::pair<size_t, size_t>, std::vector<Candidate>> by_pair;
+  for (const auto& list : found)
+    for (const auto& c : list) by_pair[{keyframes[c.reference].mission, keyframes[c.query].mission}].push_back(c);
+  std::vector<Candidate> out;
+  for (auto& [pair, list] : by_pair) {
+    std::stable_sort(list.begin(), list.end(), [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
+    if (static_cast<int>(list.size()) > o.max_per_pair) list.resize(o.max_per_pair);
+    out.insert(out.end(), list.begin(), list.end());
+  }
+  return out;
+}
+
+std::vector<Closure> verify_candidates(const std::vector<Keyframe>& keyframes,
+                                       const std::vector<Candidate>& candidates,
+                                       const std::vector<Eigen::Isometry3d>& guesses,
+                                       const VerifyOptions& o, int threads) {
+  if (!guesses.empty() && guesses.size() != candidates.size())
+    throw Error("loop closure verification: one guess per candidate expected");
+  std::vector<std::optional<Closure>> results(candidates.size());
+  parallel_for(candidates.size(), threads, [&](size_t i) {
+    const Candidate& c = candidates[i];
+    Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
+    if (guesses.empty()) guess.linear() = Eigen::AngleAxisd(c.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    else guess = guesses[i];
+    const RegistrationResult r =
+        register_clouds(keyframes[c.query].submap, keyframes[c.reference].submap, guess, o.registration);
+    // Overlap both ways: a floor alone matches a floor, but the walls and
+    // furniture of the other submap then find no partner.
+    const double overlap = std::min(r.overlap, r.reverse_overlap);
+    if (!r.converged || overlap < o.min_overlap || r.inlier_rmse > o.max_rmse) return;
+    results[i] = Closure{c.reference, c.query, r.transform, overlap, r.inlier_rmse, c.distance};
+  });
+  std::vector<Closure> out;
+  for (auto& r : results)
+    if (r) out.push_back(*r);
+  return out;
+}
+
+Eigen::Isometry3d implied_map_transform(const std::vector<Keyframe>& keyframes, const Closure& c) {
+  return keyframes[c.reference].frame * c.reference_T_query * keyframes[c.query].frame.inverse();
+}
+
+std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes, const std::vector<Closure>& closures,
+                                         const ConsistencyOptions& o) {
+  std::map<std::pair<size_t, size_t>, std::vector<size_t>> by_pair;
+  for (size_t i = 0; i < closures.size(); ++i)
+    by_pair[{keyframes[closures[i].reference].mission, keyframes[closures[i].query].mission}].push_back(i);
+  std::vector<bool> keep(closures.size(), false);
+  for (const auto& [pair, list] : by_pair) {
+    std::vector<Eigen::Isometry3d> maps;
+    for (size_t i : list) maps.push_back(implied_map_transform(keyframes, closures[i]));
+    // i and j agree if both put j's keyframe in the same place and turn alike;
+    // compared at the keyframe so that a small drift far away does not count.
+    auto agree = [&](size_t i, size_t j) {
+      const Eigen::Vector3d p = keyframes[closures[list[j]].query].frame.translation();
+      return (maps[i] * p - maps[j] * p).norm() <= o.distance &&
+             rotation_angle(maps[i].linear().transpose() * maps[j].linear()) <= o.angle;
+    };
+    size_t best = 0, best_support = 0;
+    for (size_t i = 0; i < list.size(); ++i) {
+      size_t support = 0;
+      for (size_t j = 0; j < list.size(); ++j) support += agree(i, j) ? 1 : 0;
+      if (support > best_support ||
+          (support == best_support && closures[list[i]].rmse < closures[list[best]].rmse)) {
+        best = i;
+        best_support = support;
+      }
+    }
+    for (size_t j = 0; j < list.size(); ++j)
+      if (agree(best, j)) keep[list[j]] = true;
+  }
+  std::vector<Closure> out;
+  for (size_t i = 0; i < closures.size(); ++i)
+    if (keep[i]) out.push_back(closures[i]);
+  return out;
+}
+
+}  // namespace lista::align

@@ -1,0 +1,84 @@
+// Inter-mission loop closures: keyframes with local submaps and Scan Context
+// descriptors, candidate retrieval by ring key (k-d tree) and column-shift
+// distance, verification by registration, and a consistency vote that drops
+// closures disagreeing with the majority of their mission pair.
+#pragma once
+
+#include "scan_context.hpp"
+
+#include <lista/missions.hpp>
+#include <lista_alignkit/cloud_ops.hpp>
+#include <lista_alignkit/registration.hpp>
+
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace lista::align {
+
+struct KeyframeOptions {
+  double keyframe_distance = 1.0;  // m travelled between keyframes
+  double keyframe_angle = 0.5;     // rad turned between keyframes
+  double submap_distance = 2.0;    // m of trajectory either side joined into the submap
+  double voxel = 0.2;              // m, submap downsampling
+  ScanContextOptions scan_context;
+};
+
+struct Keyframe {
+  size_t mission = 0, scan = 0;
+  Eigen::Isometry3d frame;  // levelled frame at the scan, in the mission's map frame
+  Cloud submap;             // points around it, in `frame`, downsampled
+  ScanContext descriptor;
+};
+
+// Keyframes of every mission, submaps and descriptors built on `threads` threads.
+std::vector<Keyframe> make_keyframes(const MissionSet& missions, const KeyframeOptions& options, int threads);
+
+struct CandidateOptions {
+  int neighbours = 10;          // ring-key nearest neighbours examined per query
+  double max_distance = 0.35;   // Scan Context distance threshold
+  int max_per_pair = 200;       // best candidates kept per mission pair
+};
+
+struct Candidate {
+  size_t reference = 0, query = 0;  // keyframe indices; reference is in the earlier mission
+  double distance = 1.0;
+  double yaw = 0.0;  // query frame heading in the reference frame (rad)
+};
+
+// For each keyframe, its best Scan Context match in every earlier mission.
+std::vector<Candidate> find_candidates(const std::vector<Keyframe>& keyframes, size_t mission_count,
+                                       const CandidateOptions& options, int threads);
+
+struct Closure {
+  size_t reference = 0, query = 0;  // keyframe indices
+  Eigen::Isometry3d reference_T_query;  // between the keyframes' levelled frames
+  double overlap = 0.0, rmse = 0.0, descriptor_distance = 1.0;
+};
+
+struct VerifyOptions {
+  RegistrationOptions registration;
+  double min_overlap = 0.5;  // share of each submap's points with a partner in the other
+  double max_rmse = 0.15;    // m
+};
+
+// Registers each candidate (guess: the descriptor's yaw) and keeps the good fits.
+// `guesses`, when not empty, replaces the yaw guess per candidate.
+std::vector<Closure> verify_candidates(const std::vector<Keyframe>& keyframes,
+                                       const std::vector<Candidate>& candidates,
+                                       const std::vector<Eigen::Isometry3d>& guesses,
+                                       const VerifyOptions& options, int threads);
+
+// Map-to-map transform (query mission map -> reference mission map) implied by a closure.
+Eigen::Isometry3d implied_map_transform(const std::vector<Keyframe>& keyframes, const Closure& c);
+
+struct ConsistencyOptions {
+  double distance = 2.0;  // m: where two closures put the same point may differ by this
+  double angle = 0.17;    // rad
+};
+
+// Per mission pair, keeps the closures that agree with the best-supported one.
+std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
+                                         const std::vector<Closure>& closures,
+                                         const ConsistencyOptions& options);
+
+}  // namespace lista::align

@@ -1,0 +1,161 @@
+#include "pose_graph.hpp"
+#include "posegraph_stage.hpp"
+#include "scan_context.hpp"
+
+#include <lista/basic_context.hpp>
+#include <lista/data.hpp>
+#include <lista_alignkit/cloud_ops.hpp>
+#include <lista_alignkit/synthetic_scene.hpp>
+#include <lista_alignkit/trajectory_error.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace lista;
+using namespace lista::align;
+using namespace lista::align::testing;
+
+namespace {
+
+constexpr double kHallX = 30, kHallY = 20;
+
+Eigen::Isometry3d offset(double x, double y, double z, double yaw_deg) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  t.translation() = Eigen::Vector3d(x, y, z);
+  return t;
+}
+
+Outputs run_stage(const MissionSet& set, BasicContext& ctx, Params params = {}) {
+  const StageInfo info = posegraph_stage_info();
+  Params p = Params::defaults(info.params);
+  for (const auto& [k, v] : params.values()) p.set(k, v);
+  auto stage = make_posegraph_stage(p);
+  Inputs in;
+  in.set("missions", Data::make(set));
+  return stage->run(in, ctx);
+}
+
+// Two missions around the same hall: the second starts elsewhere on the loop,
+// walks 0.4 m to the side, in its own map frame (offset and turned) and with
+// odometry drift (0.1 deg/m of yaw, 1% scale).
+MissionSet drifted_pair() {
+  const Scene hall = make_hall(kHallX, kHallY, 40, 7);
+  const auto truth_a = loop_route(kHallX, kHallY, 4.0, 0.5, 0.0);
+  const auto truth_b = loop_route(kHallX, kHallY, 4.0, 0.5, 10.0, 0.4);
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, truth_a, truth_a, 1));
+  const auto poses_b = drifted(truth_b, 0.1 * M_PI / 180, 0.01, offset(5, -3, 0.2, 40));
+  set.missions.push_back(make_mission("b", hall, truth_b, poses_b, 2));
+  return set;
+}
+
+}  // namespace
+
+TEST(ScanContext, RecoversYawAndSeparatesPlaces) {
+  const Scene hall = make_hall(kHallX, kHallY, 40, 7);
+  std::mt19937 rng(3);
+  const auto route = loop_route(kHallX, kHallY, 4.0, 0.5, 0.0);
+  const PointSet scan = cast_scan(hall, route[10], 0, rng);
+  ScanContextOptions o;
+  const ScanContext ref = make_scan_context(scan.xyz, o);
+  // The same place seen with the sensor turned by 48 degrees.
+  const Eigen::Matrix3f turn = Eigen::AngleAxisf(48 * M_PI / 180, Eigen::Vector3f::UnitZ()).toRotationMatrix();
+  std::vector<Eigen::Vector3f> turned;
+  for (const auto& p : scan.xyz) turned.push_back(turn.transpose() * p);  // query frame turned +48 deg
+  const ScanContextMatch m = compare(ref, make_scan_context(turned, o));
+  EXPECT_LT(m.distance, 0.05);
+  EXPECT_NEAR(m.yaw * 180 / M_PI, 48.0, 6.0);
+  // A place far along the route looks different.
+  const PointSet other = cast_scan(hall, route[60], 1, rng);
+  EXPECT_GT(compare(ref, make_scan_context(other.xyz, o)).distance, m.distance + 0.1);
+  EXPECT_EQ(ref.ring_key.size(), o.rings);
+}
+
+TEST(PoseGraph, PullsDriftedChainOntoClosure) {
+  // A straight chain of 11 nodes whose odometry says 1 m steps; a closure from
+  // the fixed first node says the last is 9.5 m away: the error is spread.
+  std::vector<Eigen::Isometry3d> nodes;
+  std::vector<PoseGraphEdge> edges;
+  for (int i = 0; i <= 10; ++i) nodes.push_back(offset(i, 0, 0, 0));
+  for (int i = 0; i < 10; ++i) edges.push_back({size_t(i), size_t(i + 1), offset(1, 0, 0, 0), 0.05, 0.01, false});
+  edges.push_back({0, 10, offset(9.5, 0, 0, 0), 0.01, 0.01, true});
+  std::vector<bool> fixed(nodes.size(), false);
+  fixed[0] = true;
+  PoseGraphOptions o;
+  o.loss = "none";
+  const PoseGraphSummary s = optimise_pose_graph(nodes, fixed, edges, o);
+  ASSERT_TRUE(s.usable);
+  EXPECT_LT(s.final_cost, s.initial_cost);
+  EXPECT_NEAR(nodes[10].translation().x(), 9.5, 0.01);
+  EXPECT_NEAR(nodes[5].translation().x(), 4.75, 0.02);
+  EXPECT_NEAR(nodes[0].translation().x(), 0.0, 1e-12);
+}
+
+TEST(AlignPosegraph, BringsDriftedMissionBack) {
+  const MissionSet set = drifted_pair();
+  const auto before = trajectory_error(set);
+  ASSERT_TRUE(before);
+  EXPECT_GT(before->rmse, 1.0);
+
+  BasicContext ctx("align", 2, 0);
+  ctx.min_level = LogLevel::info;
+  const Outputs out = run_stage(set, ctx);
+  const auto& aligned = out.at("missions").as<MissionSet>();
+  ASSERT_EQ(aligned.missions.size(), 2u);
+  // Point data is shared, not copied.
+  EXPECT_EQ(aligned.missions[1].scans[3].points.get(), set.missions[1].scans[3].points.get());
+  EXPECT_TRUE(aligned.missions[0].to_common.isApprox(Eigen::Isometry3d::Identity()));
+  const auto after = trajectory_error(aligned);
+  ASSERT_TRUE(after);
+  EXPECT_LT(after->rmse, 0.05) << "ATE before " << before->rmse;
+  // Mission b's map frame was 'offset' from the world: to_common undoes it (up to drift at its start).
+  const Eigen::Isometry3d expected = offset(5, -3, 0.2, 40).inverse();
+  EXPECT_LT((aligned.missions[1].to_common.translation() - expected.translation()).norm(), 0.1);
+  const auto& metrics = ctx.info.metrics["align"];
+  EXPECT_GT(metrics.at("closures"), 10.0);
+  EXPECT_GT(metrics.at("ate_before_m"), 1.0);
+  EXPECT_LT(metrics.at("ate_after_m"), 0.05);
+}
+
+TEST(AlignPosegraph, MissionWithoutOverlapIsAnErrorNamingIt) {
+  const Scene hall = make_hall(kHallX, kHallY, 40, 7);
+  const Scene field = make_field(11);
+  const auto route = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
+  MissionSet set;
+  set.missions.push_back(make_mission("hall", hall, route, route, 1));
+  set.missions.push_back(make_mission("field", field, route, route, 2));
+  BasicContext ctx("align", 2, 0);
+  ctx.min_level = LogLevel::info;
+  try {
+    run_stage(set, ctx);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'field'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("links to no other mission"), std::string::npos) << e.what();
+  }
+}
+
+TEST(AlignPosegraph, SingleMissionPassesThrough) {
+  const Scene hall = make_hall(kHallX, kHallY, 10, 7);
+  auto route = loop_route(kHallX, kHallY, 4.0, 4.0, 0.0);
+  MissionSet set;
+  set.missions.push_back(make_mission("only", hall, route, route, 1));
+  BasicContext ctx("align", 1, 0);
+  const auto& out = run_stage(set, ctx).at("missions").as<MissionSet>();
+  ASSERT_EQ(out.missions.size(), 1u);
+  EXPECT_TRUE(out.missions[0].to_common.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(out.missions[0].scans[2].pose.isApprox(route[2]));
+}
+
+TEST(CloudOps, LevelledFrameKeepsHeadingOnly) {
+  Eigen::Isometry3d pose = offset(1, 2, 3, 30);
+  pose.linear() = pose.linear() * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Isometry3d f = levelled_frame(pose);
+  EXPECT_TRUE(f.translation().isApprox(pose.translation()));
+  EXPECT_NEAR(f.linear()(2, 2), 1.0, 1e-12);
+  EXPECT_NEAR(std::atan2(f.linear()(1, 0), f.linear()(0, 0)) * 180 / M_PI, 30.0, 1e-9);
+  const Cloud pts = {{0.01f, 0.01f, 0.01f}, {0.02f, 0.02f, 0.02f}, {1.01f, 0.f, 0.f}};
+  EXPECT_EQ(voxel_downsample(pts, 0.5).size(), 2u);
+}
