@@ -1,0 +1,149 @@
+// lista-bench-descriptors: every describe.* plugin on the same object set, side
+// by side in one run: per-object time (median, p95, one thread), top-1
+// retrieval accuracy, mean average precision and k-means cluster purity.
+//
+//   lista-bench-descriptors --views <lista-sim views folder>   (held-out shapes)
+//   lista-bench-descriptors --synthetic 40                     (built-in shapes)
+//
+// Each view is turned by a random yaw and moved by a random offset (seeded)
+// before description: the views are stored in their object's frame, and a
+// descriptor must not profit from that.
+#include "plugin_loader.hpp"
+
+#include <lista/basic_context.hpp>
+#include <lista/data.hpp>
+#include <lista_objfeat/retrieval.hpp>
+#include <lista_objfeat/views.hpp>
+
+#include <CLI/CLI.hpp>
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <unistd.h>
+
+namespace {
+
+using namespace lista;
+
+struct Row {
+  std::string plugin;
+  int dim = 0;
+  double median_ms = 0, p95_ms = 0;
+  objfeat::RetrievalScores scores;
+};
+
+double percentile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
+}
+
+// One object per view, at a random pose about z.
+ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> yaw(-float(M_PI), float(M_PI)), off(-30.f, 30.f);
+  ObjectSet set;
+  set.missions = {"views"};
+  for (size_t i = 0; i < views.views.size(); ++i) {
+    Object o;
+    o.id = int(i);
+    o.points = views.views[i].points;
+    Eigen::Matrix3f r = Eigen::AngleAxisf(yaw(rng), Eigen::Vector3f::UnitZ()).toRotationMatrix();
+    Eigen::Vector3f t(off(rng), off(rng), 0.f);
+    for (auto& p : o.points.xyz) p = r * p + t;
+    o.update_geometry();
+    set.objects.push_back(std::move(o));
+  }
+  return set;
+}
+
+Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std::vector<int>& labels) {
+  auto stage = s.factory(Params::defaults(s.info.params));
+  Row row;
+  row.plugin = s.info.name;
+  objfeat::Rows values;
+  std::vector<double> ms;
+  for (size_t i = 0; i < objects.objects.size(); ++i) {
+    ObjectSet one;
+    one.missions = objects.missions;
+    one.objects = {objects.objects[i]};
+    Inputs in;
+    in.set("objects", Data::make(std::move(one)));
+    BasicContext ctx("bench", 1, 0);
+    auto t0 = std::chrono::steady_clock::now();
+    Outputs out = stage->run(in, ctx);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    const auto& d = out.at("descriptors").as<DescriptorSet>();
+    if (values.rows() == 0) values.resize(long(objects.objects.size()), d.dim());
+    values.row(long(i)) = d.values.row(0);
+    if (isatty(2)) std::fprintf(stderr, "\r%s: %zu/%zu", row.plugin.c_str(), i + 1, objects.objects.size());
+  }
+  if (isatty(2)) std::fprintf(stderr, "\n");
+  row.dim = int(values.cols());
+  row.median_ms = percentile(ms, 0.5);
+  row.p95_ms = percentile(ms, 0.95);
+  row.scores = objfeat::score_retrieval(values, labels, 1);
+  return row;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Compare describe.* plugins: time per object, top-1, mAP, cluster purity"};
+  std::string views_dir, plugin_dir = LISTA_PLUGIN_DIR, json_out;
+  std::vector<std::string> plugins = {"describe.learned", "describe.esf", "describe.rift", "describe.shot"};
+  int synthetic = 0, max_views = 0;
+  bool all_splits = false;
+  uint64_t seed = 7;
+  app.add_option("--views", views_dir, "lista-sim views folder (docs/datasets.md)");
+  app.add_option("--synthetic", synthetic, "use N built-in synthetic shapes (4 views each) instead");
+  app.add_flag("--all-splits", all_splits, "use every view, not only held-out shapes");
+  app.add_option("--max-views", max_views, "use at most this many views (first ones), 0 = all");
+  app.add_option("--plugins", plugins, "stages to compare")->delimiter(',');
+  app.add_option("--plugin-dir", plugin_dir, "folder of the plugin libraries");
+  app.add_option("--seed", seed, "seed of the random poses");
+  app.add_option("--json", json_out, "also write the results as JSON");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    objfeat::ViewSet all, train, test;
+    if (!views_dir.empty()) all = objfeat::read_views(views_dir);
+    else if (synthetic > 0) all = objfeat::synthetic_views(synthetic, 4, seed);
+    else throw Error("give --views <folder> (lista-sim views) or --synthetic <shapes>");
+    if (all_splits || views_dir.empty()) test = all;
+    else objfeat::split_by_shape(all, 0.2, seed, train, test);
+    if (max_views > 0 && int(test.views.size()) > max_views) test.views.resize(size_t(max_views));
+    std::vector<int> labels;
+    std::map<int, int> per_label;
+    for (const auto& v : test.views) { labels.push_back(v.label); ++per_label[v.label]; }
+    ObjectSet objects = posed_objects(test, seed);
+    std::fprintf(stderr, "%zu objects (views) of %zu shapes\n", objects.objects.size(), per_label.size());
+
+    std::vector<Row> rows;
+    for (const auto& name : plugins) rows.push_back(run_plugin(bench::load_stage(plugin_dir, name), objects, labels));
+
+    std::printf("objects: %zu views of %zu shapes, random yaw + offset per view (seed %llu)\n\n",
+                objects.objects.size(), per_label.size(), (unsigned long long)seed);
+    std::printf("| plugin | dim | median ms/object | p95 ms/object | top-1 | mAP | purity |\n");
+    std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& r : rows) {
+      std::printf("| %s | %d | %.2f | %.2f | %.3f | %.3f | %.3f |\n", r.plugin.c_str(), r.dim, r.median_ms, r.p95_ms,
+                  r.scores.top1, r.scores.map, r.scores.purity);
+      j.push_back({{"plugin", r.plugin}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
+                   {"top1", r.scores.top1}, {"map", r.scores.map}, {"purity", r.scores.purity},
+                   {"objects", objects.objects.size()}, {"shapes", per_label.size()}});
+    }
+    if (!json_out.empty()) std::ofstream(json_out) << j.dump(1) << "\n";
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lista-bench-descriptors: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

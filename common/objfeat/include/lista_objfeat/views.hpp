@@ -1,0 +1,39 @@
+// Descriptor training/evaluation data: partial scans ("views") of object
+// instances, each tagged with its shape. Read from a `lista-sim views` folder
+// (docs/datasets.md) or generated in code. Geometric identity is the shape:
+// two instances of one mesh are indistinguishable to a geometry descriptor,
+// so views are labelled and split by shape.
+#pragma once
+
+#include <lista/points.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lista::objfeat {
+
+struct View {
+  int label = 0;    // identity for metric learning and retrieval (the shape)
+  int instance = 0; // object instance in the data set
+  int split = -1;   // -1: unassigned, 0: training, 1: held out (given by the data set)
+  PointSet points;  // object frame
+};
+
+struct ViewSet {
+  std::vector<View> views;
+};
+
+// index.json ("lista-views/1") and its PCD files; splits 'val' and 'test'
+// are held out. Throws lista::Error naming the file for anything malformed.
+ViewSet read_views(const std::string& folder);
+
+// `shapes` synthetic shapes (synthetic.hpp), one instance each,
+// `per_instance` partial views each, no intensity. Deterministic from seed.
+ViewSet synthetic_views(int shapes, int per_instance, uint64_t seed);
+
+// The data set's own split where views carry one, else a seeded `holdout`
+// fraction of labels goes to `test`.
+void split_by_shape(const ViewSet& all, double holdout, uint64_t seed, ViewSet& train, ViewSet& test);
+
+}  // namespace lista::objfeat

@@ -1,0 +1,46 @@
+#include <lista_objfeat/views.hpp>
+
+#include <lista/error.hpp>
+#include <lista_io/pcd.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+namespace lista::objfeat {
+
+ViewSet read_views(const std::string& folder) {
+  namespace fs = std::filesystem;
+  const fs::path index_path = fs::path(folder) / "index.json";
+  std::ifstream in(index_path);
+  if (!in) throw Error(index_path.string() + ": not found (create it with `lista-sim views --out " + folder + "`)");
+  nlohmann::json index;
+  try {
+    in >> index;
+  } catch (const std::exception& e) {
+    throw Error(index_path.string() + ": not valid JSON: " + e.what());
+  }
+  if (index.value("format", "") != "lista-views/1") throw Error(index_path.string() + ": format is not 'lista-views/1'");
+  ViewSet out;
+  std::map<std::string, int> labels;
+  try {
+    for (const auto& v : index.at("views")) {
+      View view;
+      view.label = labels.emplace(v.at("shape").get<std::string>(), int(labels.size())).first->second;
+      view.instance = v.at("instance").get<int>();
+      view.split = v.value("split", "train") == "train" ? 0 : 1;
+      view.points = io::read_scan((fs::path(folder) / v.at("file").get<std::string>()).string()).points;
+      if (view.points.empty()) continue;
+      view.points.label.clear();  // ground truth must not reach a descriptor
+      out.views.push_back(std::move(view));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(index_path.string() + ": " + e.what());
+  }
+  if (out.views.empty()) throw Error(index_path.string() + ": no views");
+  return out;
+}
+
+}  // namespace lista::objfeat

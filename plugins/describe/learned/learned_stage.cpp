@@ -1,0 +1,106 @@
+// describe.learned: one L2-normalised descriptor per object from the learned
+// PointNet-style network (common/objfeat). Preprocessing (centre, yaw
+// canonicalisation, voxel resampling to a fixed size) is shared with
+// lista-train, so the plugin sees exactly what the network was trained on.
+#include "model_path.hpp"
+
+#include <lista/plugin.hpp>
+#include <lista_objfeat/canonical.hpp>
+#include <lista_objfeat/descriptor_net.hpp>
+
+#include <algorithm>
+#include <thread>
+
+namespace lista::learned {
+namespace {
+
+// Fixed so the descriptor is a pure function of the object's points (the same
+// object gives the same row in every run, whatever the run's seed).
+constexpr uint64_t kSelectionSeed = objfeat::CanonicalConfig{}.seed;
+
+class LearnedStage : public Stage {
+ public:
+  explicit LearnedStage(const Params& p) : batch_(p.get<int>("batch")) {
+    std::string path = p.get<std::string>("weights");
+    if (path.empty()) path = default_weights_path();
+    weights_path_ = path;
+    net_ = objfeat::load_weights(path);  // throws a one-line lista::Error
+  }
+
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "describe.learned";
+    i.version = "1.0.0";
+    i.summary = "learned yaw-invariant object descriptor (PointNet-style, libtorch)";
+    i.doc =
+        "Centres each object, rotates it about z so its major horizontal axis is +x (sign by skew), "
+        "voxel-resamples it to a fixed number of points and runs a small PointNet (shared MLP, max+mean "
+        "pooling, MLP head) trained with batch-hard triplet loss on instance identity (lista-train). "
+        "Output rows are L2-normalised. Weights: the 'weights' parameter, else $LISTA_MODEL_DIR/"
+        "describe-learned.bin, else the installed/build/source models/ folder; a missing or corrupt file "
+        "(SHA-256 sidecar) is an error. See docs/descriptors.md.";
+    i.inputs = {{"objects", "objects", "objects to describe"}};
+    i.outputs = {{"descriptors", "descriptors", "one unit-norm row per object"}};
+    i.params = {
+        ParamSpec::text("weights", "", "weights file (empty: the shipped model, see doc)"),
+        ParamSpec::integer("batch", 64, "objects per network call").range(1, 4096),
+    };
+    return i;
+  }
+
+  Outputs run(const Inputs& in, Context& ctx) override {
+    const ObjectSet& objects = in.get<ObjectSet>("objects");
+    const objfeat::NetConfig& cfg = net_->config;
+    const size_t n = objects.objects.size();
+    for (const Object& o : objects.objects)
+      if (o.points.empty()) throw Error("object " + std::to_string(o.id) + " has no points to describe");
+
+    // Preprocessing is plain C++: spread it over the stage's threads.
+    std::vector<objfeat::CanonicalCloud> clouds(n);
+    const int threads = std::max(1, std::min<int>(ctx.threads(), int(n)));
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+      pool.emplace_back([&, t] {
+        for (size_t i = size_t(t); i < n; i += size_t(threads))
+          clouds[i] = objfeat::make_canonical(objects.objects[i].points.xyz,
+                                              {cfg.points, cfg.grid, kSelectionSeed});
+      });
+    for (auto& th : pool) th.join();
+
+    DescriptorSet out;
+    out.method = "describe.learned";
+    out.normalized = true;
+    out.values.resize(long(n), cfg.out);
+    torch::NoGradGuard no_grad;
+    torch::set_num_threads(ctx.threads());
+    for (size_t begin = 0; begin < n; begin += size_t(batch_)) {
+      ctx.throw_if_cancelled();
+      size_t end = std::min(n, begin + size_t(batch_));
+      torch::Tensor x = torch::empty({long(end - begin), cfg.points, cfg.in});
+      for (size_t i = begin; i < end; ++i)
+        std::copy(clouds[i].features.begin(), clouds[i].features.end(),
+                  x.data_ptr<float>() + (i - begin) * size_t(cfg.points * cfg.in));
+      torch::Tensor d = net_->forward(x).contiguous();
+      std::copy(d.data_ptr<float>(), d.data_ptr<float>() + d.numel(), out.values.data() + begin * size_t(cfg.out));
+    }
+    for (const Object& o : objects.objects) out.object_ids.push_back(o.id);
+    ctx.record("objects", double(n));
+    return [&] { Outputs o; o.put("descriptors", std::move(out)); return o; }();
+  }
+
+  const std::string& weights_path() const { return weights_path_; }
+
+ private:
+  int batch_;
+  std::string weights_path_;
+  objfeat::DescriptorNet net_{nullptr};
+};
+
+void register_stages(Registrar& r) {
+  r.add(LearnedStage::info(), [](const Params& p) { return std::make_unique<LearnedStage>(p); });
+}
+
+}  // namespace
+}  // namespace lista::learned
+
+LISTA_PLUGIN(lista::learned::register_stages)

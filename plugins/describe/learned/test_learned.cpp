@@ -1,0 +1,141 @@
+// describe.learned: yaw invariance and error paths with a random-weights
+// file written to a temp folder; view consistency with the shipped weights.
+#include "model_path.hpp"
+
+#include <lista_objfeat/descriptor_net.hpp>
+#include <lista_objfeat/plugin_testing.hpp>
+
+#include <Eigen/Geometry>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace lista::objfeat::testing;
+
+const std::string kShipped = std::string(LISTA_SOURCE_DIR) + "/models/describe-learned.bin";
+
+// A temp folder holding a random-weights file (untrained, but a valid model).
+class LearnedTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lista_learned_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    weights_ = (dir_ / lista::learned::kDefaultWeightsFile).string();
+    torch::manual_seed(3);
+    lista::objfeat::DescriptorNet net(lista::objfeat::NetConfig{});
+    lista::objfeat::save_weights(net, weights_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::unique_ptr<lista::Stage> stage(const std::string& weights) { return make_stage({{"weights", weights}}); }
+
+  fs::path dir_;
+  std::string weights_;
+};
+
+TEST_F(LearnedTest, OneUnitRowPerObjectOnTheDescriptorsPort) {
+  auto s = stage(weights_);
+  auto d = describe(*s, two_views_each(3, 9), 2);
+  ASSERT_EQ(d.values.rows(), 6);
+  EXPECT_EQ(d.dim(), 16);
+  EXPECT_EQ(d.method, "describe.learned");
+  EXPECT_TRUE(d.normalized);
+  EXPECT_EQ(d.object_ids[4], 4);
+  for (long i = 0; i < d.values.rows(); ++i) EXPECT_NEAR(d.values.row(i).norm(), 1.f, 1e-4f);
+  // Threads split the preprocessing only: the rows must not change.
+  auto one = describe(*s, two_views_each(3, 9), 1);
+  EXPECT_LT((one.values - d.values).cwiseAbs().maxCoeff(), 1e-5f);
+}
+
+TEST_F(LearnedTest, YawRotationAndOffsetLeaveDescriptorUnchanged) {
+  auto s = stage(weights_);
+  std::mt19937_64 rng(5);
+  for (int shape_no = 0; shape_no < 4; ++shape_no) {
+    auto shape = lista::objfeat::random_shape(rng);
+    auto view = lista::objfeat::render_view(shape, 0.f, {0.f, 0.f}, rng);
+    lista::ObjectSet set;
+    set.objects.push_back(object_from(0, view));
+    for (float yaw : {0.5f, 1.9f, 3.0f, -2.2f}) {
+      Eigen::Matrix3f r = Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitZ()).toRotationMatrix();
+      std::vector<Eigen::Vector3f> turned;
+      for (const auto& p : view) turned.push_back(r * p + Eigen::Vector3f(3.f, 4.f, 0.f));
+      set.objects.push_back(object_from(int(set.objects.size()), turned));
+    }
+    auto d = describe(*s, set);
+    for (long i = 1; i < d.values.rows(); ++i)
+      EXPECT_LT((d.values.row(i) - d.values.row(0)).norm(), 1e-2f) << "shape " << shape_no << " turn " << i;
+  }
+}
+
+TEST_F(LearnedTest, MissingCorruptOrUncheckedWeightsAreClearErrors) {
+  auto expect_error = [&](const std::string& path, const std::string& words) {
+    try {
+      stage(path);
+      ADD_FAILURE() << "expected an error for " << path;
+    } catch (const lista::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  expect_error((dir_ / "absent.bin").string(), "not found");
+  EXPECT_NO_THROW(stage(weights_));
+  {  // one flipped byte: the checksum must catch it
+    std::fstream f(weights_, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(100);
+    f.put('\x7f');
+  }
+  expect_error(weights_, "corrupt");
+  fs::remove(weights_ + ".sha256");
+  expect_error(weights_, "checksum");
+  // A file with a valid checksum that is not a weights file.
+  const std::string text = (dir_ / "notes.bin").string();
+  std::ofstream(text) << "hello";
+  std::ofstream(text + ".sha256") << "2cf24dba5fb0a30e26e83b2ac5b9e29e1b161e5c1fa7425e73043362938b9824  notes.bin\n";
+  expect_error(text, "bad magic");
+}
+
+TEST_F(LearnedTest, DefaultWeightsFollowLISTA_MODEL_DIR) {
+  ::setenv("LISTA_MODEL_DIR", dir_.c_str(), 1);
+  EXPECT_EQ(lista::learned::default_weights_path(), weights_);
+  EXPECT_NO_THROW(stage(""));
+  ::unsetenv("LISTA_MODEL_DIR");
+}
+
+TEST_F(LearnedTest, EmptyObjectIsAnError) {
+  auto s = stage(weights_);
+  lista::ObjectSet set;
+  set.objects.push_back(object_from(3, {}));
+  EXPECT_THROW(describe(*s, set), lista::Error);
+}
+
+// The shipped model: resolved without configuration, and two partial views of
+// one object find each other among views of other objects.
+TEST(DescribeLearnedShipped, SameObjectTwoViewsIsNearerThanOtherObjects) {
+  if (!fs::exists(kShipped)) GTEST_SKIP() << kShipped << " not shipped yet";
+  ::unsetenv("LISTA_MODEL_DIR");
+  EXPECT_TRUE(fs::exists(lista::learned::default_weights_path())) << lista::learned::default_weights_path();
+  auto s = make_stage();
+  const int shapes = 8;
+  auto d = describe(*s, two_views_each(shapes, 11));
+  ASSERT_EQ(d.values.rows(), 2 * shapes);
+  int correct = 0;
+  for (long i = 0; i < 2 * shapes; ++i) {
+    long best = -1;
+    float best_d = 1e9f;
+    for (long j = 0; j < 2 * shapes; ++j)
+      if (j != i && (d.values.row(i) - d.values.row(j)).norm() < best_d) {
+        best_d = (d.values.row(i) - d.values.row(j)).norm();
+        best = j;
+      }
+    correct += best / 2 == i / 2;
+  }
+  // Most views find their twin among 15 other objects (chance is 1/15).
+  EXPECT_GE(correct, 2 * shapes * 3 / 4);
+  auto [within, between] = within_between(d);
+  EXPECT_LT(within, between);
+}
+
+}  // namespace

@@ -1,0 +1,25 @@
+#include <lista_objfeat/plugin_testing.hpp>
+
+#include <gtest/gtest.h>
+
+using namespace lista::objfeat::testing;
+
+TEST(DescribeShot, OneUnitRowPerObjectAndViewsOfOneShapeAreCloser) {
+  auto stage = make_stage();
+  lista::ObjectSet set = two_views_each(4, 21);
+  auto d = describe(*stage, set, 2);
+  ASSERT_EQ(d.values.rows(), 8);
+  ASSERT_EQ(d.dim(), 352);
+  EXPECT_EQ(d.object_ids[5], 5);
+  for (long i = 0; i < d.values.rows(); ++i) EXPECT_NEAR(d.values.row(i).norm(), 1.f, 1e-4f);
+  auto [within, between] = within_between(d);
+  EXPECT_LT(within, between);
+}
+
+TEST(DescribeShot, BadInputIsAnError) {
+  EXPECT_THROW(make_stage({{"voxel", 0.3}, {"support_radius", 0.2}}), lista::Error);
+  auto stage = make_stage();
+  lista::ObjectSet set;
+  set.objects.push_back(object_from(0, {}));
+  EXPECT_THROW(describe(*stage, set), lista::Error);
+}
