@@ -20,11 +20,11 @@ for b in "$run" "$eval_bin"; do
 done
 
 # branch name -> its stages after the shared read/align/difference (for timing)
-branches=(volumetric no_filters no_ground no_morphology no_overlap full euclidean region_growing mls)
+branches=(volumetric no_filters no_ground no_morphology plain_opening no_overlap full euclidean region_growing mls)
 declare -A stages=(
   [volumetric]="segment_raw" [no_filters]="segment_raw"
   [no_ground]="clean_ng segment_ng overlap_ng" [no_morphology]="ground segment_nm overlap_nm"
-  [no_overlap]="ground clean segment" [full]="ground clean segment overlap"
+  [plain_opening]="ground clean_open segment_open overlap_open" [no_overlap]="ground clean segment" [full]="ground clean segment overlap"
   [euclidean]="ground clean segment_eu overlap_eu" [region_growing]="ground clean segment_rg overlap_rg"
   [mls]="ground smooth clean_mls segment_mls overlap_mls")
 

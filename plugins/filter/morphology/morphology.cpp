@@ -48,8 +48,22 @@ std::vector<uint32_t> morphology_keep(const PointSet& points, const MorphologyCo
     for_neighbours(k, [&](uint64_t q) { n += int(occupied.count(q)); });
     if (n >= c.min_neighbours) kept.insert(k);
   }
+  if (c.reconstruct) {
+    // Opening by reconstruction: grow from the surviving cores through
+    // occupied voxels until nothing changes, so every part connected to a
+    // core (thin legs, shelf boards, a table top's edge) comes back whole,
+    // while components without a core (noise, lone slivers) stay gone.
+    std::vector<uint64_t> frontier(kept.begin(), kept.end());
+    while (!frontier.empty()) {
+      const uint64_t k = frontier.back();
+      frontier.pop_back();
+      for_neighbours(k, [&](uint64_t q) {
+        if (occupied.count(q) && kept.insert(q).second) frontier.push_back(q);
+      });
+    }
+  }
   // Dilation, only onto voxels that were occupied.
-  for (int step = 0; step < c.dilate_steps; ++step) {
+  for (int step = 0; !c.reconstruct && step < c.dilate_steps; ++step) {
     std::vector<uint64_t> grow;
     for (uint64_t k : kept)
       for_neighbours(k, [&](uint64_t q) {

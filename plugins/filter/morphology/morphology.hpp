@@ -11,6 +11,11 @@
 // least three voxels wide (>= 8 neighbours) stays, so a small object of
 // 3x3x3 voxels survives. Dilation by the same cube then restores the
 // object's border voxels that erosion removed, but never adds empty voxels.
+// With `reconstruct` (default) dilation repeats until nothing changes: an
+// opening by reconstruction, which gives back every voxel connected to a
+// surviving core, so thin parts of real objects (legs, shelf boards, edges
+// of flat tops: 1-2 voxels wide) stay with their object; what has no core at
+// all (noise, slivers standing alone) still goes.
 #pragma once
 
 #include <lista/points.hpp>
@@ -23,7 +28,8 @@ namespace lista::filter {
 struct MorphologyConfig {
   double voxel = 0.1;       // m
   int min_neighbours = 6;   // erosion: occupied 26-neighbours needed to survive
-  int dilate_steps = 1;     // dilation repeats (each by the 3x3x3 cube)
+  int dilate_steps = 1;     // dilation repeats (each by the 3x3x3 cube), without reconstruct
+  bool reconstruct = true;  // dilate until stable: keep whole components that have a core
 };
 
 std::vector<uint32_t> morphology_keep(const PointSet& points, const MorphologyConfig& config);

@@ -18,6 +18,7 @@ class MorphologyFilterStage : public Stage {
     c_.voxel = p.get<double>("voxel");
     c_.min_neighbours = p.get<int>("min_neighbours");
     c_.dilate_steps = p.get<int>("dilate_steps");
+    c_.reconstruct = p.get<bool>("reconstruct");
   }
 
   static StageInfo info() {
@@ -32,7 +33,11 @@ class MorphologyFilterStage : public Stage {
         "`dilate_steps` times, restores border voxels of what survived, never adding empty ones. "
         "With the default 6: isolated points and lines or strips up to two voxels wide (wall "
         "edges at grazing angles, sensor noise) go; surfaces three voxels wide and more stay, so "
-        "objects down to 3 voxels across are kept. Outputs the ORIGINAL points in surviving "
+        "objects down to 3 voxels across are kept. With `reconstruct` (default) the dilation "
+        "repeats until nothing changes (opening by reconstruction; dilate_steps is then unused): "
+        "every voxel connected to a surviving core comes back, so thin parts of objects (legs, "
+        "shelf boards, edges of flat tops) stay, and only components without any core go. "
+        "Outputs the ORIGINAL points in surviving "
         "voxels, with provenance. Missions run in parallel.";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the points whose voxel survives the opening"}};
@@ -40,7 +45,9 @@ class MorphologyFilterStage : public Stage {
         ParamSpec::real("voxel", 0.1, "voxel edge").range(0.005, 5.0).unit("m"),
         ParamSpec::integer("min_neighbours", 6, "occupied 26-neighbours a voxel needs to survive erosion")
             .range(0, 26),
-        ParamSpec::integer("dilate_steps", 1, "dilations by the 3x3x3 cube after erosion").range(0, 10),
+        ParamSpec::integer("dilate_steps", 1, "dilations by the 3x3x3 cube after erosion (without reconstruct)")
+            .range(0, 10),
+        ParamSpec::boolean("reconstruct", true, "dilate until stable: keep whole every component with a core"),
     };
     return i;
   }

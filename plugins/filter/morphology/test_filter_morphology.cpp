@@ -23,6 +23,28 @@ TEST(FilterMorphology, RemovesNoiseAndSliverKeepsSmallObject) {
   for (size_t k = 0; k < keep.size(); ++k) EXPECT_EQ(keep[k], k);
 }
 
+TEST(FilterMorphology, ReconstructionKeepsThinPartsOfAnObject) {
+  // A table: a 0.8 m square top and four 1-voxel-thin legs 0.7 m long;
+  // apart from it, a lone 2-voxel-wide sliver.
+  lista::PointSet s;
+  for (float x = 0.005f; x < 0.8f; x += 0.02f)
+    for (float y = 0.005f; y < 0.8f; y += 0.02f) add_point(s, {x, y, 0.75f});
+  for (float lx : {0.05f, 0.75f})
+    for (float ly : {0.05f, 0.75f})
+      for (float z = 0.005f; z < 0.74f; z += 0.02f) add_point(s, {lx, ly, z});
+  const size_t table = s.size();
+  for (float x = 0; x < 2.f; x += 0.02f)
+    for (float y = 0.01f; y < 0.2f; y += 0.03f) add_point(s, {x + 3.f, y, 1.05f});
+  lista::filter::MorphologyConfig c;
+  auto keep = lista::filter::morphology_keep(s, c);
+  ASSERT_EQ(keep.size(), table);  // the whole table, legs included; no sliver
+  EXPECT_EQ(keep.back(), table - 1);
+  // A plain opening (one dilation) loses most of each leg.
+  c.reconstruct = false;
+  const size_t opened = lista::filter::morphology_keep(s, c).size();
+  EXPECT_LT(opened, table - 100);
+}
+
 TEST(FilterMorphology, ThreeWideStripSurvivesWhole) {
   lista::PointSet s;
   for (float x = 0.005f; x < 2.f; x += 0.02f)
