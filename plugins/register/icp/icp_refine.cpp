@@ -1,0 +1,158 @@
+// The only file of register.icp that includes PCL.
+#include "icp_refine.hpp"
+
+#include "../svd/svd_registration.hpp"
+
+#include <lista/error.hpp>
+
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/registration/gicp.h>
+#include <pcl/registration/icp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace lista::registration {
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+
+Cloud::Ptr to_cloud(const std::vector<Eigen::Vector3f>& pts, double voxel) {
+  Cloud::Ptr c(new Cloud);
+  c->reserve(pts.size());
+  for (const auto& p : pts) c->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+  if (voxel <= 0.0) return c;
+  Cloud::Ptr d(new Cloud);
+  pcl::VoxelGrid<pcl::PointXYZ> grid;
+  grid.setLeafSize(voxel, voxel, voxel);
+  grid.setInputCloud(c);
+  grid.filter(*d);
+  return d->size() >= 3 ? d : c;
+}
+
+// Truncated mean squared nearest-neighbour distance of T*from to `to`.
+double one_way(const Cloud& from, const pcl::KdTreeFLANN<pcl::PointXYZ>& to_tree, const Eigen::Isometry3d& t,
+               double inlier, double& inlier_share) {
+  const double cap = inlier * inlier;
+  double sum = 0.0;
+  size_t inliers = 0;
+  pcl::Indices idx(1);
+  std::vector<float> d2(1);
+  const Eigen::Isometry3f tf = t.cast<float>();
+  for (const auto& p : from) {
+    const Eigen::Vector3f q = tf * p.getVector3fMap();
+    to_tree.nearestKSearch(pcl::PointXYZ(q.x(), q.y(), q.z()), 1, idx, d2);
+    const double d = d2.empty() ? cap : std::min<double>(d2[0], cap);
+    if (d < cap) ++inliers;
+    sum += d;
+  }
+  inlier_share = from.empty() ? 0.0 : static_cast<double>(inliers) / from.size();
+  return from.empty() ? cap : sum / from.size();
+}
+
+}  // namespace
+
+IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
+                     const IcpConfig& cfg) {
+  if (source.empty() || target.empty()) throw Error("cannot register an object with no points");
+  const Cloud::Ptr src = to_cloud(source, cfg.voxel), dst = to_cloud(target, cfg.voxel);
+  pcl::KdTreeFLANN<pcl::PointXYZ> src_tree, dst_tree;
+  src_tree.setInputCloud(src);
+  dst_tree.setInputCloud(dst);
+
+  // Initial hypotheses.
+  const PrincipalFrame fs = principal_frame(source), ft = principal_frame(target);
+  std::vector<Eigen::Isometry3d> guesses;
+  if (cfg.svd_flips) {
+    for (const Eigen::Matrix3d& flip : axis_flips()) {
+      Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
+      f.linear() = flip;
+      guesses.push_back(ft.frame * f * fs.frame.inverse());
+    }
+  } else {
+    guesses.push_back(svd_transform(fs, ft));
+  }
+  const Eigen::Vector3d cs = fs.frame.translation(), ct = ft.frame.translation();
+  for (int k = 0; k < cfg.yaw_hypotheses; ++k) {
+    Eigen::Isometry3d g = Eigen::Isometry3d::Identity();
+    g.linear() = Eigen::AngleAxisd(2.0 * M_PI * k / cfg.yaw_hypotheses, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    g.translation() = ct - g.linear() * cs;
+    guesses.push_back(g);
+  }
+
+  // GICP estimates local covariances from 20 neighbours: too few points, plain ICP.
+  const bool use_gicp = cfg.method == "gicp" && src->size() >= 30 && dst->size() >= 30;
+  auto refine = [&](const Eigen::Isometry3d& guess, double max_correspondence) {
+    Cloud aligned;
+    Eigen::Isometry3d t = guess;
+    auto run = [&](auto& reg) {
+      reg.setInputSource(src);
+      reg.setInputTarget(dst);
+      reg.setMaxCorrespondenceDistance(max_correspondence);
+      reg.setMaximumIterations(cfg.max_iterations);
+      reg.setTransformationEpsilon(1e-8);
+      reg.align(aligned, guess.matrix().cast<float>());
+      if (reg.hasConverged()) {
+        Eigen::Matrix4d m = reg.getFinalTransformation().template cast<double>();
+        // Re-orthonormalise: float accumulation drifts slightly from SO(3).
+        Eigen::Quaterniond q(Eigen::Matrix3d(m.topLeftCorner<3, 3>()));
+        t = Eigen::Isometry3d::Identity();
+        t.linear() = q.normalized().toRotationMatrix();
+        t.translation() = m.topRightCorner<3, 1>();
+      }
+    };
+    if (use_gicp) {
+      pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
+      run(gicp);
+    } else {
+      pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+      run(icp);
+    }
+    return t;
+  };
+  auto score_of = [&](const Eigen::Isometry3d& t, double& inlier_ratio) {
+    double in_a = 0.0, in_b = 0.0;
+    const double s = 0.5 * (one_way(*src, dst_tree, t, cfg.inlier_distance, in_a) +
+                            one_way(*dst, src_tree, t.inverse(), cfg.inlier_distance, in_b));
+    inlier_ratio = 0.5 * (in_a + in_b);
+    return s;
+  };
+
+  // Coarse pass from every hypothesis with the wide correspondence distance.
+  struct Candidate {
+    Eigen::Isometry3d t;
+    double score, inliers;
+  };
+  std::vector<Candidate> coarse;
+  for (const Eigen::Isometry3d& guess : guesses) {
+    Candidate c{refine(guess, cfg.max_correspondence), 0.0, 0.0};
+    c.score = score_of(c.t, c.inliers);
+    coarse.push_back(c);
+  }
+  std::stable_sort(coarse.begin(), coarse.end(), [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
+
+  // Fine pass on the best few with the inlier distance as correspondence gate:
+  // with a wide gate, points missing from a partial view pull the solution
+  // off by a few centimetres and degrees, enough to rank a wrong symmetric
+  // pose first.
+  IcpResult best;
+  best.score = std::numeric_limits<double>::max();
+  best.hypotheses = static_cast<int>(guesses.size());
+  const size_t fine = std::min<size_t>(coarse.size(), 3);
+  for (size_t i = 0; i < fine; ++i) {
+    Candidate c{refine(coarse[i].t, std::min(cfg.max_correspondence, cfg.inlier_distance)), 0.0, 0.0};
+    c.score = score_of(c.t, c.inliers);
+    if (coarse[i].score < c.score) c = coarse[i];  // never worse than the coarse result
+    if (c.score < best.score - 1e-12) {
+      best.score = c.score;
+      best.transform = c.t;
+      best.inlier_ratio = c.inliers;
+    }
+  }
+  return best;
+}
+
+}  // namespace lista::registration

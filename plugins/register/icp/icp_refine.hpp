@@ -1,0 +1,42 @@
+// ICP refinement of an object pair from several initial hypotheses.
+//
+// Hypotheses: the SVD principal-frame guess with its four proper axis flips
+// (what symmetric shapes leave undecided) and `yaw_hypotheses` rotations about
+// the vertical through the centroids (objects are mostly moved on the floor).
+// Each is refined with PCL's Generalized ICP (or point-to-point ICP) and
+// scored by the truncated mean squared distance of the moved source points to
+// the target, min(d^2, inlier^2), computed both ways so that a partial view
+// cannot hide inside a larger one. The three best are refined again with
+// the correspondence gate narrowed to inlier_distance (a wide gate lets a
+// partial view bias the pose); the lowest score wins.
+#pragma once
+
+#include <lista/points.hpp>
+
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace lista::registration {
+
+struct IcpConfig {
+  std::string method = "gicp";        // "gicp" or "icp"
+  double voxel = 0.02;                // m: downsampling before ICP; 0 = none
+  double max_correspondence = 0.15;   // m
+  int max_iterations = 50;
+  int yaw_hypotheses = 8;             // 0 = none
+  bool svd_flips = true;              // try the SVD guess's four axis flips
+  double inlier_distance = 0.05;      // m: truncation of the score
+};
+
+struct IcpResult {
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  // p_target = T * p_source
+  double score = 0.0;        // truncated mean squared distance (m^2), lower is better
+  double inlier_ratio = 0.0; // share of points within inlier_distance (both ways averaged)
+  int hypotheses = 0;
+};
+
+IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
+                     const IcpConfig& cfg);
+
+}  // namespace lista::registration

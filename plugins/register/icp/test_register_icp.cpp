@@ -1,0 +1,113 @@
+#include "../../group/kmeans/stage_harness.hpp"
+#include "../svd/svd_registration.hpp"
+#include "icp_refine.hpp"
+
+#include <lista/basic_context.hpp>
+
+#include <gtest/gtest.h>
+#include <random>
+
+using namespace lista;
+using namespace lista::registration;
+
+namespace {
+
+// A chair-like shape sampled at random: seat, back, two legs.
+std::vector<Eigen::Vector3f> chair(uint64_t seed, int n = 3000) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  std::vector<Eigen::Vector3f> p;
+  for (int i = 0; i < n; ++i) {
+    const float r = u(rng);
+    if (r < 0.5f) p.emplace_back(0.5f * u(rng), 0.5f * u(rng), 0.45f);
+    else if (r < 0.8f) p.emplace_back(0.0f, 0.5f * u(rng), 0.45f + 0.45f * u(rng));
+    else if (r < 0.9f) p.emplace_back(0.5f, 0.0f, 0.45f * u(rng));
+    else p.emplace_back(0.5f, 0.5f, 0.45f * u(rng));
+  }
+  return p;
+}
+
+std::vector<Eigen::Vector3f> transformed(const std::vector<Eigen::Vector3f>& p, const Eigen::Isometry3d& t,
+                                         double noise, uint64_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, noise);
+  std::vector<Eigen::Vector3f> out;
+  for (const auto& q : p) out.push_back((t * q.cast<double>() + Eigen::Vector3d(n(rng), n(rng), n(rng))).cast<float>());
+  return out;
+}
+
+void errors(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double& metres, double& degrees) {
+  metres = (a.translation() - b.translation()).norm();
+  degrees = Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
+}
+
+Eigen::Isometry3d yaw_move(double yaw, Eigen::Vector3d t) {
+  Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
+  m.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  m.translation() = t;
+  return m;
+}
+
+}  // namespace
+
+TEST(IcpRefine, ImprovesOnSvdForAPartialNoisyView) {
+  const Eigen::Isometry3d truth = yaw_move(2.4, {1.5, -0.7, 0.0});
+  const auto src = chair(1);
+  // The later view is resampled, noisy and misses part of the seat (occlusion),
+  // which shifts its centroid and axes.
+  std::vector<Eigen::Vector3f> partial;
+  for (const auto& p : chair(2)) if (!(p.z() > 0.44f && p.z() < 0.46f && p.x() > 0.35f)) partial.push_back(p);
+  const auto dst = transformed(partial, truth, 0.003, 3);
+
+  double svd_m, svd_deg, icp_m, icp_deg;
+  errors(svd_transform(principal_frame(src), principal_frame(dst)), truth, svd_m, svd_deg);
+  for (const char* method : {"gicp", "icp"}) {
+    SCOPED_TRACE(method);
+    IcpConfig cfg;
+    cfg.method = method;
+    const IcpResult r = icp_refine(src, dst, cfg);
+    errors(r.transform, truth, icp_m, icp_deg);
+    EXPECT_LT(icp_m, 0.02);
+    EXPECT_LT(icp_deg, 2.0);
+    EXPECT_GT(r.inlier_ratio, 0.8);
+    EXPECT_EQ(r.hypotheses, 12);
+  }
+  EXPECT_GT(svd_m + svd_deg / 10.0, icp_m + icp_deg / 10.0);  // ICP is better than its start
+}
+
+TEST(IcpRefine, StageWritesTransformsOntoThePartner) {
+  const Eigen::Isometry3d truth = yaw_move(-1.1, {0.0, 2.0, 0.0});
+  const auto src = chair(4, 1500);
+  const auto dst = transformed(chair(5, 1500), truth, 0.002, 6);
+  ObjectSet objects;
+  objects.missions = {"A", "B"};
+  for (int k = 0; k < 2; ++k) {
+    Object o;
+    o.id = 10 + k;
+    o.mission = k;
+    for (const auto& p : k ? dst : src) {
+      o.points.xyz.push_back(p);
+      o.points.scan.push_back(0);
+      o.points.index.push_back(static_cast<uint32_t>(o.points.index.size()));
+    }
+    o.update_geometry();
+    objects.objects.push_back(o);
+  }
+  Matches m;
+  m.objects.resize(2);
+  m.objects[0].object_id = 10, m.objects[0].status = ChangeStatus::moved, m.objects[0].match = 11;
+  m.objects[1].object_id = 11, m.objects[1].status = ChangeStatus::moved, m.objects[1].match = 10;
+  auto stage = stage_test::make_stage("register.icp", {{"yaw_hypotheses", int64_t{4}}});
+  BasicContext ctx("icp", 2);
+  Inputs in;
+  in.set("objects", Data::make(objects));
+  in.set("matches", Data::make(m));
+  const Matches out = stage->run(in, ctx).at("matches").as<Matches>();
+  double e_m, e_deg;
+  errors(Eigen::Isometry3d(out.find(10)->transform), truth, e_m, e_deg);
+  EXPECT_LT(e_m, 0.02);
+  EXPECT_LT(e_deg, 2.0);
+  errors(Eigen::Isometry3d(out.find(11)->transform), truth.inverse(), e_m, e_deg);
+  EXPECT_LT(e_m, 0.02);
+  EXPECT_LT(e_deg, 2.0);
+}
