@@ -27,7 +27,14 @@ Eigen::Isometry3d offset(double x, double y, double z, double yaw_deg) {
   return t;
 }
 
-Outputs run_stage(const MissionSet& set, BasicContext& ctx, Params params = {}) {
+// Keyframes every 2 m keep the suite fast; the defaults run on the datasets.
+Params light() {
+  Params p;
+  p.set("keyframe_distance", 2.0);
+  return p;
+}
+
+Outputs run_stage(const MissionSet& set, BasicContext& ctx, Params params = light()) {
   const StageInfo info = posegraph_stage_info();
   Params p = Params::defaults(info.params);
   for (const auto& [k, v] : params.values()) p.set(k, v);
@@ -42,8 +49,8 @@ Outputs run_stage(const MissionSet& set, BasicContext& ctx, Params params = {}) 
 // odometry drift (0.1 deg/m of yaw, 1% scale).
 MissionSet drifted_pair() {
   const Scene hall = make_hall(kHallX, kHallY, 40, 7);
-  const auto truth_a = loop_route(kHallX, kHallY, 4.0, 0.5, 0.0);
-  const auto truth_b = loop_route(kHallX, kHallY, 4.0, 0.5, 10.0, 0.4);
+  const auto truth_a = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
+  const auto truth_b = loop_route(kHallX, kHallY, 4.0, 1.0, 10.3, 0.4);
   MissionSet set;
   set.missions.push_back(make_mission("a", hall, truth_a, truth_a, 1));
   const auto poses_b = drifted(truth_b, 0.1 * M_PI / 180, 0.01, offset(5, -3, 0.2, 40));
