@@ -24,6 +24,26 @@ Cell cell_of(const Eigen::Vector3f& p, double size) {
   return {int64_t(std::floor(p.x() / size)), int64_t(std::floor(p.y() / size))};
 }
 
+// Area of the convex hull of the footprint cells' centres (monotone chain):
+// the plane's spread, robust to sparse LiDAR rings that leave cells empty.
+double hull_area(const std::set<Cell>& cells, double cell) {
+  std::vector<Eigen::Vector2d> p;
+  for (const auto& [x, y] : cells) p.emplace_back((double(x) + 0.5) * cell, (double(y) + 0.5) * cell);
+  if (p.size() < 3) return 0.0;  // std::set order is already x, then y
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  std::vector<Eigen::Vector2d> h(2 * p.size());
+  size_t k = 0;
+  for (size_t i = 0; i < p.size(); h[k++] = p[i++])
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+  for (size_t i = p.size() - 1, t = k + 1; i-- > 0; h[k++] = p[i])
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+  double a = 0;
+  for (size_t i = 0; i + 1 < k; ++i) a += h[i].x() * h[i + 1].y() - h[i + 1].x() * h[i].y();
+  return std::abs(a) / 2.0;
+}
+
 // Ground points of one tile.
 std::vector<uint32_t> ground_in_tile(const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
                                      const PointSet& points, const std::vector<uint32_t>& tile,
@@ -63,7 +83,10 @@ std::vector<uint32_t> ground_in_tile(const pcl::PointCloud<pcl::PointXYZ>::Ptr& 
           footprint.count(cell_of(p, c.footprint_cell)))
         ++below;
     }
-    if (double(below) <= c.max_below_fraction * double(inliers.indices.size()))
+    // Floor in a change cloud (misalignment, drift) is a broad sheet; a flat
+    // object with nothing visible under it (pallet, cart deck, mat) is small.
+    if (double(below) <= c.max_below_fraction * double(inliers.indices.size()) &&
+        (c.min_area <= 0 || hull_area(footprint, c.footprint_cell) >= c.min_area))
       for (auto i : inliers.indices) ground.push_back(uint32_t(i));
 
     // Try the next plane on what is left (a lower level, or the floor under a table).

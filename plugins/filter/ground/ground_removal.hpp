@@ -4,7 +4,9 @@
 // under it within its own footprint; only points near such a plane go.
 // Per-tile planes follow ramps and multi-level floors; the "nothing under it"
 // test keeps table tops and box tops, which have their own sides and legs
-// underneath.
+// underneath. A plane must also spread over at least `min_area` (convex
+// hull of its footprint): pallets, cart decks and shelf bottoms are flat with
+// nothing under them in a change cloud too, but smaller than a floor sheet.
 #pragma once
 
 #include <lista/points.hpp>
@@ -22,6 +24,7 @@ struct GroundConfig {
   size_t min_points = 30;          // smallest plane (inliers) considered
   double footprint_cell = 0.25;    // m, grid cell of the "what is under it" test
   double max_below_fraction = 0.05;  // under-plane points / inliers allowed for ground
+  double min_area = 2.0;           // m^2, smallest footprint hull taken as ground (0 = any)
   int max_iterations = 200;        // RANSAC iterations
 };
 

@@ -19,6 +19,7 @@ class GroundFilterStage : public Stage {
     c_.min_points = size_t(p.get<int64_t>("min_points"));
     c_.footprint_cell = p.get<double>("footprint_cell");
     c_.max_below_fraction = p.get<double>("max_below_fraction");
+    c_.min_area = p.get<double>("min_area");
     c_.max_iterations = p.get<int>("max_iterations");
   }
 
@@ -34,7 +35,10 @@ class GroundFilterStage : public Stage {
         "previous ones left. A plane is ground when at most `max_below_fraction` of its inlier "
         "count lies more than 2*distance under it within its own footprint (cells of "
         "`footprint_cell`): floors, ramps and each level of a multi-level floor pass, table and "
-        "box tops do not (their sides and legs are under them). Only that plane's inliers "
+        "box tops do not (their sides and legs are under them). It must also spread over at "
+        "least `min_area` (convex hull of its footprint cells): a flat object with nothing "
+        "visible under it (pallet, cart deck, lowest shelf board) is smaller than a floor sheet "
+        "and stays. Only that plane's inliers "
         "(within `distance`) are removed. Tiles run in parallel; RANSAC uses PCL's fixed seed.";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the points that are not ground"}};
@@ -46,6 +50,8 @@ class GroundFilterStage : public Stage {
         ParamSpec::integer("min_points", 30, "fewest inliers for a ground plane").range(3, 1e9),
         ParamSpec::real("footprint_cell", 0.25, "cell of the under-the-plane test").range(0.01, 10).unit("m"),
         ParamSpec::real("max_below_fraction", 0.05, "under-plane points per inlier allowed").range(0, 1),
+        ParamSpec::real("min_area", 2.0, "smallest footprint (convex hull) taken as ground; 0 = any")
+            .range(0, 1e4).unit("m^2"),
         ParamSpec::integer("max_iterations", 200, "RANSAC iterations per plane").range(10, 100000),
     };
     return i;
