@@ -1,0 +1,90 @@
+// align.given: missions aligned by given transforms (identity, a file, or
+// the ground-truth poses), so pipelines run before real alignment exists and
+// alignment ablations have an upper bound.
+#include "given_transforms.hpp"
+
+#include <lista/lista.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace lista::align_given {
+
+namespace {
+
+class GivenStage : public Stage {
+ public:
+  explicit GivenStage(const Params& p) : mode_(p.get<std::string>("mode")), file_(p.get<std::string>("file")) {
+    if (mode_ == "file" && file_.empty()) throw Error("mode \"file\" needs the 'file' parameter");
+  }
+
+  Outputs run(const Inputs& in, Context& ctx) override {
+    // A shallow copy: scans' point data stay shared (shared_ptr<const PointSet>).
+    MissionSet out = in.get<MissionSet>("missions");
+    std::map<std::string, Eigen::Isometry3d> given;
+    if (mode_ == "file") {
+      given = read_transform_file(file_);
+      for (const auto& [name, T] : given)
+        if (!out.find(name)) throw Error(file_ + ": mission '" + name + "' is not among the missions read");
+    }
+    for (auto& m : out.missions) {
+      if (mode_ == "identity") {
+        m.to_common.setIdentity();
+      } else if (mode_ == "file") {
+        auto it = given.find(m.name);
+        if (it == given.end()) throw Error(file_ + ": no transform for mission '" + m.name + "'");
+        m.to_common = it->second;
+      } else {
+        m.to_common = map_to_world_from_gt(m);
+        // Residual of the fit: how well a rigid map->world explains the poses (drift shows here).
+        double sq = 0;
+        for (size_t i = 0; i < m.scans.size(); ++i)
+          sq += (m.to_common * m.scans[i].pose.translation() - m.poses_gt[i].translation()).squaredNorm();
+        const double rmse = std::sqrt(sq / double(std::max<size_t>(1, m.scans.size())));
+        ctx.record(m.name + ".fit_rmse_m", rmse);
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "mission '%s': map->world fit RMSE %.4f m over %zu scans", m.name.c_str(),
+                      rmse, m.scans.size());
+        ctx.info(buf);
+      }
+    }
+    Outputs o;
+    o.put("missions", std::move(out));
+    return o;
+  }
+
+ private:
+  std::string mode_, file_;
+};
+
+StageInfo info() {
+  StageInfo s;
+  s.name = "align.given";
+  s.version = "1.0.0";
+  s.summary = "missions aligned by given transforms: identity, a file, or fitted to poses_gt.txt";
+  s.doc =
+      "Sets each mission's to_common (map frame -> common frame) without looking at the points. "
+      "mode \"identity\": every map frame is the common frame. mode \"file\": one line per mission, "
+      "'<mission> <16 numbers>' (4x4 row-major) or '<mission> <12 numbers>' (3x4 [R|t] row-major), '#' "
+      "comments; every mission needs a line. mode \"ground-truth\": the common frame is the world frame of "
+      "poses_gt.txt; each mission's rigid map->world transform is the least-squares fit (Umeyama, no "
+      "scale) of its poses.txt sensor origins and axis tips onto those of poses_gt.txt over all scans; "
+      "the fit RMSE is recorded as '<mission>.fit_rmse_m'. Scan point data are shared, not copied.";
+  s.inputs = {{"missions", "missions", "missions as read"}};
+  s.outputs = {{"missions", "missions", "the same missions with to_common set"}};
+  s.params = {
+      ParamSpec::text("mode", "identity", "where the transforms come from").one_of({"identity", "file", "ground-truth"}),
+      ParamSpec::text("file", "", "transforms file for mode \"file\" (format in the doc)")};
+  return s;
+}
+
+void register_stages(Registrar& r) {
+  r.add(info(), [](const Params& p) { return std::make_unique<GivenStage>(p); });
+}
+
+}  // namespace
+
+}  // namespace lista::align_given
+
+LISTA_PLUGIN(lista::align_given::register_stages)

@@ -1,0 +1,87 @@
+// io.missions: reads a dataset of missions (data contract, sect. 1).
+#include <lista/lista.hpp>
+#include <lista_io/dataset.hpp>
+
+namespace lista::io {
+
+namespace {
+
+class MissionsStage : public Stage {
+ public:
+  explicit MissionsStage(const Params& p)
+      : path_(p.get<std::string>("path")), missions_(p.get<std::vector<std::string>>("missions")) {}
+
+  Outputs run(const Inputs&, Context& ctx) override {
+    const std::string dataset = path_.empty() ? ctx.run_info().dataset : path_;
+    if (dataset.empty())
+      throw Error("no dataset: set 'path' or give the run a dataset (lista-run --dataset DIR)");
+    const std::vector<std::string> names = missions_.empty() ? list_missions(dataset) : missions_;
+    if (names.size() < 2) ctx.warn(dataset + ": only one mission; change detection needs two or more");
+    DatasetOptions opt;
+    opt.threads = ctx.threads();
+    MissionSet set;
+    set.dataset = dataset;
+    ctx.progress().begin("reading missions", names.size());
+    for (const auto& name : names) {
+      ctx.throw_if_cancelled();
+      DatasetOptions one = opt;
+      one.missions = {name};
+      MissionSet part = read_dataset(dataset, one);
+      for (const auto& seen : set.missions)
+        if (seen.name == part.missions[0].name) throw Error("mission '" + name + "' listed twice in 'missions'");
+      set.missions.push_back(std::move(part.missions[0]));
+      ctx.progress().advance();
+    }
+    ctx.progress().end();
+    size_t points = 0, skipped = 0, scans = 0;
+    for (const auto& m : set.missions) {
+      const size_t n = m.point_count();
+      ctx.info("mission '" + m.name + "': " + std::to_string(m.scans.size()) + " scans, " + std::to_string(n) +
+               " points" + (m.skipped_nonfinite ? ", " + std::to_string(m.skipped_nonfinite) + " non-finite skipped" : "") +
+               (m.poses_gt.empty() ? "" : ", poses_gt.txt"));
+      points += n;
+      skipped += m.skipped_nonfinite;
+      scans += m.scans.size();
+    }
+    ctx.record("missions", double(set.missions.size()));
+    ctx.record("scans", double(scans));
+    ctx.record("points", double(points));
+    ctx.record("skipped_nonfinite", double(skipped));
+    Outputs out;
+    out.put("missions", std::move(set));
+    return out;
+  }
+
+ private:
+  std::string path_;
+  std::vector<std::string> missions_;
+};
+
+StageInfo info() {
+  StageInfo s;
+  s.name = "io.missions";
+  s.version = "1.0.0";
+  s.summary = "reads a dataset of missions (poses.txt + scans/, or the VIEWPOINT layout)";
+  s.doc =
+      "Reads the missions of a dataset folder as in the data contract, section 1: per mission poses.txt "
+      "(TUM or KITTI layout) and scans/ (.pcd ascii/binary/binary_compressed, .ply, KITTI .bin) sorted by "
+      "name, or a folder of map-frame .pcd scans carrying the sensor pose in VIEWPOINT; poses_gt.txt when "
+      "present. Scans are read in parallel. Non-finite points are skipped and counted. Errors: scan count "
+      "!= pose count, unreadable or malformed file (with its line), non-orthonormal rotation, empty "
+      "mission. See docs/formats.md.";
+  s.outputs = {{"missions", "missions", "the missions, each in its own map frame (to_common = identity)"}};
+  s.params = {
+      ParamSpec::text("path", "", "dataset folder; empty = the run's dataset (lista-run --dataset)"),
+      ParamSpec::text_list("missions", {}, "mission folder names in the order to use; empty = all, sorted")};
+  return s;
+}
+
+void register_stages(Registrar& r) {
+  r.add(info(), [](const Params& p) { return std::make_unique<MissionsStage>(p); });
+}
+
+}  // namespace
+
+}  // namespace lista::io
+
+LISTA_PLUGIN(lista::io::register_stages)

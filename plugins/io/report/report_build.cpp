@@ -1,0 +1,151 @@
+#include "report_build.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <set>
+#include <unordered_set>
+
+namespace lista::report {
+
+namespace {
+
+uint64_t key(uint32_t scan, uint32_t index) { return (uint64_t(scan) << 32) | index; }
+
+void push(ChangeCloud& c, const Eigen::Vector3f& p, uint32_t scan, uint32_t index, int32_t object) {
+  c.x.push_back(p.x());
+  c.y.push_back(p.y());
+  c.z.push_back(p.z());
+  c.scan.push_back(scan);
+  c.index.push_back(index);
+  c.object.push_back(object);
+}
+
+}  // namespace
+
+Built build_report(const MissionSet& missions, const ObjectSet& objects, const Groups* groups,
+                   const Matches* matches, const MissionPoints* changes) {
+  Built b;
+  io::Report& r = b.report;
+  std::map<std::string, size_t> mission_index;
+  for (const auto& m : missions.missions) {
+    mission_index[m.name] = r.missions.size();
+    r.missions.push_back(m.name);
+    r.alignment[m.name] = m.to_common.matrix();
+    b.clouds.push_back({m.name, {}, {}, {}, {}, {}, {}});
+  }
+  auto cloud_of = [&](const std::string& name, const char* what) -> ChangeCloud& {
+    auto it = mission_index.find(name);
+    if (it == mission_index.end())
+      throw Error(std::string(what) + " names mission '" + name + "', which the missions input lacks");
+    return b.clouds[it->second];
+  };
+
+  std::set<int> ids;
+  std::vector<std::unordered_set<uint64_t>> taken(b.clouds.size());
+  size_t fallback = 0;
+  for (const Object& o : objects.objects) {
+    if (o.mission >= objects.missions.size())
+      throw Error("object " + std::to_string(o.id) + " has mission index " + std::to_string(o.mission) +
+                  " out of range");
+    if (!ids.insert(o.id).second) throw Error("object id " + std::to_string(o.id) + " is not unique");
+    io::ReportObject ro;
+    ro.id = o.id;
+    ro.mission = objects.missions[o.mission];
+    ChangeCloud& cloud = cloud_of(ro.mission, "objects input");
+    Eigen::Vector3f lo, hi;
+    o.points.bounds(lo, hi);
+    ro.centroid = o.points.empty() ? o.centroid.cast<double>() : o.points.centroid().cast<double>();
+    ro.bbox_min = o.points.empty() ? o.bbox_min.cast<double>() : lo.cast<double>();
+    ro.bbox_max = o.points.empty() ? o.bbox_max.cast<double>() : hi.cast<double>();
+    ro.points = o.points.size();
+    ro.group = groups ? groups->group_of(o.id) : -1;
+    const ObjectChange* c = matches ? matches->find(o.id) : nullptr;
+    if (c) {
+      ro.status = to_string(c->status);
+      ro.confidence = std::min(1.0, std::max(0.0, c->confidence));
+      ro.history = c->history;
+      if (c->status == ChangeStatus::moved) {
+        const Object* partner = objects.find(c->match);
+        if (!partner)
+          throw Error("object " + std::to_string(o.id) + " is 'moved' but its match " + std::to_string(c->match) +
+                      " is not among the objects");
+        ro.match = c->match;
+        if (c->has_transform) {
+          ro.transform = c->transform;
+        } else {
+          Eigen::Matrix4d t = Eigen::Matrix4d::Identity();
+          t.block<3, 1>(0, 3) = (partner->points.centroid() - o.points.centroid()).cast<double>();
+          ro.transform = t;
+          b.warnings.push_back("object " + std::to_string(o.id) +
+                               " is moved without a transform; wrote the centroid translation");
+        }
+      }
+    } else {
+      // No decision for this object: the mission-order rule (documented).
+      ++fallback;
+      ro.status = o.mission == 0 ? "removed" : "added";
+      ro.confidence = 0.5;
+      ro.history = {o.id};
+    }
+    if (!c && groups) {
+      for (size_t k = 0; k < groups->object_ids.size(); ++k)
+        if (groups->object_ids[k] == o.id && k < groups->confidence.size())
+          ro.confidence = std::min(1.0, std::max(0.0, groups->confidence[k]));
+    }
+    for (size_t i = 0; i < o.points.size(); ++i) {
+      const uint32_t s = o.points.scan.at(i), idx = o.points.index.at(i);
+      if (taken[&cloud - b.clouds.data()].insert(key(s, idx)).second) push(cloud, o.points.xyz[i], s, idx, o.id);
+    }
+    r.objects.push_back(std::move(ro));
+  }
+  if (matches && fallback > 0)
+    b.warnings.push_back(std::to_string(fallback) +
+                         " objects have no entry in the matches; their status follows mission order");
+  if (changes) {
+    if (changes->sets.size() != changes->missions.size())
+      throw Error("changes input has " + std::to_string(changes->sets.size()) + " point sets for " +
+                  std::to_string(changes->missions.size()) + " missions");
+    for (size_t k = 0; k < changes->sets.size(); ++k) {
+      ChangeCloud& cloud = cloud_of(changes->missions[k], "changes input");
+      auto& seen = taken[&cloud - b.clouds.data()];
+      const PointSet& p = changes->sets[k];
+      p.check_consistent();
+      for (size_t i = 0; i < p.size(); ++i)
+        if (seen.insert(key(p.scan[i], p.index[i])).second) push(cloud, p.xyz[i], p.scan[i], p.index[i], -1);
+    }
+  }
+  return b;
+}
+
+std::string provenance_json(const RunInfo& run) {
+  using json = nlohmann::ordered_json;
+  json prov;
+  prov["lista_version"] = run.lista_version;
+  prov["git_revision"] = run.git_revision;
+  prov["pipeline_file"] = run.pipeline_file;
+  prov["pipeline"] = run.pipeline_resolved;
+  prov["dataset"] = run.dataset;
+  prov["seed"] = run.seed;
+  prov["threads"] = run.threads;
+  json plugins = json::array();
+  for (const auto& p : run.plugins) plugins.push_back({{"name", p.name}, {"version", p.version}, {"library", p.library}});
+  prov["plugins"] = plugins;
+  json stages = json::array();
+  for (const auto& s : run.finished)
+    stages.push_back({{"id", s.id}, {"plugin", s.plugin}, {"seconds", s.seconds},
+                      {"peak_rss_mib", double(s.peak_rss_bytes) / (1024.0 * 1024.0)}});
+  prov["stages"] = stages;
+  json metrics = json::object();
+  for (const auto& [stage, values] : run.metrics) {
+    json m = json::object();
+    for (const auto& [k, v] : values) m[k] = v;
+    metrics[stage] = m;
+  }
+  json root;
+  root["provenance"] = prov;
+  root["metrics"] = metrics;
+  return root.dump();
+}
+
+}  // namespace lista::report

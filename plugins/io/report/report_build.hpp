@@ -1,0 +1,38 @@
+// Turning the pipeline's typed results into the contract's report.json
+// content and change clouds (data contract, sect. 2).
+#pragma once
+
+#include <lista/lista.hpp>
+#include <lista_io/report.hpp>
+
+#include <string>
+#include <vector>
+
+namespace lista::report {
+
+// The rows of changes/<mission>.pcd for one mission.
+struct ChangeCloud {
+  std::string mission;
+  std::vector<float> x, y, z;
+  std::vector<uint32_t> scan, index;
+  std::vector<int32_t> object;
+  size_t size() const { return x.size(); }
+};
+
+struct Built {
+  io::Report report;
+  std::vector<ChangeCloud> clouds;  // one per mission, MissionSet order
+  std::vector<std::string> warnings;
+};
+
+// groups, matches and changes may be null (unconnected). Without matches the
+// status is by mission order: objects of the first mission "removed", of later
+// ones "added". A moved object without a transform gets the translation
+// between the two objects' centroids (and a warning).
+Built build_report(const MissionSet& missions, const ObjectSet& objects, const Groups* groups,
+                   const Matches* matches, const MissionPoints* changes);
+
+// Provenance and metrics of the run as the report's extra top-level JSON.
+std::string provenance_json(const RunInfo& run);
+
+}  // namespace lista::report

@@ -1,0 +1,46 @@
+#include "report_output.hpp"
+
+#include <lista_io/atomic_file.hpp>
+#include <lista_io/pcd.hpp>
+
+#include <filesystem>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace lista::report {
+
+void write_output(const std::string& out_dir, const Built& built) {
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec || !fs::is_directory(out_dir)) throw Error(out_dir + ": cannot create the output folder");
+  const fs::path out(out_dir);
+  // An older report must not survive a failed run looking current.
+  fs::remove(out / "report.json", ec);
+  const fs::path tmp = out / (".lista-report.tmp." + std::to_string(::getpid()));
+  fs::remove_all(tmp, ec);
+  fs::create_directories(tmp / "changes", ec);
+  if (ec) throw Error(tmp.string() + ": cannot create a temp folder (" + ec.message() + ")");
+  try {
+    for (const ChangeCloud& c : built.clouds) {
+      if (c.mission.find('/') != std::string::npos) throw Error("mission name '" + c.mission + "' contains '/'");
+      io::write_pcd((tmp / "changes" / (c.mission + ".pcd")).string(), c.size(),
+                    {{"x", 'F', c.x.data()}, {"y", 'F', c.y.data()}, {"z", 'F', c.z.data()},
+                     {"scan", 'U', c.scan.data()}, {"index", 'U', c.index.data()}, {"object", 'I', c.object.data()}},
+                    io::PcdEncoding::binary);
+    }
+    io::write_report((tmp / "report.json").string(), built.report);
+    fs::create_directories(out / "changes", ec);
+    if (ec || !fs::is_directory(out / "changes"))
+      throw Error((out / "changes").string() + ": cannot create the change cloud folder");
+    for (const ChangeCloud& c : built.clouds)
+      io::commit_file((tmp / "changes" / (c.mission + ".pcd")).string(), (out / "changes" / (c.mission + ".pcd")).string());
+    io::commit_file((tmp / "report.json").string(), (out / "report.json").string());
+  } catch (...) {
+    fs::remove_all(tmp, ec);
+    throw;
+  }
+  fs::remove_all(tmp, ec);
+}
+
+}  // namespace lista::report

@@ -1,0 +1,101 @@
+// io.report: writes report.json and changes/<mission>.pcd (data contract,
+// sect. 2) with provenance, atomically, and logs a short summary.
+#include "report_build.hpp"
+#include "report_output.hpp"
+
+#include <lista/lista.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+namespace lista::report {
+
+namespace {
+
+class ReportStage : public Stage {
+ public:
+  explicit ReportStage(const Params& p) : path_(p.get<std::string>("path")) {}
+
+  Outputs run(const Inputs& in, Context& ctx) override {
+    const RunInfo run = ctx.run_info();
+    const std::string out_dir = path_.empty() ? run.output_dir : path_;
+    if (out_dir.empty()) throw Error("no output folder: set 'path' or give the run one (lista-run --out DIR)");
+    // The old report stops being current now, whatever happens next.
+    std::error_code ec;
+    std::filesystem::remove(std::filesystem::path(out_dir) / "report.json", ec);
+    const auto& missions = in.get<MissionSet>("missions");
+    const auto& objects = in.get<ObjectSet>("objects");
+    const Groups* groups = in.has("groups") ? &in.get<Groups>("groups") : nullptr;
+    const Matches* matches = in.has("matches") ? &in.get<Matches>("matches") : nullptr;
+    const MissionPoints* changes = in.has("changes") ? &in.get<MissionPoints>("changes") : nullptr;
+    Built built = build_report(missions, objects, groups, matches, changes);
+    for (const auto& s : run.finished) built.report.timings_s.emplace_back(s.id, s.seconds);
+    built.report.extra_json = provenance_json(run);
+    for (const auto& w : built.warnings) ctx.warn(w);
+    write_output(out_dir, built);
+    log_summary(built, run, out_dir, ctx);
+    return {};
+  }
+
+ private:
+  static void log_summary(const Built& b, const RunInfo& run, const std::string& out_dir, Context& ctx) {
+    std::map<std::string, int> by_status;
+    int pairs = 0;
+    for (const auto& o : b.report.objects) {
+      ++by_status[o.status];
+      if (o.match >= 0 && o.id < o.match) ++pairs;
+    }
+    char line[200];
+    ctx.info("report written to " + out_dir + "/report.json");
+    std::snprintf(line, sizeof line, "objects %zu: moved %d, removed %d, added %d; matched pairs %d",
+                  b.report.objects.size(), by_status["moved"], by_status["removed"], by_status["added"], pairs);
+    ctx.info(line);
+    for (const auto& c : b.clouds) {
+      std::snprintf(line, sizeof line, "  changes/%s.pcd: %zu points", c.mission.c_str(), c.size());
+      ctx.info(line);
+    }
+    for (const auto& s : run.finished) {
+      std::snprintf(line, sizeof line, "  %-24s %-26s %9.3f s %8.0f MiB", s.id.c_str(), s.plugin.c_str(), s.seconds,
+                    double(s.peak_rss_bytes) / (1024.0 * 1024.0));
+      ctx.info(line);
+    }
+  }
+
+  std::string path_;
+};
+
+StageInfo info() {
+  StageInfo s;
+  s.name = "io.report";
+  s.version = "1.0.0";
+  s.summary = "writes report.json and changes/<mission>.pcd (data contract, section 2)";
+  s.doc =
+      "Writes the change report: report.json (format, missions, alignment = each mission's to_common, "
+      "objects with id, mission, status, centroid, bbox, points, group (-1 without groups), confidence, "
+      "match (null if none), transform for moved objects, and the extension 'history'; timings_s per "
+      "finished stage) plus 'provenance' (resolved pipeline, plugin versions, git revision, seed, threads, "
+      "per-stage time and peak memory) and 'metrics'. changes/<mission>.pcd (binary; x y z float32 in the "
+      "common frame, scan uint32, index uint32, object int32) holds every object point with its object id "
+      "and, when 'changes' is connected, every change point in no object with -1. Without 'matches' the "
+      "status follows mission order: objects of the first mission are 'removed', of later ones 'added' "
+      "(confidence 0.5, or the group confidence). Atomic: files are written into a temp folder inside the "
+      "output folder and renamed into place, report.json last; a failure leaves no report.json.";
+  s.inputs = {{"missions", "missions", "the aligned missions (names, order, alignment)"},
+              {"objects", "objects", "the change objects (common frame)"},
+              {"groups", "groups", "descriptor groups of the objects", true},
+              {"matches", "matches", "status, partner and transform of each object", true},
+              {"changes", "points", "all change points; those in no object are written with object -1", true}};
+  s.params = {ParamSpec::text("path", "", "output folder; empty = the run's output folder (lista-run --out)")};
+  return s;
+}
+
+void register_stages(Registrar& r) {
+  r.add(info(), [](const Params& p) { return std::make_unique<ReportStage>(p); });
+}
+
+}  // namespace
+
+}  // namespace lista::report
+
+LISTA_PLUGIN(lista::report::register_stages)

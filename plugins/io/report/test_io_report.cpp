@@ -1,0 +1,161 @@
+#include "../missions/make_stage.hpp"
+
+#include <gtest/gtest.h>
+#include <lista/basic_context.hpp>
+#include <lista_io/pcd.hpp>
+#include <lista_io/report.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+using namespace lista;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path out_dir(const std::string& tag) {
+  const fs::path d = fs::temp_directory_path() / ("lista_io_report_" + tag + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  return d;
+}
+
+Object make_object(int id, uint32_t mission, float x0, uint32_t scan, uint32_t first_index, int n) {
+  Object o;
+  o.id = id;
+  o.mission = mission;
+  for (int i = 0; i < n; ++i) {
+    o.points.xyz.emplace_back(x0 + 0.1f * i, 1.f, 2.f);
+    o.points.scan.push_back(scan);
+    o.points.index.push_back(first_index + uint32_t(i));
+  }
+  o.update_geometry();
+  return o;
+}
+
+struct Fixture {
+  MissionSet missions;
+  ObjectSet objects;
+  Matches matches;
+  MissionPoints changes;
+  Fixture() {
+    for (const char* n : {"A", "B"}) {
+      Mission m;
+      m.name = n;
+      missions.missions.push_back(m);
+    }
+    missions.missions[1].to_common.translation() = Eigen::Vector3d(1, 2, 3);
+    objects.missions = {"A", "B"};
+    objects.objects = {make_object(0, 0, 0.f, 0, 10, 4), make_object(1, 1, 5.f, 2, 0, 4),
+                       make_object(2, 1, 9.f, 3, 7, 2)};
+    ObjectChange a{0, ChangeStatus::moved, 1, 0.1, 0.9, true, Eigen::Matrix4d::Identity(), {0, 1}};
+    a.transform(0, 3) = 5;
+    ObjectChange b{1, ChangeStatus::moved, 0, 0.1, 0.9, false, Eigen::Matrix4d::Identity(), {0, 1}};
+    ObjectChange c{2, ChangeStatus::added, -1, 0, 0.7, false, Eigen::Matrix4d::Identity(), {2}};
+    matches.objects = {a, b, c};
+    changes.missions = {"A", "B"};
+    changes.sets.resize(2);
+    // One change point that is also in object 0 (written once, as object 0), one in no object.
+    for (uint32_t idx : {10u, 99u}) {
+      changes.sets[0].xyz.emplace_back(0.f, 0.f, 0.f);
+      changes.sets[0].scan.push_back(0);
+      changes.sets[0].index.push_back(idx);
+    }
+  }
+  Inputs inputs(bool with_matches = true, bool with_changes = true) const {
+    Inputs in;
+    in.set("missions", Data::make(missions));
+    in.set("objects", Data::make(objects));
+    if (with_matches) in.set("matches", Data::make(matches));
+    if (with_changes) in.set("changes", Data::make(changes));
+    return in;
+  }
+};
+
+}  // namespace
+
+TEST(IoReport, WritesTheContractAndReadsBack) {
+  Fixture f;
+  const fs::path out = out_dir("full");
+  BasicContext ctx("report");
+  ctx.info.output_dir = out.string();
+  ctx.info.seed = 42;
+  ctx.info.finished = {{"read", "io.missions", 1.5, 100 << 20}, {"diff", "volumetric.octomap", 2.0, 200 << 20}};
+  ctx.info.plugins = {{"io.missions", "1.0.0", "liblista_io_missions.so"}};
+  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+
+  const io::Report r = io::read_report((out / "report.json").string());
+  EXPECT_EQ(r.missions, (std::vector<std::string>{"A", "B"}));
+  EXPECT_EQ(r.alignment.at("B")(1, 3), 2.0);
+  ASSERT_EQ(r.objects.size(), 3u);
+  EXPECT_EQ(r.objects[0].status, "moved");
+  EXPECT_EQ(r.objects[0].match, 1);
+  EXPECT_EQ((*r.objects[0].transform)(0, 3), 5.0);
+  // Object 1 had no transform: the centroid translation back to object 0.
+  EXPECT_NEAR((*r.objects[1].transform)(0, 3), -5.0, 1e-5);
+  EXPECT_EQ(r.objects[2].status, "added");
+  EXPECT_EQ(r.objects[2].match, -1);
+  EXPECT_EQ(r.objects[2].group, -1);
+  EXPECT_EQ(r.objects[1].points, 4u);
+  EXPECT_NEAR(r.objects[0].bbox_max.x(), 0.3, 1e-6);
+  ASSERT_EQ(r.timings_s.size(), 2u);
+  EXPECT_EQ(r.timings_s[1].first, "diff");
+  const auto extra = nlohmann::json::parse(r.extra_json);
+  EXPECT_EQ(extra["provenance"]["seed"], 42);
+  EXPECT_EQ(extra["provenance"]["plugins"][0]["name"], "io.missions");
+  EXPECT_EQ(extra["provenance"]["stages"][1]["peak_rss_mib"], 200.0);
+
+  const io::PcdTable a = io::read_pcd_table((out / "changes" / "A.pcd").string());
+  ASSERT_EQ(a.size, 5u);  // 4 object points + 1 change point in no object
+  EXPECT_EQ(a.names, (std::vector<std::string>{"x", "y", "z", "scan", "index", "object"}));
+  EXPECT_EQ(a.types, (std::vector<char>{'F', 'F', 'F', 'U', 'U', 'I'}));
+  EXPECT_EQ(a.values[5][0], 0.0);
+  EXPECT_EQ(a.values[4][4], 99.0);
+  EXPECT_EQ(a.values[5][4], -1.0);
+  const io::PcdTable b = io::read_pcd_table((out / "changes" / "B.pcd").string());
+  EXPECT_EQ(b.size, 6u);
+  // Nothing temporary is left behind.
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_TRUE(e.path().filename() == "report.json" || e.path().filename() == "changes") << e.path();
+}
+
+TEST(IoReport, WithoutMatchesStatusFollowsMissionOrder) {
+  Fixture f;
+  const fs::path out = out_dir("nomatch");
+  BasicContext ctx;
+  io_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(false, false), ctx);
+  const io::Report r = io::read_report((out / "report.json").string());
+  EXPECT_EQ(r.objects[0].status, "removed");
+  EXPECT_EQ(r.objects[1].status, "added");
+  EXPECT_EQ(io::read_pcd_table((out / "changes" / "A.pcd").string()).size, 4u);
+}
+
+TEST(IoReport, FailuresLeaveNoReport) {
+  Fixture f;
+  BasicContext ctx;
+  try {
+    io_test::make_stage("io.report")->run(f.inputs(), ctx);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no output folder"), std::string::npos);
+  }
+  const fs::path out = out_dir("fail");
+  fs::create_directories(out);
+  std::ofstream(out / "report.json") << "{}";  // a stale report from an earlier run
+  f.changes.missions = {"A", "Z"};
+  try {
+    io_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(), ctx);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("mission 'Z'"), std::string::npos) << e.what();
+  }
+  f.changes.missions = {"A", "B"};
+  // Writing fails: "changes" is a file, so the change clouds cannot be moved in.
+  std::ofstream(out / "changes") << "x";
+  EXPECT_THROW(io_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(), ctx), Error);
+  EXPECT_FALSE(fs::exists(out / "report.json"));
+  size_t entries = 0;
+  for (auto& e : fs::directory_iterator(out)) (void)e, ++entries;
+  EXPECT_EQ(entries, 1u);  // only the "changes" file: the temp folder is gone
+}

@@ -1,0 +1,53 @@
+// lista-eval: scores a run against a dataset's ground truth, or writes the
+// perfect run. Usage:
+//   lista-eval --dataset D --run OUT [--json]
+//   lista-eval --dataset D --truth OUT
+#include "perfect_run.hpp"
+#include "print.hpp"
+#include "score.hpp"
+
+#include <lista/error.hpp>
+#include <lista_io/report.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <thread>
+
+int main(int argc, char** argv) {
+  CLI::App app{"lista-eval: score a LiSTA run against ground truth (data contract, section 3)"};
+  std::string dataset, run, truth_out;
+  bool json = false;
+  int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  app.add_option("--dataset", dataset, "dataset folder with ground_truth.json")->required();
+  auto* run_opt = app.add_option("--run", run, "run output folder (report.json, changes/)");
+  auto* truth_opt = app.add_option("--truth", truth_out, "write the perfect run from ground truth into this folder");
+  run_opt->excludes(truth_opt);
+  app.add_flag("--json", json, "print the scores as JSON");
+  app.add_option("-j,--threads", threads, "threads for reading the dataset")->check(CLI::PositiveNumber);
+  CLI11_PARSE(app, argc, argv);
+  if (run.empty() && truth_out.empty()) {
+    std::cerr << "lista-eval: error: give --run OUT (to score) or --truth OUT (to write the perfect run)\n";
+    return 2;
+  }
+  try {
+    if (!truth_out.empty()) {
+      const lista::eval::Truth truth = lista::eval::load_truth(dataset, {}, threads);
+      lista::eval::write_perfect_run(truth, truth_out);
+      std::cout << "perfect run written to " << truth_out << "\n";
+      return 0;
+    }
+    // The report decides which missions are compared.
+    const std::string report_path = (std::filesystem::path(run) / "report.json").string();
+    if (!std::filesystem::exists(report_path)) throw lista::Error(report_path + ": missing");
+    const lista::io::Report report = lista::io::read_report(report_path);
+    const lista::eval::Truth truth = lista::eval::load_truth(dataset, report.missions, threads);
+    const lista::eval::Score score = lista::eval::score_run(truth, run);
+    std::cout << (json ? lista::eval::format_json(score) : lista::eval::format_table(score));
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "lista-eval: error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,88 @@
+#include "print.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+
+namespace lista::eval {
+
+namespace {
+
+std::string num(double v, const char* fmt = "%.4f") {
+  if (std::isnan(v)) return "n/a";
+  char b[64];
+  std::snprintf(b, sizeof b, fmt, v);
+  return b;
+}
+
+nlohmann::ordered_json jnum(double v) { return std::isnan(v) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(v); }
+
+}  // namespace
+
+std::string format_table(const Score& s) {
+  std::string out;
+  char line[256];
+  const PointScore& p = s.points;
+  out += "per point (all missions, dynamic objects excluded)\n";
+  std::snprintf(line, sizeof line, "  TP %llu  FP %llu  TN %llu  FN %llu\n", (unsigned long long)p.tp,
+                (unsigned long long)p.fp, (unsigned long long)p.tn, (unsigned long long)p.fn);
+  out += line;
+  out += "  precision " + num(p.precision()) + "  recall " + num(p.recall()) + "  specificity " +
+         num(p.specificity()) + "  F1 " + num(p.f1()) + "  IoU " + num(p.iou()) + "\n";
+  out += "per object (pairs: point-set IoU > 0.5)\n";
+  std::snprintf(line, sizeof line, "  %-12s %8s %6s %6s %9s %7s %7s %8s %8s %10s %10s\n", "mission", "reported",
+                "true", "pairs", "precision", "recall", "status", "match", "moved", "t_err_m", "r_err_deg");
+  out += line;
+  for (const auto& o : s.objects) {
+    std::snprintf(line, sizeof line, "  %-12s %8zu %6zu %6zu %9s %7s %7s %8s %8zu %10s %10s\n", o.mission.c_str(),
+                  o.reported, o.true_changed, o.paired, num(o.precision()).c_str(), num(o.recall()).c_str(),
+                  num(o.status_accuracy()).c_str(), num(o.match_accuracy()).c_str(), o.moved,
+                  num(median(o.translation_error_m)).c_str(), num(median(o.rotation_error_deg), "%.2f").c_str());
+    out += line;
+  }
+  out += "  (t_err_m, r_err_deg: medians over correctly matched moved objects)\n";
+  if (!s.alignment.empty()) {
+    out += "alignment (ATE RMSE of sensor positions, first mission's frame)\n";
+    for (const auto& a : s.alignment) {
+      std::snprintf(line, sizeof line, "  %-12s %6zu scans  %s m\n", a.mission.c_str(), a.scans,
+                    num(a.ate_rmse_m).c_str());
+      out += line;
+    }
+  }
+  return out;
+}
+
+std::string format_json(const Score& s) {
+  using json = nlohmann::ordered_json;
+  json j;
+  j["missions"] = s.missions;
+  const PointScore& p = s.points;
+  j["points"] = {{"tp", p.tp}, {"fp", p.fp}, {"tn", p.tn}, {"fn", p.fn}, {"precision", jnum(p.precision())},
+                 {"recall", jnum(p.recall())}, {"specificity", jnum(p.specificity())}, {"f1", jnum(p.f1())},
+                 {"iou", jnum(p.iou())}};
+  json objects = json::array();
+  for (const auto& o : s.objects)
+    objects.push_back({{"mission", o.mission},
+                       {"reported", o.reported},
+                       {"true_changed", o.true_changed},
+                       {"paired", o.paired},
+                       {"precision", jnum(o.precision())},
+                       {"recall", jnum(o.recall())},
+                       {"status_accuracy", jnum(o.status_accuracy())},
+                       {"moved", o.moved},
+                       {"moved_matched", o.moved_matched},
+                       {"match_accuracy", jnum(o.match_accuracy())},
+                       {"translation_error_m", {{"median", jnum(median(o.translation_error_m))},
+                                                {"mean", jnum(mean(o.translation_error_m))}}},
+                       {"rotation_error_deg", {{"median", jnum(median(o.rotation_error_deg))},
+                                               {"mean", jnum(mean(o.rotation_error_deg))}}}});
+  j["objects"] = objects;
+  json align = json::array();
+  for (const auto& a : s.alignment)
+    align.push_back({{"mission", a.mission}, {"scans", a.scans}, {"ate_rmse_m", jnum(a.ate_rmse_m)}});
+  j["alignment"] = align;
+  return j.dump(2) + "\n";
+}
+
+}  // namespace lista::eval

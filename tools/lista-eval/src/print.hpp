@@ -1,0 +1,13 @@
+// A score as a human-readable table or as JSON (undefined values: "n/a" / null).
+#pragma once
+
+#include "score.hpp"
+
+#include <string>
+
+namespace lista::eval {
+
+std::string format_table(const Score& s);
+std::string format_json(const Score& s);
+
+}  // namespace lista::eval

@@ -1,0 +1,238 @@
+#include "score.hpp"
+
+#include <lista/error.hpp>
+#include <lista_io/pcd.hpp>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <numeric>
+
+namespace lista::eval {
+
+namespace {
+
+double ratio(double num, double den) { return den > 0 ? num / den : kUndefined; }
+
+// What a run says about one mission: predicted points and reported objects' labels.
+struct MissionRun {
+  std::vector<std::vector<uint8_t>> predicted;          // [scan][index]
+  std::map<int, std::map<uint32_t, size_t>> labels_of;  // reported id -> label -> points
+  std::map<int, size_t> size_of;                        // reported id -> points in the cloud
+};
+
+MissionRun read_changes(const Truth& truth, size_t k, const std::string& run_dir, const io::Report& report) {
+  const MissionTruth& mt = truth.labels[k];
+  const std::string path = (std::filesystem::path(run_dir) / "changes" / (mt.name + ".pcd")).string();
+  if (!std::filesystem::exists(path)) throw Error(path + ": missing (every mission of the report needs its change cloud)");
+  const io::PcdTable t = io::read_pcd_table(path);
+  const int cs = t.column("scan"), ci = t.column("index"), co = t.column("object");
+  if (cs < 0 || ci < 0 || co < 0 || t.column("x") < 0 || t.column("y") < 0 || t.column("z") < 0)
+    throw Error(path + ": needs the fields x y z scan index object");
+  if (t.types[cs] != 'U' || t.types[ci] != 'U' || t.types[co] != 'I')
+    throw Error(path + ": scan and index must be uint32 (U), object int32 (I)");
+  std::map<int, bool> known;
+  for (const auto& o : report.objects)
+    if (o.mission == mt.name) known[o.id] = true;
+  MissionRun run;
+  run.predicted.resize(mt.labels.size());
+  for (size_t s = 0; s < mt.labels.size(); ++s) run.predicted[s].assign(mt.labels[s].size(), 0);
+  for (size_t r = 0; r < t.size; ++r) {
+    const double sd = t.values[cs][r], id = t.values[ci][r];
+    const int object = int(t.values[co][r]);
+    const size_t s = size_t(sd), i = size_t(id);
+    if (s >= mt.labels.size() || i >= mt.labels[s].size() || mt.labels[s][i] == kNoPoint)
+      throw Error(path + ": row " + std::to_string(r) + ": scan " + std::to_string(s) + " index " + std::to_string(i) +
+                  " is not a finite point of mission '" + mt.name + "'");
+    if (object >= 0 && !known.count(object))
+      throw Error(path + ": row " + std::to_string(r) + ": object " + std::to_string(object) +
+                  " is not an object of mission '" + mt.name + "' in report.json");
+    if (run.predicted[s][i]) continue;  // listed twice: counted once
+    run.predicted[s][i] = 1;
+    if (object >= 0) {
+      ++run.labels_of[object][mt.labels[s][i]];
+      ++run.size_of[object];
+    }
+  }
+  return run;
+}
+
+Eigen::Isometry3d iso(const Eigen::Matrix4d& m) {
+  Eigen::Isometry3d t;
+  t.matrix() = m;
+  return t;
+}
+
+}  // namespace
+
+double PointScore::precision() const { return ratio(double(tp), double(tp + fp)); }
+double PointScore::recall() const { return ratio(double(tp), double(tp + fn)); }
+double PointScore::specificity() const { return ratio(double(tn), double(tn + fp)); }
+double PointScore::f1() const { return ratio(2.0 * double(tp), double(2 * tp + fp + fn)); }
+double PointScore::iou() const { return ratio(double(tp), double(tp + fp + fn)); }
+double ObjectScore::precision() const { return ratio(double(paired), double(reported)); }
+double ObjectScore::recall() const { return ratio(double(paired), double(true_changed)); }
+double ObjectScore::status_accuracy() const { return ratio(double(status_correct), double(paired)); }
+double ObjectScore::match_accuracy() const { return ratio(double(moved_matched), double(moved)); }
+
+double median(std::vector<double> v) {
+  if (v.empty()) return kUndefined;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double mean(const std::vector<double>& v) {
+  return v.empty() ? kUndefined : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+
+Score score_run(const Truth& truth, const std::string& run_dir) {
+  const std::string report_path = (std::filesystem::path(run_dir) / "report.json").string();
+  if (!std::filesystem::exists(report_path)) throw Error(report_path + ": missing");
+  const io::Report report = io::read_report(report_path);
+  Score score;
+  score.missions = report.missions;
+  const size_t nm = truth.missions.missions.size();
+  if (report.missions.size() != nm) throw Error(report_path + ": missions differ from the ones being scored");
+  for (size_t k = 0; k < nm; ++k)
+    if (report.missions[k] != truth.missions.missions[k].name)
+      throw Error(report_path + ": mission " + std::to_string(k) + " is '" + report.missions[k] + "', expected '" +
+                  truth.missions.missions[k].name + "'");
+
+  std::vector<MissionRun> runs;
+  for (size_t k = 0; k < nm; ++k) runs.push_back(read_changes(truth, k, run_dir, report));
+
+  // Per-point counts over all missions; dynamic objects' points left out.
+  for (size_t k = 0; k < nm; ++k) {
+    const MissionTruth& mt = truth.labels[k];
+    for (size_t s = 0; s < mt.labels.size(); ++s)
+      for (size_t i = 0; i < mt.labels[s].size(); ++i) {
+        const uint32_t l = mt.labels[s][i];
+        if (l == kNoPoint || truth.dynamic.count(l)) continue;
+        const bool changed = l != 0 && truth.changed.count(l);
+        const bool predicted = runs[k].predicted[s][i] != 0;
+        if (changed) (predicted ? score.points.tp : score.points.fn)++;
+        else (predicted ? score.points.fp : score.points.tn)++;
+      }
+  }
+
+  // Object pairing per mission: point-set IoU > 0.5, unique (greedy by IoU).
+  std::map<std::pair<size_t, uint32_t>, int> report_of;  // (mission, true id) -> reported id
+  std::map<int, uint32_t> truth_of;                      // reported id -> true id
+  std::map<int, const io::ReportObject*> by_id;
+  for (const auto& o : report.objects) by_id[o.id] = &o;
+  for (size_t k = 0; k < nm; ++k) {
+    const std::string& m = truth.labels[k].name;
+    ObjectScore os;
+    os.mission = m;
+    for (const auto& o : report.objects) os.reported += o.mission == m;
+    auto true_points = [&](uint32_t id) {
+      auto it = truth.labels[k].points_per_label.find(id);
+      return it == truth.labels[k].points_per_label.end() ? size_t(0) : it->second;
+    };
+    for (const auto& [id, st] : truth.status)
+      if (st.count(m) && true_points(id) > 0) ++os.true_changed;
+    struct Cand { double iou; int rep; uint32_t id; };
+    std::vector<Cand> cands;
+    for (const auto& [rep, labels] : runs[k].labels_of)
+      for (const auto& [id, inter] : labels) {
+        auto st = truth.status.find(id);
+        if (id == 0 || st == truth.status.end() || !st->second.count(m)) continue;
+        const double uni = double(runs[k].size_of[rep] + true_points(id) - inter);
+        const double iou = double(inter) / uni;
+        if (iou > 0.5) cands.push_back({iou, rep, id});
+      }
+    std::sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) {
+      return a.iou != b.iou ? a.iou > b.iou : a.rep != b.rep ? a.rep < b.rep : a.id < b.id;
+    });
+    for (const Cand& c : cands) {
+      if (truth_of.count(c.rep) || report_of.count({k, c.id})) continue;
+      truth_of[c.rep] = c.id;
+      report_of[{k, c.id}] = c.rep;
+      ++os.paired;
+      if (by_id[c.rep]->status == truth.status.at(c.id).at(m)) ++os.status_correct;
+    }
+    score.objects.push_back(os);
+  }
+
+  // Moved objects: does the match name the same true object's report elsewhere,
+  // and how far is its transform from the truth (in the run's common frame)?
+  auto world_to_common = [&](size_t k) {
+    const std::string& m = truth.labels[k].name;
+    return iso(report.alignment.at(m)) * iso(truth.gt.mission_to_world.at(m)).inverse();
+  };
+  for (size_t k = 0; k < nm; ++k) {
+    const std::string& m = truth.labels[k].name;
+    ObjectScore& os = score.objects[k];
+    for (const auto& [id, st] : truth.status) {
+      auto it = st.find(m);
+      if (it == st.end() || it->second != "moved" || !truth.labels[k].points_per_label.count(id)) continue;
+      bool seen_elsewhere = false;
+      for (size_t j = 0; j < nm; ++j)
+        if (j != k && truth.labels[j].points_per_label.count(id) && st.count(truth.labels[j].name)) seen_elsewhere = true;
+      if (!seen_elsewhere) continue;
+      ++os.moved;
+      auto rep = report_of.find({k, id});
+      if (rep == report_of.end()) continue;
+      const io::ReportObject& r = *by_id.at(rep->second);
+      if (r.match < 0 || !by_id.count(r.match) || !truth_of.count(r.match) || truth_of.at(r.match) != id) continue;
+      const io::ReportObject& partner = *by_id.at(r.match);
+      if (partner.mission == m) continue;
+      ++os.moved_matched;
+      if (!r.transform) continue;
+      const size_t j = truth.mission_index(partner.mission);
+      const io::TruthObject* obj = truth.object(id);
+      const Eigen::Isometry3d truth_t = world_to_common(j) * iso(*obj->poses.at(partner.mission)) *
+                                        iso(*obj->poses.at(m)).inverse() * world_to_common(k).inverse();
+      const Eigen::Isometry3d rep_t = iso(*r.transform);
+      const double rot = Eigen::AngleAxisd(rep_t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI;
+      // Translation error at the object's centroid, so it does not grow with the distance to the origin.
+      os.translation_error_m.push_back((rep_t * r.centroid - truth_t * r.centroid).norm());
+      os.rotation_error_deg.push_back(rot);
+    }
+  }
+  ObjectScore all;
+  all.mission = "all";
+  for (const auto& os : score.objects) {
+    all.reported += os.reported;
+    all.true_changed += os.true_changed;
+    all.paired += os.paired;
+    all.status_correct += os.status_correct;
+    all.moved += os.moved;
+    all.moved_matched += os.moved_matched;
+    all.translation_error_m.insert(all.translation_error_m.end(), os.translation_error_m.begin(), os.translation_error_m.end());
+    all.rotation_error_deg.insert(all.rotation_error_deg.end(), os.rotation_error_deg.begin(), os.rotation_error_deg.end());
+  }
+  score.objects.push_back(all);
+
+  // Alignment ATE: both trajectories in the first mission's map frame.
+  const std::string& first = truth.labels[0].name;
+  const Eigen::Isometry3d est_to_first = iso(report.alignment.at(first)).inverse();
+  const Eigen::Isometry3d world_to_first = iso(truth.gt.mission_to_world.at(first)).inverse();
+  double sum_all = 0;
+  size_t n_all = 0;
+  for (size_t k = 0; k < nm; ++k) {
+    const Mission& mission = truth.missions.missions[k];
+    if (mission.poses_gt.empty()) continue;
+    AlignmentScore a;
+    a.mission = mission.name;
+    double sum = 0;
+    const Eigen::Isometry3d est = est_to_first * iso(report.alignment.at(mission.name));
+    for (size_t i = 0; i < mission.scans.size(); ++i) {
+      const Eigen::Vector3d e = (est * mission.scans[i].pose).translation();
+      const Eigen::Vector3d g = (world_to_first * mission.poses_gt[i]).translation();
+      sum += (e - g).squaredNorm();
+    }
+    a.scans = mission.scans.size();
+    a.ate_rmse_m = std::sqrt(sum / double(std::max<size_t>(1, a.scans)));
+    sum_all += sum;
+    n_all += a.scans;
+    score.alignment.push_back(a);
+  }
+  if (n_all > 0) score.alignment.push_back({"all", n_all, std::sqrt(sum_all / double(n_all))});
+  return score;
+}
+
+}  // namespace lista::eval

@@ -1,0 +1,59 @@
+// Scoring a run (report.json + changes/<mission>.pcd) against the truth, as
+// defined in the data contract, sect. 3 (details in docs/datasets.md).
+#pragma once
+
+#include "truth.hpp"
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace lista::eval {
+
+constexpr double kUndefined = std::numeric_limits<double>::quiet_NaN();
+
+struct PointScore {
+  uint64_t tp = 0, fp = 0, tn = 0, fn = 0;
+  double precision() const;
+  double recall() const;
+  double specificity() const;
+  double f1() const;
+  double iou() const;
+};
+
+struct ObjectScore {
+  std::string mission;  // "all" for the totals
+  size_t reported = 0;      // reported objects in the mission
+  size_t true_changed = 0;  // truly changed objects with points in the mission
+  size_t paired = 0;        // pairs with point-set IoU > 0.5
+  size_t status_correct = 0;
+  size_t moved = 0;          // truly moved objects also seen in another compared mission
+  size_t moved_matched = 0;  // ... whose match names the report of the same object there
+  std::vector<double> translation_error_m, rotation_error_deg;  // of the matched moved ones
+  double precision() const;
+  double recall() const;
+  double status_accuracy() const;
+  double match_accuracy() const;
+};
+
+struct AlignmentScore {
+  std::string mission;
+  size_t scans = 0;
+  double ate_rmse_m = kUndefined;
+};
+
+struct Score {
+  std::vector<std::string> missions;
+  PointScore points;
+  std::vector<ObjectScore> objects;  // per mission, then the totals ("all")
+  std::vector<AlignmentScore> alignment;  // missions with poses_gt.txt, then "all"
+};
+
+// Reads <run>/report.json and <run>/changes/<mission>.pcd; throws lista::Error
+// (naming the file) when they break the contract.
+Score score_run(const Truth& truth, const std::string& run_dir);
+
+double median(std::vector<double> v);
+double mean(const std::vector<double>& v);
+
+}  // namespace lista::eval

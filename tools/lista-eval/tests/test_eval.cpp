@@ -1,0 +1,274 @@
+// lista-eval on a hand-made two-mission dataset: perfect run, empty run, a
+// hand-computed run, and runs that break the contract.
+#include "perfect_run.hpp"
+#include "score.hpp"
+
+#include <gtest/gtest.h>
+#include <lista/error.hpp>
+#include <lista_io/pcd.hpp>
+#include <lista_io/poses.hpp>
+#include <lista_io/report.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+using namespace lista;
+namespace fs = std::filesystem;
+
+namespace {
+
+Eigen::Matrix4d translation(double x, double y, double z) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<3, 1>(0, 3) = Eigen::Vector3d(x, y, z);
+  return m;
+}
+
+// Mission A: 10 structure, obj 1 (static) x4, obj 2 (removed) x4, obj 4 (moved) x4,
+// obj 5 (dynamic) x2, one NaN point. Mission B: 10 structure, obj 1 x4, obj 3
+// (added) x4, obj 4 x4. File order is the order listed; the NaN point is index 10.
+struct Dataset {
+  fs::path root;
+  // index ranges (A): structure 0-9, NaN 10, obj1 11-14, obj2 15-18, obj4 19-22, obj5 23-24
+  // (B): structure 0-9, obj1 10-13, obj3 14-17, obj4 18-21
+  Dataset() {
+    root = fs::temp_directory_path() / ("lista_eval_ds_" + std::to_string(::getpid()));
+    fs::remove_all(root);
+    write_mission("A", {{0, 10}, {~0u, 1}, {1, 4}, {2, 4}, {4, 4}, {5, 2}}, Eigen::Matrix4d::Identity());
+    write_mission("B", {{0, 10}, {1, 4}, {3, 4}, {4, 4}}, translation(0, 0.3, 0));
+    io::GroundTruth g;
+    g.missions = {"A", "B"};
+    g.mission_to_world = {{"A", Eigen::Matrix4d::Identity()}, {"B", Eigen::Matrix4d::Identity()}};
+    auto obj = [&](int id, const char* cls, bool dyn, std::optional<Eigen::Matrix4d> a, std::optional<Eigen::Matrix4d> b) {
+      io::TruthObject o;
+      o.id = id;
+      o.class_name = cls;
+      o.dynamic = dyn;
+      o.poses = {{"A", a}, {"B", b}};
+      g.objects.push_back(o);
+    };
+    const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
+    obj(1, "chair", false, I, translation(0.01, 0, 0));  // 1 cm: static
+    obj(2, "box", false, I, std::nullopt);
+    obj(3, "box", false, std::nullopt, I);
+    obj(4, "cart", false, I, translation(1, 0, 0));
+    obj(5, "person", true, I, std::nullopt);
+    io::write_ground_truth((root / "ground_truth.json").string(), g);
+  }
+  void write_mission(const std::string& name, const std::vector<std::pair<uint32_t, int>>& runs,
+                     const Eigen::Matrix4d& gt) {
+    fs::create_directories(root / name / "scans");
+    PointSet p;
+    for (const auto& [label, n] : runs)
+      for (int i = 0; i < n; ++i) {
+        const float x = label == ~0u ? NAN : float(label) + 0.1f * float(i);
+        p.xyz.emplace_back(x, 1.f, 0.f);
+        p.intensity.push_back(1.f);
+        p.label.push_back(label == ~0u ? 0 : label);
+      }
+    io::write_scan_pcd((root / name / "scans" / "000000.pcd").string(), p);
+    io::PoseRecord r;
+    io::write_poses((root / name / "poses.txt").string(), {r});
+    r.pose.matrix() = gt;
+    io::write_poses((root / name / "poses_gt.txt").string(), {r});
+  }
+};
+
+const Dataset& dataset() {
+  static Dataset d;
+  return d;
+}
+
+fs::path run_dir(const std::string& tag) {
+  const fs::path d = fs::temp_directory_path() / ("lista_eval_run_" + tag + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d / "changes");
+  return d;
+}
+
+// A change cloud: rows of (index, object) in scan 0.
+void write_changes(const fs::path& run, const std::string& mission, const std::vector<std::pair<uint32_t, int>>& rows) {
+  std::vector<float> x(rows.size(), 0.f);
+  std::vector<uint32_t> scan(rows.size(), 0), index;
+  std::vector<int32_t> object;
+  for (const auto& [i, o] : rows) {
+    index.push_back(i);
+    object.push_back(o);
+  }
+  io::write_pcd((run / "changes" / (mission + ".pcd")).string(), rows.size(),
+                {{"x", 'F', x.data()}, {"y", 'F', x.data()}, {"z", 'F', x.data()}, {"scan", 'U', scan.data()},
+                 {"index", 'U', index.data()}, {"object", 'I', object.data()}});
+}
+
+std::vector<std::pair<uint32_t, int>> range(uint32_t from, uint32_t to, int object) {
+  std::vector<std::pair<uint32_t, int>> v;
+  for (uint32_t i = from; i <= to; ++i) v.emplace_back(i, object);
+  return v;
+}
+
+template <class... V>
+std::vector<std::pair<uint32_t, int>> rows(V... parts) {
+  std::vector<std::pair<uint32_t, int>> out;
+  (out.insert(out.end(), parts.begin(), parts.end()), ...);
+  return out;
+}
+
+io::ReportObject robj(int id, const std::string& m, const std::string& status, int match = -1,
+                      std::optional<Eigen::Matrix4d> t = std::nullopt) {
+  io::ReportObject o;
+  o.id = id;
+  o.mission = m;
+  o.status = status;
+  o.match = match;
+  o.transform = t;
+  o.confidence = 0.5;
+  return o;
+}
+
+io::Report empty_report() {
+  io::Report r;
+  r.missions = {"A", "B"};
+  r.alignment = {{"A", Eigen::Matrix4d::Identity()}, {"B", Eigen::Matrix4d::Identity()}};
+  return r;
+}
+
+eval::Truth truth() { return eval::load_truth(dataset().root.string(), {"A", "B"}, 2); }
+
+// Runs the lista-eval program; returns its exit status and stderr.
+std::pair<int, std::string> run_tool(const std::string& args) {
+  const std::string err = (fs::temp_directory_path() / ("lista_eval_err_" + std::to_string(::getpid()))).string();
+  const int rc = std::system((std::string(LISTA_BIN_DIR) + "/lista-eval " + args + " >/dev/null 2>" + err).c_str());
+  std::ifstream in(err);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return {WEXITSTATUS(rc), ss.str()};
+}
+
+}  // namespace
+
+TEST(Eval, TruthStatusesFollowTheContract) {
+  const eval::Truth t = truth();
+  EXPECT_EQ(t.changed, (std::set<uint32_t>{2, 3, 4}));
+  EXPECT_EQ(t.dynamic, (std::set<uint32_t>{5}));
+  EXPECT_EQ(t.status.at(2).at("A"), "removed");
+  EXPECT_EQ(t.status.at(3).at("B"), "added");
+  EXPECT_EQ(t.status.at(4).at("B"), "moved");
+  EXPECT_FALSE(t.status.count(1));
+  EXPECT_EQ(t.labels[0].labels[0][10], eval::kNoPoint);
+}
+
+TEST(Eval, PerfectRunScoresOneEverywhere) {
+  const eval::Truth t = truth();
+  const fs::path run = run_dir("perfect");
+  eval::write_perfect_run(t, run.string());
+  const eval::Score s = eval::score_run(t, run.string());
+  EXPECT_EQ(s.points.fp, 0u);
+  EXPECT_EQ(s.points.fn, 0u);
+  EXPECT_EQ(s.points.tp, 16u);
+  EXPECT_EQ(s.points.tn, 28u);
+  for (double v : {s.points.precision(), s.points.recall(), s.points.specificity(), s.points.f1(), s.points.iou()})
+    EXPECT_DOUBLE_EQ(v, 1.0);
+  const eval::ObjectScore& all = s.objects.back();
+  EXPECT_EQ(all.mission, "all");
+  EXPECT_EQ(all.true_changed, 4u);
+  for (double v : {all.precision(), all.recall(), all.status_accuracy(), all.match_accuracy()}) EXPECT_DOUBLE_EQ(v, 1.0);
+  ASSERT_EQ(all.translation_error_m.size(), 2u);
+  EXPECT_NEAR(eval::median(all.translation_error_m), 0.0, 1e-9);
+  EXPECT_NEAR(eval::median(all.rotation_error_deg), 0.0, 1e-6);
+  // B's poses.txt is 0.3 m off its poses_gt.txt: ATE shows exactly that.
+  ASSERT_EQ(s.alignment.size(), 3u);
+  EXPECT_NEAR(s.alignment[0].ate_rmse_m, 0.0, 1e-12);
+  EXPECT_NEAR(s.alignment[1].ate_rmse_m, 0.3, 1e-12);
+  EXPECT_NEAR(s.alignment[2].ate_rmse_m, std::sqrt(0.09 / 2), 1e-12);
+}
+
+TEST(Eval, EmptyRunHasRecallZero) {
+  const fs::path run = run_dir("empty");
+  io::write_report((run / "report.json").string(), empty_report());
+  write_changes(run, "A", {});
+  write_changes(run, "B", {});
+  const eval::Score s = eval::score_run(truth(), run.string());
+  EXPECT_EQ(s.points.recall(), 0.0);
+  EXPECT_TRUE(std::isnan(s.points.precision()));
+  EXPECT_EQ(s.points.specificity(), 1.0);
+  EXPECT_EQ(s.objects.back().recall(), 0.0);
+  EXPECT_TRUE(std::isnan(s.objects.back().precision()));
+}
+
+TEST(Eval, HandComputedCase) {
+  const fs::path run = run_dir("hand");
+  io::Report r = empty_report();
+  const Eigen::Vector3d c(5, 1, 0);
+  // id 2's transform: the true inverse move after a 10 degree turn about c.
+  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+  turn.translate(c).rotate(Eigen::AngleAxisd(10 * M_PI / 180, Eigen::Vector3d::UnitZ())).translate(-c);
+  r.objects = {robj(0, "A", "removed"), robj(1, "A", "moved", 2, translation(1.1, 0, 0)),
+               robj(2, "B", "moved", 1, translation(-1, 0, 0) * turn.matrix()), robj(3, "B", "added"),
+               robj(4, "B", "added")};
+  r.objects[2].centroid = c;
+  io::write_report((run / "report.json").string(), r);
+  // A: obj2 -> id 0; obj4 + 1 structure -> id 1 (IoU 0.8); a dynamic point with -1.
+  write_changes(run, "A", rows(range(15, 18, 0), range(19, 22, 1), range(0, 0, 1), range(23, 23, -1)));
+  // B: obj4 -> id 2; static obj1 -> id 3; 3 of obj3 + 2 structure -> id 4 (IoU exactly 0.5: no pair).
+  write_changes(run, "B", rows(range(18, 21, 2), range(10, 13, 3), range(14, 16, 4), range(1, 2, 4)));
+  const eval::Score s = eval::score_run(truth(), run.string());
+  EXPECT_EQ(s.points.tp, 15u);
+  EXPECT_EQ(s.points.fp, 7u);
+  EXPECT_EQ(s.points.tn, 21u);
+  EXPECT_EQ(s.points.fn, 1u);
+  EXPECT_DOUBLE_EQ(s.points.precision(), 15.0 / 22);
+  EXPECT_DOUBLE_EQ(s.points.recall(), 15.0 / 16);
+  EXPECT_DOUBLE_EQ(s.points.specificity(), 0.75);
+  EXPECT_DOUBLE_EQ(s.points.f1(), 30.0 / 38);
+  EXPECT_DOUBLE_EQ(s.points.iou(), 15.0 / 23);
+  ASSERT_EQ(s.objects.size(), 3u);
+  EXPECT_EQ(s.objects[0].paired, 2u);
+  EXPECT_EQ(s.objects[1].reported, 3u);
+  EXPECT_EQ(s.objects[1].paired, 1u);
+  const eval::ObjectScore& all = s.objects[2];
+  EXPECT_DOUBLE_EQ(all.precision(), 3.0 / 5);
+  EXPECT_DOUBLE_EQ(all.recall(), 3.0 / 4);
+  EXPECT_DOUBLE_EQ(all.status_accuracy(), 1.0);
+  EXPECT_DOUBLE_EQ(all.match_accuracy(), 1.0);
+  EXPECT_NEAR(eval::median(all.translation_error_m), 0.05, 1e-9);
+  EXPECT_NEAR(eval::mean(all.rotation_error_deg), 5.0, 1e-9);
+  EXPECT_NEAR(eval::median(all.rotation_error_deg), 5.0, 1e-9);
+}
+
+TEST(Eval, ContractBreaksGiveOneLineErrorsAndNonZeroExit) {
+  const std::string ds = dataset().root.string();
+  const fs::path run = run_dir("broken");
+  auto expect_fail = [&](const std::string& needle) {
+    const auto [rc, err] = run_tool("--dataset " + ds + " --run " + run.string());
+    EXPECT_NE(rc, 0);
+    EXPECT_NE(err.find(needle), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  };
+  expect_fail("report.json: missing");
+  io::write_report((run / "report.json").string(), empty_report());
+  write_changes(run, "A", {});
+  expect_fail("changes/B.pcd: missing");
+  write_changes(run, "B", {{99, -1}});
+  expect_fail("row 0: scan 0 index 99 is not a finite point of mission 'B'");
+  write_changes(run, "B", {{10, 7}});
+  expect_fail("object 7 is not an object of mission 'B'");
+  write_changes(run, "B", {});
+  {
+    std::ofstream(run / "report.json") << R"({"format":"lista-report/1","missions":["A","B"],"alignment":{}})";
+  }
+  expect_fail("alignment: no entry for mission 'A'");
+  io::Report r = empty_report();
+  r.missions = {"A", "C"};
+  r.alignment = {{"A", Eigen::Matrix4d::Identity()}, {"C", Eigen::Matrix4d::Identity()}};
+  io::write_report((run / "report.json").string(), r);
+  expect_fail("mission 'C' is not in");
+  // The tool itself: a good run scores with exit 0; --truth writes a loadable run.
+  const fs::path perfect = run_dir("tool_perfect");
+  EXPECT_EQ(run_tool("--dataset " + ds + " --truth " + perfect.string()).first, 0);
+  EXPECT_EQ(run_tool("--dataset " + ds + " --run " + perfect.string() + " --json").first, 0);
+  EXPECT_NE(run_tool("--dataset " + ds).first, 0);
+}
