@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
   app.add_option("--batch-instances", cfg.instances_per_batch, "instances per batch (P)")->check(CLI::Range(2, 1024));
   app.add_option("--batch-views", cfg.views_per_instance, "views per instance per batch (K)")->check(CLI::Range(2, 64));
   app.add_option("--lr", cfg.lr, "Adam learning rate")->check(CLI::Range(1e-6, 1.0));
-  app.add_option("--loss", cfg.loss, "proxy (normalised softmax over shape proxies) or triplet (batch-hard)")
+  app.add_option("--loss", cfg.loss, "triplet (batch-hard, default) or proxy (normalised softmax over shape proxies)")
       ->check(CLI::IsMember({"proxy", "triplet"}));
   app.add_option("--scale", cfg.scale, "proxy loss scale (inverse temperature)")->check(CLI::Range(1.0, 100.0));
   app.add_option("--margin", cfg.margin, "triplet margin")->check(CLI::Range(0.0, 2.0));

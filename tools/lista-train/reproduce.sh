@@ -3,17 +3,19 @@
 #   tools/lista-train/reproduce.sh [BUILD_DIR] [OUT_FILE]
 # BUILD_DIR (default: build) must hold bin/lista-sim and bin/lista-train;
 # OUT_FILE defaults to models/describe-learned.bin (+ .sha256). The views set
-# goes to ${LISTA_VIEWS_DIR:-/tmp/lista-train-views}. Everything is seeded:
+# goes to ${LISTA_VIEWS_DIR:-/tmp/lista-train-views}; $LISTA_SIM may name a
+# lista-sim built elsewhere. Everything is seeded:
 # the same build, seed and thread count give the same weights byte for byte.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 build="${1:-$root/build}"
 out="${2:-$root/models/describe-learned.bin}"
 views="${LISTA_VIEWS_DIR:-/tmp/lista-train-views}"
-for exe in lista-sim lista-train; do
-  [[ -x "$build/bin/$exe" ]] || { echo "reproduce.sh: $build/bin/$exe not built" >&2; exit 1; }
+sim="${LISTA_SIM:-$build/bin/lista-sim}"
+for exe in "$sim" "$build/bin/lista-train"; do
+  [[ -x "$exe" ]] || { echo "reproduce.sh: $exe not built" >&2; exit 1; }
 done
 # 600 object instances (about 260 shapes, about 40 held out by the simulator's
 # val/test split) x 8 partial views from random viewpoints and sensors.
-"$build/bin/lista-sim" views --out "$views" --objects 600 --views-per-object 8 --seed 1 --threads 2 --overwrite
-"$build/bin/lista-train" --views "$views" --out "$out" --steps 3000 --eval-every 250 --seed 1 --threads 2
+"$sim" views --out "$views" --objects 600 --views-per-object 8 --seed 1 --threads 2 --overwrite
+"$build/bin/lista-train" --views "$views" --out "$out" --loss triplet --steps 1500 --eval-every 250 --seed 1 --threads 1

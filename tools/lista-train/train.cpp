@@ -2,9 +2,9 @@
 // preprocessing of the plugin. Losses: normalised softmax over one learned
 // proxy per training shape (cosine logits; in the spirit of NormFace /
 // proxy-based metric learning), or batch-hard triplet (Hermans et al. 2017).
-// The batch-hard triplet loss alone sat at its margin on our views (the
-// hardest pairs of partial scans are genuinely ambiguous early on); proxies
-// give every sample a gradient against all shapes from the first step.
+// Batch-hard triplet stays near its margin on partial scans (the hardest
+// pairs are genuinely ambiguous) yet still ranks held-out shapes best; the
+// proxy loss learns steadily but generalised less (docs/bench/descriptors.md).
 #include "train.hpp"
 
 #include <lista_objfeat/canonical.hpp>
