@@ -6,6 +6,7 @@
 #include <lista/plugin.hpp>
 #include <lista_pcl/convert.hpp>
 
+#include <pcl/console/print.h>
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/features/shot_omp.h>
 #include <pcl/filters/voxel_grid.h>
@@ -83,7 +84,17 @@ class ShotStage : public Stage {
     se.setInputNormals(normals);
     se.setSearchMethod(tree);
     se.setRadiusSearch(support_radius_);
-    se.compute(shots);
+    {
+      // SHOT prints a warning per keypoint with NaN normals or no valid frame,
+      // routine on sparse partial scans (100k lines per benchmark run). Those
+      // keypoints are dropped below anyway: keep PCL quiet meanwhile.
+      struct Quiet {
+        pcl::console::VERBOSITY_LEVEL before = pcl::console::getVerbosityLevel();
+        Quiet() { pcl::console::setVerbosityLevel(pcl::console::L_ERROR); }
+        ~Quiet() { pcl::console::setVerbosityLevel(before); }
+      } quiet;
+      se.compute(shots);
+    }
 
     Eigen::RowVectorXf sum = Eigen::RowVectorXf::Zero(352);
     int valid = 0;
