@@ -74,20 +74,48 @@ std::vector<uint32_t> ground_in_tile(const pcl::PointCloud<pcl::PointXYZ>::Ptr& 
       break;
     plane /= norm;
 
-    std::set<Cell> footprint;
-    for (auto i : inliers.indices) footprint.insert(cell_of(points.xyz[i], c.footprint_cell));
-    size_t below = 0;
+    // The plane's inliers fall into patches: footprint cells linked across
+    // gaps of at most one empty cell. Each patch is judged on its own, so a
+    // floor sheet and a deck at the same height elsewhere in the tile (or
+    // several objects' parts at one height) are not one "plane".
+    std::map<Cell, int> patch_of;
+    for (auto i : inliers.indices) patch_of.emplace(cell_of(points.xyz[i], c.footprint_cell), -1);
+    std::vector<std::set<Cell>> patches;
+    for (auto& [start, id] : patch_of) {
+      if (id >= 0) continue;
+      id = int(patches.size());
+      patches.emplace_back();
+      std::vector<Cell> todo{start};
+      while (!todo.empty()) {
+        const Cell q = todo.back();
+        todo.pop_back();
+        patches.back().insert(q);
+        for (int64_t dx = -2; dx <= 2; ++dx)
+          for (int64_t dy = -2; dy <= 2; ++dy) {
+            auto it = patch_of.find({q.first + dx, q.second + dy});
+            if (it != patch_of.end() && it->second < 0) {
+              it->second = id;
+              todo.push_back(it->first);
+            }
+          }
+      }
+    }
+    std::vector<size_t> inliers_in(patches.size(), 0), below(patches.size(), 0);
+    for (auto i : inliers.indices) ++inliers_in[size_t(patch_of.at(cell_of(points.xyz[i], c.footprint_cell)))];
     for (auto i : tile) {
       const auto& p = points.xyz[i];
-      if (plane.head<3>().dot(p) + plane.w() < -2.0 * c.distance &&
-          footprint.count(cell_of(p, c.footprint_cell)))
-        ++below;
+      if (plane.head<3>().dot(p) + plane.w() >= -2.0 * c.distance) continue;
+      auto it = patch_of.find(cell_of(p, c.footprint_cell));
+      if (it != patch_of.end()) ++below[size_t(it->second)];
     }
     // Floor in a change cloud (misalignment, drift) is a broad sheet; a flat
     // object with nothing visible under it (pallet, cart deck, mat) is small.
-    if (double(below) <= c.max_below_fraction * double(inliers.indices.size()) &&
-        (c.min_area <= 0 || hull_area(footprint, c.footprint_cell) >= c.min_area))
-      for (auto i : inliers.indices) ground.push_back(uint32_t(i));
+    std::vector<char> is_ground(patches.size());
+    for (size_t k = 0; k < patches.size(); ++k)
+      is_ground[k] = double(below[k]) <= c.max_below_fraction * double(inliers_in[k]) &&
+                     (c.min_area <= 0 || hull_area(patches[k], c.footprint_cell) >= c.min_area);
+    for (auto i : inliers.indices)
+      if (is_ground[size_t(patch_of.at(cell_of(points.xyz[i], c.footprint_cell)))]) ground.push_back(uint32_t(i));
 
     // Try the next plane on what is left (a lower level, or the floor under a table).
     std::vector<uint32_t> sorted_in(inliers.indices.begin(), inliers.indices.end());

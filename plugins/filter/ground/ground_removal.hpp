@@ -4,9 +4,10 @@
 // under it within its own footprint; only points near such a plane go.
 // Per-tile planes follow ramps and multi-level floors; the "nothing under it"
 // test keeps table tops and box tops, which have their own sides and legs
-// underneath. A plane must also spread over at least `min_area` (convex
-// hull of its footprint): pallets, cart decks and shelf bottoms are flat with
-// nothing under them in a change cloud too, but smaller than a floor sheet.
+// underneath. A plane's inliers are judged per patch (footprint cells linked
+// across one-cell gaps), and a ground patch must spread over at least
+// `min_area` (convex hull): pallets, cart decks and shelf bottoms are flat
+// with nothing under them in a change cloud too, but smaller than a floor.
 #pragma once
 
 #include <lista/points.hpp>

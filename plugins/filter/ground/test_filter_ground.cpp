@@ -89,14 +89,17 @@ TEST(FilterGround, IsDeterministic) {
 TEST(FilterGround, SmallFlatObjectWithNothingUnderItStays) {
   std::mt19937 rng(5);
   lista::PointSet s;
-  // A pallet deck, 1.2 x 0.8 m at 0.15 m, alone in its tile (the floor under
-  // it is unchanged, so not in the change cloud); a floor sheet in the next tile.
+  // A pallet deck, 1.2 x 0.8 m at 0.15 m (the floor under it is unchanged,
+  // so not in the change cloud), two small patches of other objects at the
+  // same height elsewhere in its tile; a floor sheet in the next tile.
   add_floor(s, 0.5f, 1.7f, 0.5f, 1.3f, 0.03f, [](float, float) { return 0.15f; }, rng);
+  add_floor(s, 3.0f, 3.3f, 3.0f, 3.3f, 0.03f, [](float, float) { return 0.15f; }, rng);
+  add_floor(s, 0.3f, 0.6f, 3.4f, 3.7f, 0.03f, [](float, float) { return 0.15f; }, rng);
   const size_t deck = s.size();
   add_floor(s, 4.5f, 7.5f, 0.5f, 3.5f, 0.05f, [](float, float) { return 0.f; }, rng);
   lista::filter::GroundConfig c;
   auto ground = lista::filter::find_ground(s, c, 1);
-  EXPECT_EQ(count_if_in(s, ground, [](const Eigen::Vector3f& p) { return p.x() < 2.f; }), 0u);
+  EXPECT_EQ(count_if_in(s, ground, [](const Eigen::Vector3f& p) { return p.x() < 4.f; }), 0u);
   EXPECT_GT(ground.size(), (s.size() - deck) * 95 / 100);
   c.min_area = 0;  // without the area test the deck is taken for floor
   EXPECT_GT(lista::filter::find_ground(s, c, 1).size(), s.size() * 95 / 100);
