@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 #include <lista/error.hpp>
+#include <lista_io/test_scratch.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -13,10 +14,10 @@ namespace lista_io_test {
 
 inline std::filesystem::path temp_dir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  auto dir = std::filesystem::temp_directory_path() /
-             ("lista_io_" + name + "_" + info->test_suite_name() + "_" + info->name() + "_" +
-              std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
+  std::string leaf = "io_" + name + "_" + info->test_suite_name() + "_" + info->name();
+  for (char& c : leaf)
+    if (c == '/') c = '_';  // parameterised tests: "Suite/Param", one folder level only
+  auto dir = lista::io::testing::scratch_path(leaf);
   std::filesystem::create_directories(dir);
   return dir;
 }

@@ -70,7 +70,7 @@ TEST(AlignGiven, SingleScanIsEnoughBecauseRotationsCount) {
 }
 
 TEST(AlignGiven, FileModeAndItsErrors) {
-  const auto dir = std::filesystem::temp_directory_path() / ("lista_align_given_" + std::to_string(::getpid()));
+  const auto dir = io::testing::scratch_path("align_given");
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "t.txt").string();
   std::ofstream(path) << "# mission  4x4\nA 1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\nB 0 -1 0 2  1 0 0 3  0 0 1 4\n";

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <lista/lista.hpp>
+#include <lista_io/test_scratch.hpp>
 
 #include <map>
 #include <memory>

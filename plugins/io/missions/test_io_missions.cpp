@@ -5,7 +5,9 @@
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
 
+#include <Eigen/Geometry>
 #include <filesystem>
+#include <fstream>
 #include <unistd.h>
 
 using namespace lista;
@@ -14,8 +16,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path make_dataset(const std::string& tag) {
-  const fs::path root = fs::temp_directory_path() / ("lista_io_missions_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(root);
+  const fs::path root = io::testing::scratch_path("io_missions_" + tag);
   for (const char* m : {"t1", "t0"}) {
     fs::create_directories(root / m / "scans");
     std::vector<io::PoseRecord> poses(2);
@@ -28,6 +29,13 @@ fs::path make_dataset(const std::string& tag) {
     io::write_poses((root / m / "poses.txt").string(), poses);
   }
   return root;
+}
+
+Eigen::Isometry3d poses_of_scan2() {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(2, 0, 0);
+  t.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return t;
 }
 
 }  // namespace
@@ -64,5 +72,65 @@ TEST(IoMissions, ClearErrors) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no mission 't9'"), std::string::npos) << e.what();
+  }
+}
+
+// One mission whose scans use every contract format (binary_compressed PCD,
+// ASCII PLY, KITTI .bin) with KITTI poses: the stage reads all of them, keeps
+// file indices across a skipped non-finite point and records the count.
+TEST(IoMissions, EveryScanFormatInOneMission) {
+  const fs::path root = io::testing::scratch_path("io_missions_formats");
+  for (const char* m : {"A", "B"}) {
+    const fs::path scans = root / m / "scans";
+    fs::create_directories(scans);
+    PointSet p;
+    p.xyz = {{1.f, 2.f, 3.f}, {4.f, 5.f, 6.f}};
+    p.intensity = {0.5f, 0.25f};
+    p.label = {0u, 7u};
+    io::write_scan_pcd((scans / "000.pcd").string(), p, io::PcdEncoding::binary_compressed);
+    std::ofstream(scans / "001.ply") << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                        "property float z\nproperty uchar intensity\nend_header\n"
+                                        "1 1 1 10\nnan 0 0 20\n2 2 2 30\n";
+    const float bin[8] = {7.f, 8.f, 9.f, 0.1f, -1.f, -2.f, -3.f, 0.2f};
+    std::ofstream(scans / "002.bin", std::ios::binary).write(reinterpret_cast<const char*>(bin), sizeof bin);
+    std::vector<io::PoseRecord> poses(3);
+    for (int s = 0; s < 3; ++s) poses[s].pose.translation() = Eigen::Vector3d(s, 0, 0);
+    poses[2].pose.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    io::write_poses((root / m / "poses.txt").string(), poses, io::PoseFormat::kitti);
+  }
+  BasicContext ctx("read", 1);
+  auto out = io_test::make_stage("io.missions", {{"path", root.string()}})->run(Inputs{}, ctx);
+  const auto& set = out.at("missions").as<MissionSet>();
+  ASSERT_EQ(set.missions.size(), 2u);
+  const Mission& a = set.missions[0];
+  ASSERT_EQ(a.scans.size(), 3u);
+  EXPECT_EQ(a.skipped_nonfinite, 1u);
+  EXPECT_EQ(a.point_count(), 6u);
+  EXPECT_EQ(a.scans[0].points->label[1], 7u);
+  EXPECT_FLOAT_EQ(a.scans[0].points->intensity[1], 0.25f);
+  const PointSet& ply = *a.scans[1].points;
+  ASSERT_EQ(ply.size(), 2u);
+  EXPECT_EQ(a.scans[1].points_in_file, 3u);
+  EXPECT_EQ(ply.index[1], 2u);  // the NaN row still counts
+  EXPECT_EQ(ply.scan[1], 1u);
+  EXPECT_FLOAT_EQ(ply.intensity[1], 30.f);
+  const PointSet& kitti = *a.scans[2].points;
+  ASSERT_EQ(kitti.size(), 2u);
+  EXPECT_FLOAT_EQ(kitti.xyz[1].z(), -3.f);
+  EXPECT_FLOAT_EQ(kitti.intensity[0], 0.1f);
+  EXPECT_TRUE(a.scans[2].pose.isApprox(poses_of_scan2(), 1e-9));
+  EXPECT_EQ(ctx.info.metrics["read"]["skipped_nonfinite"], 2.0);
+  EXPECT_EQ(ctx.info.metrics["read"]["points"], 12.0);
+}
+
+TEST(IoMissions, ScanAndPoseCountsMustAgree) {
+  const fs::path root = make_dataset("c");
+  io::write_poses((root / "t0" / "poses.txt").string(), std::vector<io::PoseRecord>(3));
+  BasicContext ctx;
+  try {
+    io_test::make_stage("io.missions", {{"path", root.string()}})->run(Inputs{}, ctx);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("2 scan files in scans/ but 3 poses"), std::string::npos) << e.what();
   }
 }

@@ -16,8 +16,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path out_dir(const std::string& tag) {
-  const fs::path d = fs::temp_directory_path() / ("lista_io_report_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
+  const fs::path d = io::testing::scratch_path("io_report_" + tag);
   return d;
 }
 

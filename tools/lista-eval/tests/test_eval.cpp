@@ -8,6 +8,7 @@
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
 #include <lista_io/report.hpp>
+#include <lista_io/test_scratch.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -36,8 +37,7 @@ struct Dataset {
   // index ranges (A): structure 0-9, NaN 10, obj1 11-14, obj2 15-18, obj4 19-22, obj5 23-24
   // (B): structure 0-9, obj1 10-13, obj3 14-17, obj4 18-21
   Dataset() {
-    root = fs::temp_directory_path() / ("lista_eval_ds_" + std::to_string(::getpid()));
-    fs::remove_all(root);
+    root = io::testing::scratch_path("eval_ds");
     write_mission("A", {{0, 10}, {~0u, 1}, {1, 4}, {2, 4}, {4, 4}, {5, 2}}, Eigen::Matrix4d::Identity());
     write_mission("B", {{0, 10}, {1, 4}, {3, 4}, {4, 4}}, translation(0, 0.3, 0));
     io::GroundTruth g;
@@ -84,8 +84,7 @@ const Dataset& dataset() {
 }
 
 fs::path run_dir(const std::string& tag) {
-  const fs::path d = fs::temp_directory_path() / ("lista_eval_run_" + tag + "_" + std::to_string(::getpid()));
-  fs::remove_all(d);
+  const fs::path d = io::testing::scratch_path("eval_run_" + tag);
   fs::create_directories(d / "changes");
   return d;
 }
@@ -140,7 +139,7 @@ eval::Truth truth() { return eval::load_truth(dataset().root.string(), {"A", "B"
 
 // Runs the lista-eval program; returns its exit status and stderr.
 std::pair<int, std::string> run_tool(const std::string& args) {
-  const std::string err = (fs::temp_directory_path() / ("lista_eval_err_" + std::to_string(::getpid()))).string();
+  const std::string err = io::testing::scratch_path("eval_err").string();
   const int rc = std::system((std::string(LISTA_BIN_DIR) + "/lista-eval " + args + " >/dev/null 2>" + err).c_str());
   std::ifstream in(err);
   std::stringstream ss;
