@@ -265,6 +265,28 @@ TEST(Eval, ContractBreaksGiveOneLineErrorsAndNonZeroExit) {
   r.alignment = {{"A", Eigen::Matrix4d::Identity()}, {"C", Eigen::Matrix4d::Identity()}};
   io::write_report((run / "report.json").string(), r);
   expect_fail("mission 'C' is not in");
+  // Wrong fields: a bad status word, a float 'object' column, another format.
+  {
+    std::ofstream(run / "report.json")
+        << R"({"format":"lista-report/1","missions":["A","B"],"alignment":{"A":[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]],)"
+        << R"("B":[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]},"objects":[{"id":1,"mission":"A","status":"gone",)"
+        << R"("centroid":[0,0,0],"bbox_min":[0,0,0],"bbox_max":[0,0,0],"points":1,"group":0,"confidence":1,"match":null}],)"
+        << R"("timings_s":{}})";
+  }
+  expect_fail("status: is 'gone', expected moved, removed or added");
+  io::write_report((run / "report.json").string(), empty_report());
+  {
+    const float v[1] = {0.f};
+    const uint32_t u[1] = {10u};
+    io::write_pcd((run / "changes" / "B.pcd").string(), 1,
+                  {{"x", 'F', v}, {"y", 'F', v}, {"z", 'F', v}, {"scan", 'U', v}, {"index", 'U', u}, {"object", 'F', v}});
+  }
+  expect_fail("scan and index must be uint32 (U), object int32 (I)");
+  write_changes(run, "B", {});
+  {
+    std::ofstream(run / "report.json") << R"({"format":"lista-report/2","missions":["A","B"]})";
+  }
+  expect_fail("expected 'lista-report/1'");
   // The tool itself: a good run scores with exit 0; --truth writes a loadable run.
   const fs::path perfect = run_dir("tool_perfect");
   EXPECT_EQ(run_tool("--dataset " + ds + " --truth " + perfect.string()).first, 0);
