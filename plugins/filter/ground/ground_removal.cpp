@@ -135,11 +135,13 @@ std::vector<uint32_t> find_ground(const PointSet& points, const GroundConfig& c,
     throw Error("tile_size, distance and footprint_cell must be > 0");
   if (points.empty()) return {};
   // A tile with no horizontal plane (only walls or objects) is an expected
-  // outcome here, but PCL prints it as an error on stderr once per tile. PCL
-  // has only a process-wide switch; errors that matter reach the user
-  // through lista::Error and the stage's context, so PCL's own console is
-  // limited to messages it marks as always shown.
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  // outcome here, but PCL prints it as an error on stderr once per tile.
+  // PCL has only a process-wide switch: quiet it while this call runs.
+  struct QuietPcl {
+    pcl::console::VERBOSITY_LEVEL before = pcl::console::getVerbosityLevel();
+    QuietPcl() { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); }
+    ~QuietPcl() { pcl::console::setVerbosityLevel(before); }
+  } quiet;
   std::map<Cell, std::vector<uint32_t>> tiles;  // ordered: deterministic
   for (uint32_t i = 0; i < points.size(); ++i) tiles[cell_of(points.xyz[i], c.tile_size)].push_back(i);
   std::vector<const std::vector<uint32_t>*> list;
