@@ -1,0 +1,62 @@
+// The change decision both volumetric backends share. A backend builds one
+// occupancy map per mission and exposes it through OccupancyMap; this code
+// then classifies every original point against the neighbouring missions.
+#pragma once
+
+#include <lista/context.hpp>
+#include <lista/missions.hpp>
+#include <lista_raycast/volumetric_config.hpp>
+#include <lista_raycast/voxel.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace lista::raycast {
+
+// Read access for one thread (backends cache tree paths in it, so never share).
+class OccupancyReader {
+ public:
+  virtual ~OccupancyReader() = default;
+  // False if the voxel was never observed; else its log-odds in `out`.
+  virtual bool logodds(const Voxel& v, float& out) = 0;
+};
+
+class OccupancyMap {
+ public:
+  virtual ~OccupancyMap() = default;
+  virtual std::unique_ptr<OccupancyReader> reader() const = 0;
+};
+
+// What building one mission's map cost and produced.
+struct MapStats {
+  uint64_t rays = 0;             // beams cast (hits and max-range misses)
+  uint64_t voxel_visits = 0;     // free-space voxels traversed, before de-duplication
+  uint64_t occupied_voxels = 0;  // P > occupied_threshold after all scans
+  uint64_t free_voxels = 0;      // observed, not occupied
+};
+
+struct ChangeStats {
+  std::vector<uint64_t> changed_points, changed_voxels;  // per mission
+};
+
+// Throws lista::Error unless there are >= 2 missions, each with scans.
+void check_missions(const MissionSet& missions);
+
+// Points of mission m are changed when, against mission m-1 or m+1, their
+// voxel's probability exceeds the other's by more than change_threshold (the
+// other mission must have observed the voxel) and no voxel within
+// `neighbourhood` of it is occupied in the other mission. Output: one set per
+// mission, common frame, original points with their provenance and channels,
+// in scan then file order (deterministic for any thread count).
+MissionPoints detect_changes(const MissionSet& missions,
+                             const std::vector<const OccupancyMap*>& maps,
+                             const VolumetricConfig& config, int threads,
+                             ChangeStats* stats = nullptr);
+
+// Context::record of the per-mission numbers, keys "<mission>.<what>".
+void record_stats(Context& context, const MissionSet& missions, const std::vector<MapStats>& maps,
+                  const ChangeStats& changes);
+
+}  // namespace lista::raycast

@@ -1,0 +1,33 @@
+// Parameters shared by every volumetric backend: declared once here so that
+// `volumetric.octomap` and `volumetric.openvdb` are swappable by changing one
+// line of a pipeline.
+#pragma once
+
+#include <lista/params.hpp>
+
+#include <vector>
+
+namespace lista::raycast {
+
+struct VolumetricConfig {
+  double resolution = 0.05;          // voxel edge, m
+  double max_range = 30.0;           // m; <= 0: unlimited
+  double prob_hit = 0.7;             // P(occupied | return in voxel)
+  double prob_miss = 0.4;            // P(occupied | beam passed through)
+  double clamping_min = 0.1192;      // probability bounds of a voxel
+  double clamping_max = 0.971;
+  double occupied_threshold = 0.5;   // P above which a voxel is occupied
+  double change_threshold = 0.5;     // P(this) - P(other) above which a voxel changed
+  int neighbourhood = 1;             // voxels: other mission must be clear around the point
+  double hit_margin = 0.25;          // m of each beam before its return not carved free
+};
+
+// The declarations, defaults equal to VolumetricConfig's.
+std::vector<ParamSpec> volumetric_params();
+
+// Reads and cross-checks the values (prob_hit > 0.5 > prob_miss,
+// clamping_min < clamping_max); throws lista::Error with a one-line reason.
+VolumetricConfig volumetric_config(const Params& params);
+void validate(const VolumetricConfig& config);
+
+}  // namespace lista::raycast

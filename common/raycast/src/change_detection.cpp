@@ -1,0 +1,141 @@
+#include <lista_raycast/change_detection.hpp>
+
+#include <algorithm>
+#include <omp.h>
+
+namespace lista::raycast {
+
+void check_missions(const MissionSet& missions) {
+  if (missions.missions.size() < 2)
+    throw Error("volumetric differencing needs at least 2 missions, got " +
+                std::to_string(missions.missions.size()));
+  for (const Mission& m : missions.missions) {
+    if (m.scans.empty()) throw Error("mission '" + m.name + "' has no scans");
+    for (const Scan& s : m.scans)
+      if (!s.points) throw Error("mission '" + m.name + "': scan '" + s.file + "' has no points loaded");
+  }
+}
+
+namespace {
+
+uint64_t pack(const Voxel& v) {
+  auto u = [](int x) { return static_cast<uint64_t>(x + (1 << 20)) & 0x1FFFFF; };
+  return u(v.x()) | (u(v.y()) << 21) | (u(v.z()) << 42);
+}
+
+struct Decider {
+  const VolumetricConfig& c;
+  float occupied_logodds;
+
+  // True if no voxel within the neighbourhood of v is occupied in `other`.
+  bool clear_around(OccupancyReader& other, const Voxel& v) const {
+    const int r = c.neighbourhood;
+    float l;
+    for (int dz = -r; dz <= r; ++dz)
+      for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx)
+          if (other.logodds(Voxel(v.x() + dx, v.y() + dy, v.z() + dz), l) && l > occupied_logodds)
+            return false;
+    return true;
+  }
+
+  bool changed(OccupancyReader& own, OccupancyReader* const* others, int n_others, const Voxel& v) const {
+    float l_own;
+    if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return false;
+    const double p_own = probability(l_own);
+    for (int k = 0; k < n_others; ++k) {
+      float l_other;
+      if (!others[k]->logodds(v, l_other)) continue;  // unobserved there: unknown, not change
+      if (p_own - probability(l_other) <= c.change_threshold) continue;
+      if (clear_around(*others[k], v)) return true;
+    }
+    return false;
+  }
+};
+
+}  // namespace
+
+MissionPoints detect_changes(const MissionSet& missions, const std::vector<const OccupancyMap*>& maps,
+                             const VolumetricConfig& config, int threads, ChangeStats* stats) {
+  const size_t n = missions.missions.size();
+  if (maps.size() != n) throw Error("detect_changes: one map per mission expected");
+  const Decider decide{config, logodds(config.occupied_threshold)};
+  const double inv_res = 1.0 / config.resolution;
+  MissionPoints out;
+  if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
+
+  for (size_t m = 0; m < n; ++m) {
+    const Mission& mission = missions.missions[m];
+    const size_t scans = mission.scans.size();
+    std::vector<std::vector<uint32_t>> changed(scans);  // per scan: point positions in the PointSet
+    std::vector<std::vector<uint64_t>> changed_voxels(scans);
+
+#pragma omp parallel num_threads(std::max(1, threads))
+    {
+      auto own = maps[m]->reader();
+      std::vector<std::unique_ptr<OccupancyReader>> other_readers;
+      if (m > 0) other_readers.push_back(maps[m - 1]->reader());
+      if (m + 1 < n) other_readers.push_back(maps[m + 1]->reader());
+      OccupancyReader* others[2] = {other_readers[0].get(),
+                                    other_readers.size() > 1 ? other_readers[1].get() : nullptr};
+      const int n_others = static_cast<int>(other_readers.size());
+#pragma omp for schedule(dynamic, 1)
+      for (long i = 0; i < static_cast<long>(scans); ++i) {
+        const PointSet& pts = *mission.scans[i].points;
+        const Eigen::Affine3d to_index =
+            Eigen::Scaling(inv_res) * mission.sensor_to_common(static_cast<size_t>(i));
+        for (size_t j = 0; j < pts.size(); ++j) {
+          const Voxel v = voxel_of(to_index * pts.xyz[j].cast<double>());
+          if (decide.changed(*own, others, n_others, v)) {
+            changed[i].push_back(static_cast<uint32_t>(j));
+            changed_voxels[i].push_back(pack(v));
+          }
+        }
+      }
+    }
+
+    PointSet set;
+    size_t total = 0;
+    for (const auto& c : changed) total += c.size();
+    set.reserve(total);
+    for (size_t i = 0; i < scans; ++i) {
+      const PointSet& pts = *mission.scans[i].points;
+      const Eigen::Isometry3f to_common = mission.sensor_to_common(i).cast<float>();
+      for (uint32_t j : changed[i]) {
+        set.push_back_from(pts, j);
+        set.xyz.back() = to_common * pts.xyz[j];
+        set.scan.back() = static_cast<uint32_t>(i);  // provenance follows the mission's scan order
+        if (pts.index.empty()) set.index.back() = j;
+      }
+    }
+    if (stats) {
+      std::vector<uint64_t> all;
+      for (auto& c : changed_voxels) all.insert(all.end(), c.begin(), c.end());
+      std::sort(all.begin(), all.end());
+      stats->changed_voxels[m] = static_cast<uint64_t>(std::unique(all.begin(), all.end()) - all.begin());
+      stats->changed_points[m] = total;
+    }
+    out.missions.push_back(mission.name);
+    out.sets.push_back(std::move(set));
+  }
+  return out;
+}
+
+void record_stats(Context& context, const MissionSet& missions, const std::vector<MapStats>& maps,
+                  const ChangeStats& changes) {
+  for (size_t m = 0; m < missions.missions.size(); ++m) {
+    const std::string k = missions.missions[m].name + ".";
+    if (m < maps.size()) {
+      context.record(k + "rays", static_cast<double>(maps[m].rays));
+      context.record(k + "voxel_visits", static_cast<double>(maps[m].voxel_visits));
+      context.record(k + "occupied_voxels", static_cast<double>(maps[m].occupied_voxels));
+      context.record(k + "free_voxels", static_cast<double>(maps[m].free_voxels));
+    }
+    if (m < changes.changed_points.size()) {
+      context.record(k + "changed_points", static_cast<double>(changes.changed_points[m]));
+      context.record(k + "changed_voxels", static_cast<double>(changes.changed_voxels[m]));
+    }
+  }
+}
+
+}  // namespace lista::raycast

@@ -1,0 +1,77 @@
+#include <lista_raycast/volumetric_config.hpp>
+
+namespace lista::raycast {
+
+std::vector<ParamSpec> volumetric_params() {
+  const VolumetricConfig d;
+  return {
+      ParamSpec::real("resolution", d.resolution, "voxel edge length").range(0.005, 5.0).unit("m"),
+      ParamSpec::real("max_range", d.max_range,
+                      "beams are cut at this range: a farther return adds free space up to the "
+                      "range and no hit (far beams are wider than a voxel); <= 0 means unlimited")
+          .unit("m"),
+      ParamSpec::real("prob_hit", d.prob_hit, "occupancy probability of a voxel holding a return")
+          .range(0.5, 1.0),
+      ParamSpec::real("prob_miss", d.prob_miss,
+                      "occupancy probability of a voxel a beam passed through; closer to 0.5 than "
+                      "prob_hit so a single grazing beam cannot clear a surface seen by other scans")
+          .range(0.0, 0.5),
+      ParamSpec::real("clamping_min", d.clamping_min, "lower probability bound of a voxel")
+          .range(0.0, 1.0),
+      ParamSpec::real("clamping_max", d.clamping_max, "upper probability bound of a voxel")
+          .range(0.0, 1.0),
+      ParamSpec::real("occupied_threshold", d.occupied_threshold,
+                      "probability above which a voxel counts as occupied")
+          .range(0.0, 1.0),
+      ParamSpec::real("change_threshold", d.change_threshold,
+                      "a point's voxel changed when its occupancy probability in the point's "
+                      "mission exceeds that in a neighbouring mission by more than this; a voxel "
+                      "never observed in the other mission is unknown, never changed")
+          .range(0.0, 1.0),
+      ParamSpec::integer("neighbourhood", d.neighbourhood,
+                         "radius in voxels (Chebyshev) that must hold no occupied voxel in the other "
+                         "mission: tolerates sensor noise, residual misalignment and beams grazing "
+                         "a surface; 0 compares the point's voxel only")
+          .range(0, 3)
+          .unit("voxels"),
+      ParamSpec::real("hit_margin", d.hit_margin,
+                      "the last stretch of each beam before its return is not marked free: a beam "
+                      "grazing a floor or wall (at 10 deg incidence it is within one 5 cm voxel of "
+                      "the surface for its last 0.3 m), or a return measured a little long, would "
+                      "otherwise clear voxels of the surface it hits; the cost is that change "
+                      "closer than this to the surface behind it along the beam is not carved")
+          .range(0.0, 1.0)
+          .unit("m"),
+  };
+}
+
+void validate(const VolumetricConfig& c) {
+  if (!(c.prob_hit > 0.5 && c.prob_hit < 1.0))
+    throw Error("prob_hit must be in (0.5, 1), got " + std::to_string(c.prob_hit));
+  if (!(c.prob_miss > 0.0 && c.prob_miss < 0.5))
+    throw Error("prob_miss must be in (0, 0.5), got " + std::to_string(c.prob_miss));
+  if (!(c.clamping_min > 0.0 && c.clamping_min < c.clamping_max && c.clamping_max < 1.0))
+    throw Error("clamping must satisfy 0 < clamping_min < clamping_max < 1, got " +
+                std::to_string(c.clamping_min) + " and " + std::to_string(c.clamping_max));
+  if (!(c.resolution > 0)) throw Error("resolution must be > 0");
+  if (c.neighbourhood < 0) throw Error("neighbourhood must be >= 0");
+  if (c.hit_margin < 0) throw Error("hit_margin must be >= 0");
+}
+
+VolumetricConfig volumetric_config(const Params& p) {
+  VolumetricConfig c;
+  c.resolution = p.get<double>("resolution");
+  c.max_range = p.get<double>("max_range");
+  c.prob_hit = p.get<double>("prob_hit");
+  c.prob_miss = p.get<double>("prob_miss");
+  c.clamping_min = p.get<double>("clamping_min");
+  c.clamping_max = p.get<double>("clamping_max");
+  c.occupied_threshold = p.get<double>("occupied_threshold");
+  c.change_threshold = p.get<double>("change_threshold");
+  c.neighbourhood = p.get<int>("neighbourhood");
+  c.hit_margin = p.get<double>("hit_margin");
+  validate(c);
+  return c;
+}
+
+}  // namespace lista::raycast

@@ -1,0 +1,100 @@
+// volumetric.octomap: the paper's volumetric differencing on OctoMap OcTrees
+// (the reference backend; volumetric.openvdb is the fast one).
+#include "octree_occupancy.hpp"
+
+#include "volumetric_octomap.hpp"
+
+#include <lista/plugin.hpp>
+#include <lista_raycast/change_detection.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
+
+namespace lista::volumetric {
+
+namespace {
+
+StageInfo octomap_info() {
+  StageInfo info;
+  info.name = "volumetric.octomap";
+  info.version = "1.0.0";
+  info.summary = "Volumetric change by ray-cast occupancy grids (OctoMap), differenced between consecutive missions";
+  info.doc =
+      "Builds one occupancy map per mission by casting every beam from its sensor origin "
+      "(free space along the beam, a hit at the return), then marks a point changed when its "
+      "voxel is occupied in its own mission and observed free in the previous or next mission. "
+      "Voxels never observed in the other mission are unknown, never changed. Same semantics and "
+      "parameters as volumetric.openvdb; this backend is the paper's: one OctoMap OcTree per "
+      "mission updated like OcTree::insertPointCloud, with key rays computed on several threads "
+      "and missions built in parallel.";
+  info.inputs = {{"missions", "missions", "aligned missions (scans, poses, to_common)", false}};
+  info.outputs = {{"changes", "points", "changed original points per mission, common frame", false}};
+  info.params = raycast::volumetric_params();
+  return info;
+}
+
+class OctomapStage : public Stage {
+ public:
+  explicit OctomapStage(const Params& p) : config_(raycast::volumetric_config(p)) {}
+
+  Outputs run(const Inputs& inputs, Context& ctx) override {
+    const MissionSet& missions = inputs.get<MissionSet>("missions");
+    raycast::check_missions(missions);
+    size_t scans = 0;
+    for (const auto& m : missions.missions) scans += m.scans.size();
+    const size_t n = missions.missions.size();
+    std::vector<std::unique_ptr<raycast::OccupancyMap>> maps(n);
+    std::vector<raycast::MapStats> stats(n);
+    // Missions in parallel (trees are independent); each gets a share of the threads.
+    const int outer = std::max(1, std::min(ctx.threads(), static_cast<int>(n)));
+    const int inner = std::max(1, ctx.threads() / outer);
+    std::atomic<size_t> next{0};
+    std::vector<std::exception_ptr> failures(n);
+    ctx.progress().begin("ray casting", scans);
+    auto worker = [&] {
+      for (size_t m; (m = next.fetch_add(1)) < n;) {
+        try {
+          if (ctx.cancelled()) throw Cancelled();
+          maps[m] = build_octree_map(missions.missions[m], config_, inner, stats[m], &ctx.progress());
+        } catch (...) {
+          failures[m] = std::current_exception();
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < outer; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& th : pool) th.join();
+    ctx.progress().end();
+    for (auto& f : failures)
+      if (f) std::rethrow_exception(f);
+    std::vector<const raycast::OccupancyMap*> views;
+    for (auto& m : maps) views.push_back(m.get());
+    raycast::ChangeStats changes;
+    MissionPoints out = raycast::detect_changes(missions, views, config_, ctx.threads(), &changes);
+    raycast::record_stats(ctx, missions, stats, changes);
+    ctx.info("changed points: " + std::to_string(out.total()));
+    Outputs o;
+    o.put("changes", std::move(out));
+    return o;
+  }
+
+ private:
+  raycast::VolumetricConfig config_;
+};
+
+void register_stages(Registrar& r) {
+  r.add(octomap_info(), [](const Params& p) { return std::make_unique<OctomapStage>(p); });
+}
+
+}  // namespace
+
+// For tests and the benchmark, which run the stage without the plugin loader.
+StageInfo volumetric_octomap_info() { return octomap_info(); }
+std::unique_ptr<Stage> make_volumetric_octomap(const Params& p) { return std::make_unique<OctomapStage>(p); }
+
+}  // namespace lista::volumetric
+
+LISTA_PLUGIN(lista::volumetric::register_stages)
