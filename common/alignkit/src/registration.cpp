@@ -8,6 +8,7 @@
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace lista::align {
@@ -52,6 +53,23 @@ Eigen::Isometry3d run_stage(const PclCloud::Ptr& source, const PclCloud::Ptr& ta
   return result;
 }
 
+// Share of `source` points (moved by t) with a `target` point within max_distance.
+double overlap(const PclCloud& source, const PclCloud& target, const Eigen::Isometry3d& t, double max_distance) {
+  auto tgt = std::make_shared<PclCloud>(target);
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(tgt);
+  pcl::Indices nn(1);
+  std::vector<float> d2(1);
+  const Eigen::Isometry3f tf = t.cast<float>();
+  size_t hits = 0;
+  for (const auto& p : source.points) {
+    pcl::PointXYZ q;
+    q.getVector3fMap() = tf * p.getVector3fMap();
+    if (tree.nearestKSearch(q, 1, nn, d2) == 1 && d2[0] <= max_distance * max_distance) ++hits;
+  }
+  return source.empty() ? 0.0 : static_cast<double>(hits) / source.size();
+}
+
 }  // namespace
 
 RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
@@ -67,8 +85,19 @@ RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
   auto tgt_coarse = to_pcl(voxel_downsample(target, coarse_voxel));
   bool converged = false;
   Eigen::Isometry3d t = guess;
-  if (src_coarse->size() >= 20 && tgt_coarse->size() >= 20)
+  if (src_coarse->size() >= 20 && tgt_coarse->size() >= 20) {
     t = run_stage(src_coarse, tgt_coarse, guess, o.coarse_distance, o, converged);
+    // Most wrong candidates show here, at a fraction of the fine stage's cost.
+    if (o.min_coarse_overlap > 0.0) {
+      const double d = std::max(coarse_voxel, o.inlier_distance);
+      const double ov = std::min(overlap(*src_coarse, *tgt_coarse, t, d), overlap(*tgt_coarse, *src_coarse, t.inverse(), d));
+      if (ov < o.min_coarse_overlap) {
+        result.transform = t;
+        result.overlap = result.reverse_overlap = ov;
+        return result;
+      }
+    }
+  }
   auto src = to_pcl(source);
   auto tgt = to_pcl(target);
   t = run_stage(src, tgt, t, o.fine_distance, o, converged);

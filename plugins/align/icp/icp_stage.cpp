@@ -58,11 +58,15 @@ class IcpStage : public Stage {
       maps[i] = mission_map(set.missions[i], voxel_, max_range_);
       if (maps[i].size() < 20) throw Error("mission '" + set.missions[i].name + "' has too few points to register");
     });
-    out.missions[0].to_common = Eigen::Isometry3d::Identity();
+    // The first mission's frame is the common frame; with initial = "input"
+    // it keeps the to_common it came with and the others start from theirs.
+    const Eigen::Isometry3d reference = initial_ == "input" ? set.missions[0].to_common : Eigen::Isometry3d::Identity();
+    out.missions[0].to_common = reference;
     for (size_t m = 1; m < maps.size(); ++m) {
       ctx.throw_if_cancelled();
-      Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
+      Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();  // mission m's map -> mission 0's map
       if (initial_ == "centroid") guess.translation() = centroid(maps[0]) - centroid(maps[m]);
+      if (initial_ == "input") guess = reference.inverse() * set.missions[m].to_common;
       const RegistrationResult r = register_clouds(maps[m], maps[0], guess, reg_);
       const std::string& name = set.missions[m].name;
       ctx.record("overlap_" + name, r.overlap);
@@ -71,7 +75,7 @@ class IcpStage : public Stage {
         throw Error("mission '" + name + "' does not register onto '" + set.missions[0].name + "' (overlap " +
                     std::to_string(r.overlap) + " < min_overlap " + std::to_string(min_overlap_) +
                     "); the maps must overlap and start roughly aligned");
-      out.missions[m].to_common = r.transform;
+      out.missions[m].to_common = reference * r.transform;
     }
     if (const auto after = trajectory_error(out)) ctx.record("ate_after_m", after->rmse);
     Outputs o;
@@ -96,7 +100,8 @@ StageInfo icp_stage_info() {
   s.doc =
       "Builds each mission's map (every scan at its poses.txt pose, points within max_range of the sensor, "
       "voxel-downsampled) and registers it onto the first mission's map with coarse-to-fine GICP (or "
-      "point-to-point ICP), starting from identity or from the centroid offset. Sets to_common; scan poses "
+      "point-to-point ICP), starting from identity, from the centroid offset, or from the missions' to_common "
+      "as they come (initial = \"input\", e.g. after align.given). Sets to_common; scan poses "
       "are unchanged, so drift within a mission is not corrected. Refuses a mission whose registered overlap "
       "is below min_overlap. The paper's point: this leaves local misregistration that looks like change.";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
@@ -105,7 +110,8 @@ StageInfo icp_stage_info() {
       ParamSpec::real("voxel", 0.25, "map downsampling").range(0.01, 10).unit("m"),
       ParamSpec::real("max_range", 40.0, "points farther from their sensor are left out").range(0.5, 1000).unit("m"),
       ParamSpec::text("registration", "gicp", "method").one_of({"gicp", "icp"}),
-      ParamSpec::text("initial", "identity", "starting guess").one_of({"identity", "centroid"}),
+      ParamSpec::text("initial", "identity", "starting guess: identity, centroid offset, or the input to_common")
+          .one_of({"identity", "centroid", "input"}),
       ParamSpec::real("coarse_distance", 3.0, "max correspondence distance, coarse stage").range(0.05, 100).unit("m"),
       ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::integer("iterations", 60, "iterations per stage").range(1, 10000),

@@ -22,8 +22,10 @@ Eigen::Isometry3d offset(double x, double y, double z, double yaw_deg) {
   return t;
 }
 
-const MissionSet& run(const MissionSet& set, BasicContext& ctx, Outputs& out) {
-  auto stage = make_icp_stage(Params::defaults(icp_stage_info().params));
+const MissionSet& run(const MissionSet& set, BasicContext& ctx, Outputs& out, const std::string& initial = "identity") {
+  Params p = Params::defaults(icp_stage_info().params);
+  p.set("initial", initial);
+  auto stage = make_icp_stage(p);
   Inputs in;
   in.set("missions", Data::make(set));
   out = stage->run(in, ctx);
@@ -75,4 +77,26 @@ TEST(AlignIcp, RefusesMapsThatDoNotOverlap) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("'field'"), std::string::npos) << e.what();
   }
+}
+
+TEST(AlignIcp, StartsFromTheInputTransforms) {
+  const Scene hall = make_hall(30, 20, 40, 7);
+  const auto route = loop_route(30, 20, 4.0, 2.0, 0.0);
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, route, route, 1));
+  // Mission b's map is 25 m and 120 degrees away: far beyond ICP's reach from identity.
+  const Eigen::Isometry3d map_from_world = offset(25, -10, 0.3, 120);
+  std::vector<Eigen::Isometry3d> poses_b;
+  for (const auto& p : route) poses_b.push_back(map_from_world * p);
+  set.missions.push_back(make_mission("b", hall, route, poses_b, 2));
+  // A rough guess (0.5 m, 3 degrees off), as align.given or an operator would give.
+  set.missions[1].to_common = offset(0.4, 0.3, 0, 3) * map_from_world.inverse();
+
+  BasicContext ctx("align", 2, 0);
+  Outputs out;
+  const MissionSet& aligned = run(set, ctx, out, "input");
+  const auto after = trajectory_error(aligned);
+  ASSERT_TRUE(after);
+  EXPECT_LT(after->rmse, 0.03);
+  EXPECT_LT((aligned.missions[1].to_common.translation() - map_from_world.inverse().translation()).norm(), 0.05);
 }

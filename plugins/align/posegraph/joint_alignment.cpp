@@ -44,6 +44,7 @@ std::vector<Eigen::Isometry3d> initial_transforms(const MissionSet& set, const s
   std::map<std::pair<size_t, size_t>, const Closure*> best;
   for (const auto& c : closures) {
     const auto key = std::make_pair(kf[c.reference].mission, kf[c.query].mission);
+    if (key.first == key.second) continue;  // a loop within one mission places nothing
     auto it = best.find(key);
     if (it == best.end() || c.rmse < it->second->rmse) best[key] = &c;
   }
@@ -152,6 +153,10 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency);
   report.consistent = closures.size();
   for (const auto& c : closures) {
+    if (kf[c.reference].mission == kf[c.query].mission) {
+      ++report.intra;
+      continue;
+    }
     ++report.closures_per_mission[kf[c.reference].mission];
     ++report.closures_per_mission[kf[c.query].mission];
   }

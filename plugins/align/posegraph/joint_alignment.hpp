@@ -32,8 +32,9 @@ struct JointAlignmentOptions {
 
 struct JointAlignmentReport {
   size_t keyframes = 0, candidates = 0, verified = 0, consistent = 0, proximity = 0, final_closures = 0;
+  size_t intra = 0;  // consistent closures within one mission
+  std::vector<size_t> closures_per_mission;  // consistent closures to other missions
   double initial_cost = 0.0, final_cost = 0.0;
-  std::vector<size_t> closures_per_mission;
 };
 
 // Returns a copy of `missions` (point data shared) with corrected scan poses and

@@ -43,14 +43,17 @@ std::vector<Keyframe> make_keyframes(const MissionSet& set, const KeyframeOption
   for (size_t mi = 0; mi < set.missions.size(); ++mi) {
     const Mission& m = set.missions[mi];
     Eigen::Isometry3d last;
+    double travelled = 0.0;
     for (size_t s = 0; s < m.scans.size(); ++s) {
       const Eigen::Isometry3d& pose = m.scans[s].pose;
+      if (s > 0) travelled += (pose.translation() - m.scans[s - 1].pose.translation()).norm();
       const bool take = s == 0 || (pose.translation() - last.translation()).norm() >= o.keyframe_distance ||
                         rotation_angle(last.linear().transpose() * pose.linear()) >= o.keyframe_angle;
       if (!take) continue;
       Keyframe k;
       k.mission = mi;
       k.scan = s;
+      k.travelled = travelled;
       k.frame = levelled_frame(pose);
       keyframes.push_back(std::move(k));
       last = pose;
@@ -91,11 +94,17 @@ std::vector<Candidate> find_candidates(const std::vector<Keyframe>& keyframes, s
   std::vector<std::vector<Candidate>> found(keyframes.size());
   parallel_for(keyframes.size(), threads, [&](size_t q) {
     const Keyframe& query = keyframes[q];
-    for (size_t a = 0; a < query.mission; ++a) {
+    const bool intra = o.intra_min_travel > 0.0;
+    for (size_t a = 0; a <= query.mission; ++a) {
+      if (a == query.mission && (!intra || query.travelled < o.intra_min_travel)) break;
       Candidate best;
       bool any = false;
-      for (size_t j : indices[a]->nearest(query.descriptor.ring_key, o.neighbours)) {
+      // Within one mission the nearest ring keys are mostly the keyframes just
+      // before: look further down the list.
+      const size_t k = a == query.mission ? 4 * o.neighbours : o.neighbours;
+      for (size_t j : indices[a]->nearest(query.descriptor.ring_key, k)) {
         const size_t r = members[a][j];
+        if (a == query.mission && query.travelled - keyframes[r].travelled < o.intra_min_travel) continue;
         const ScanContextMatch match = compare(keyframes[r].descriptor, query.descriptor);
         if (match.distance <= o.max_distance && (!any || match.distance < best.distance)) {
           best = {r, q, match.distance, match.yaw};

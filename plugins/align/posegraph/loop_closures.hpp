@@ -25,6 +25,7 @@ struct KeyframeOptions {
 
 struct Keyframe {
   size_t mission = 0, scan = 0;
+  double travelled = 0.0;   // m of trajectory from the mission's first scan
   Eigen::Isometry3d frame;  // levelled frame at the scan, in the mission's map frame
   Cloud submap;             // points around it, in `frame`, downsampled
   ScanContext descriptor;
@@ -37,15 +38,20 @@ struct CandidateOptions {
   int neighbours = 10;          // ring-key nearest neighbours examined per query
   double max_distance = 0.35;   // Scan Context distance threshold
   int max_per_pair = 200;       // best candidates kept per mission pair
+  // Loops within one mission: a keyframe may close onto one of its own
+  // mission this much trajectory earlier (0 disables).
+  double intra_min_travel = 0.0;  // m
 };
 
 struct Candidate {
-  size_t reference = 0, query = 0;  // keyframe indices; reference is in the earlier mission
+  size_t reference = 0, query = 0;  // keyframe indices; reference is in the earlier mission (or earlier in the same)
   double distance = 1.0;
   double yaw = 0.0;  // query frame heading in the reference frame (rad)
 };
 
-// For each keyframe, its best Scan Context match in every earlier mission.
+// For each keyframe, its best Scan Context match in every earlier mission and,
+// when options.intra_min_travel > 0, in the part of its own mission at least
+// that far back along the trajectory.
 std::vector<Candidate> find_candidates(const std::vector<Keyframe>& keyframes, size_t mission_count,
                                        const CandidateOptions& options, int threads);
 

@@ -32,6 +32,7 @@ JointAlignmentOptions options_from(const Params& p) {
   o.candidates.neighbours = p.get<int>("neighbours");
   o.candidates.max_distance = p.get<double>("max_descriptor_distance");
   o.candidates.max_per_pair = p.get<int>("max_candidates_per_pair");
+  o.candidates.intra_min_travel = p.get<double>("intra_min_travel");
   o.verify.registration.method = p.get<std::string>("registration");
   o.verify.registration.voxel = o.keyframes.voxel;
   o.verify.registration.coarse_distance = p.get<double>("coarse_distance");
@@ -39,6 +40,8 @@ JointAlignmentOptions options_from(const Params& p) {
   o.verify.registration.max_iterations = p.get<int>("icp_iterations");
   o.verify.registration.inlier_distance = p.get<double>("inlier_distance");
   o.verify.min_overlap = p.get<double>("min_overlap");
+  // Coarse clouds match less tightly than fine ones: refuse early only well below the bar.
+  o.verify.registration.min_coarse_overlap = 0.6 * o.verify.min_overlap;
   o.verify.max_rmse = p.get<double>("max_rmse");
   o.consistency.distance = p.get<double>("consistency_distance");
   o.consistency.angle = p.get<double>("consistency_angle") * kDeg;
@@ -68,6 +71,7 @@ class PoseGraphStage : public Stage {
     ctx.record("candidates", static_cast<double>(report.candidates));
     ctx.record("closures_verified", static_cast<double>(report.verified));
     ctx.record("closures_consistent", static_cast<double>(report.consistent));
+    ctx.record("closures_intra", static_cast<double>(report.intra));
     ctx.record("closures_proximity", static_cast<double>(report.proximity));
     ctx.record("closures", static_cast<double>(report.final_closures));
     ctx.record("initial_cost", report.initial_cost);
@@ -99,14 +103,16 @@ StageInfo posegraph_stage_info() {
       "trajectory; each gets a local submap (scans within submap_distance of path, in a gravity-levelled "
       "frame) and a Scan Context descriptor (max height per ring x sector bin, heights relative to the "
       "sensor in [min_height, max_height] so indoor ceilings do not fill every bin). For every keyframe the "
-      "ring keys of each earlier mission are searched with a k-d tree (FLANN); the nearest are compared "
+      "ring keys of each earlier mission (and of its own mission more than intra_min_travel back along the "
+      "path, for loops within a mission) are searched with a k-d tree (FLANN); the nearest are compared "
       "under every column shift and the best under max_descriptor_distance becomes a candidate with its "
       "yaw. Candidates are verified by coarse-to-fine GICP between the submaps and refused below "
-      "min_overlap (checked both ways, so a floor matched to a floor alone is refused) or above max_rmse; a vote per mission pair drops closures that disagree with the best "
-      "supported one. Missions are placed by a spanning tree over closures from the first (reference) "
+      "min_overlap (checked both ways, so a floor matched to a floor alone is refused) or above max_rmse; "
+      "a vote per mission pair drops closures that disagree with the best supported one. Missions are placed by a spanning tree over closures from the first (reference) "
       "mission; a mission without closures is an error naming it. The pose graph holds every mission's "
       "odometry chain (relative poses of consecutive scans from poses.txt) and the closures under a robust "
-      "loss; it is solved with Ceres (quaternion manifold), the reference mission fixed. After the first "
+      "loss; it is solved with Ceres (quaternion manifold), with the reference mission's first pose (or the "
+      "whole mission, fix_reference) held. After the first "
       "solve, keyframes that have come close are proposed again (refine_rounds) and verified the same way. "
       "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
       "keyframes, candidates, closures, costs, and ATE before/after when every mission has poses_gt.txt.";
@@ -127,6 +133,9 @@ StageInfo posegraph_stage_info() {
       ParamSpec::integer("neighbours", 10, "ring-key nearest neighbours compared per keyframe").range(1, 1000),
       ParamSpec::real("max_descriptor_distance", 0.35, "Scan Context distance accepted as a candidate").range(0, 1),
       ParamSpec::integer("max_candidates_per_pair", 200, "best candidates verified per mission pair").range(1, 1e6),
+      ParamSpec::real("intra_min_travel", 0.0,
+                      "loops within a mission: trajectory between the two keyframes at least this (0: none)")
+          .range(0, 1e5).unit("m"),
       ParamSpec::text("registration", "gicp", "verification method").one_of({"gicp", "icp"}),
       ParamSpec::real("coarse_distance", 2.0, "max correspondence distance, coarse stage").range(0.05, 50).unit("m"),
       ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
@@ -143,7 +152,9 @@ StageInfo posegraph_stage_info() {
       ParamSpec::text("loss", "cauchy", "robust loss on loop closures").one_of({"cauchy", "huber", "none"}),
       ParamSpec::real("loss_scale", 2.0, "robust loss scale, in standard deviations").range(0.01, 1000),
       ParamSpec::integer("solver_iterations", 100, "Ceres iterations per solve").range(1, 10000),
-      ParamSpec::text("fix_reference", "mission", "hold the whole first mission fixed, or only its first pose")
+      ParamSpec::text("fix_reference", "first_pose",
+                      "gauge: only the first mission's first pose fixed (its drift is corrected too), or the whole "
+                      "first mission held as it is (the paper's choice)")
           .one_of({"mission", "first_pose"}),
       ParamSpec::integer("refine_rounds", 1, "rounds of proximity closures after the first solve").range(0, 10),
       ParamSpec::real("refine_radius", 3.0, "keyframes this close in the common frame are tried").range(0.1, 100).unit("m"),

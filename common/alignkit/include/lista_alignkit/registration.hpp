@@ -17,6 +17,10 @@ struct RegistrationOptions {
   double fine_distance = 0.5;   // m; of the fine stage
   int max_iterations = 40;      // per stage
   double inlier_distance = 0.3; // m; for the fitness measure
+  // Early refusal: after the coarse stage, the share of coarse source points
+  // with a coarse target point within the coarse voxel edge, both ways; below
+  // this the fine stage is skipped and the result is not converged (0: off).
+  double min_coarse_overlap = 0.0;
 };
 
 struct RegistrationResult {
