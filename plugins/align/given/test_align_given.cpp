@@ -107,3 +107,16 @@ TEST(AlignGiven, FileModeAndItsErrors) {
   EXPECT_THROW(io_test::make_stage("align.given", {{"mode", std::string("file")}}), Error);
   EXPECT_THROW(io_test::make_stage("align.given", {{"mode", std::string("magic")}}), Error);
 }
+
+TEST(AlignGiven, IdentityModeResetsEveryMissionAndKeepsPoses) {
+  MissionSet set = two_missions(pose(3, -2, 0.7));
+  set.missions[1].to_common = pose(1, 1, 1.0);  // e.g. left over from an earlier alignment
+  BasicContext ctx;
+  auto out = io_test::make_stage("align.given")->run(inputs_of(set), ctx);  // default mode: identity
+  const auto& aligned = out.at("missions").as<MissionSet>();
+  ASSERT_EQ(aligned.missions.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    EXPECT_TRUE(aligned.missions[k].to_common.isApprox(Eigen::Isometry3d::Identity(), 1e-12));
+    EXPECT_TRUE(aligned.missions[k].scans[3].pose.isApprox(set.missions[k].scans[3].pose, 1e-12));
+  }
+}
