@@ -85,12 +85,21 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
 
   // GICP estimates local covariances from 20 neighbours: too few points, plain ICP.
   const bool use_gicp = cfg.method == "gicp" && src->size() >= 30 && dst->size() >= 30;
+  // One registration object for all hypotheses: GICP then computes the
+  // points' covariances once, not once per hypothesis.
+  pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
+  pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+  if (use_gicp) {
+    gicp.setInputSource(src);
+    gicp.setInputTarget(dst);
+  } else {
+    icp.setInputSource(src);
+    icp.setInputTarget(dst);
+  }
   auto refine = [&](const Eigen::Isometry3d& guess, double max_correspondence) {
     Cloud aligned;
     Eigen::Isometry3d t = guess;
     auto run = [&](auto& reg) {
-      reg.setInputSource(src);
-      reg.setInputTarget(dst);
       reg.setMaxCorrespondenceDistance(max_correspondence);
       reg.setMaximumIterations(cfg.max_iterations);
       reg.setTransformationEpsilon(1e-8);
@@ -104,13 +113,8 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
         t.translation() = m.topRightCorner<3, 1>();
       }
     };
-    if (use_gicp) {
-      pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
-      run(gicp);
-    } else {
-      pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-      run(icp);
-    }
+    if (use_gicp) run(gicp);
+    else run(icp);
     return t;
   };
   auto score_of = [&](const Eigen::Isometry3d& t, double& inlier_ratio) {

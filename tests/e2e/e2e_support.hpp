@@ -1,0 +1,32 @@
+// Helpers for the end-to-end suites: run a program, read its output, and a
+// temporary folder removed when the test ends.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace e2e {
+
+struct Result {
+  int status = -1;     // exit code
+  std::string output;  // stdout (stderr goes to a file next to it, appended on failure)
+};
+
+// Runs `command` through the shell; stdout captured.
+Result run(const std::string& command);
+
+std::string bin(const std::string& program);  // path of a built program
+std::string source(const std::string& path);  // path inside the source tree
+std::string read_file(const std::filesystem::path& p);
+
+class TempDir {
+ public:
+  explicit TempDir(const std::string& tag);
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+}  // namespace e2e

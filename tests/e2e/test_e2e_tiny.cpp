@@ -1,0 +1,133 @@
+// The default pipeline on a generated tiny scene (lista-sim --preset tiny:
+// one room, objects added, removed, moved, and two identical ones swapped):
+// the run succeeds, report.json carries every field of the data contract,
+// moved objects are reported in pairs naming each other with a transform,
+// and lista-eval scores the run.
+#include "e2e_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+using nlohmann::json;
+
+namespace {
+
+class TinyScene : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new e2e::TempDir("tiny");
+    data_ = (dir_->path() / "data").string();
+    out_ = (dir_->path() / "out").string();
+    sim_ = e2e::run(e2e::bin("lista-sim") + " --preset tiny --seed 1 --threads 2 --out " + data_ + " 2>&1");
+    if (sim_.status == 0)
+      run_ = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " + data_ +
+                      " --out " + out_ + " --threads 2 --quiet 2>&1");
+  }
+  static void TearDownTestSuite() { delete dir_; }
+
+  static void require_run() {
+    ASSERT_EQ(sim_.status, 0) << sim_.output;
+    ASSERT_EQ(run_.status, 0) << run_.output;
+  }
+  static json report() { return json::parse(e2e::read_file(out_ + "/report.json")); }
+
+  static e2e::TempDir* dir_;
+  static std::string data_, out_;
+  static e2e::Result sim_, run_;
+};
+
+e2e::TempDir* TinyScene::dir_ = nullptr;
+std::string TinyScene::data_, TinyScene::out_;
+e2e::Result TinyScene::sim_, TinyScene::run_;
+
+bool is_matrix4(const json& m) {
+  if (!m.is_array() || m.size() != 4) return false;
+  for (const auto& row : m)
+    if (!row.is_array() || row.size() != 4) return false;
+  return true;
+}
+
+bool is_vec3(const json& v) { return v.is_array() && v.size() == 3 && v[0].is_number(); }
+
+}  // namespace
+
+TEST_F(TinyScene, ReportFollowsTheContract) {
+  require_run();
+  const json r = report();
+  EXPECT_EQ(r.at("format"), "lista-report/1");
+  EXPECT_EQ(r.at("missions"), json::array({"A", "B"}));
+  for (const char* m : {"A", "B"}) EXPECT_TRUE(is_matrix4(r.at("alignment").at(m))) << m;
+  ASSERT_FALSE(r.at("objects").empty());
+  std::set<int> ids;
+  for (const auto& o : r.at("objects")) {
+    SCOPED_TRACE(o.dump());
+    EXPECT_TRUE(ids.insert(o.at("id").get<int>()).second) << "ids are unique";
+    const std::string status = o.at("status");
+    EXPECT_TRUE(status == "moved" || status == "removed" || status == "added");
+    EXPECT_TRUE(o.at("mission") == "A" || o.at("mission") == "B");
+    EXPECT_TRUE(is_vec3(o.at("centroid")) && is_vec3(o.at("bbox_min")) && is_vec3(o.at("bbox_max")));
+    EXPECT_GT(o.at("points").get<int>(), 0);
+    EXPECT_TRUE(o.at("group").is_number_integer());
+    const double c = o.at("confidence");
+    EXPECT_TRUE(c >= 0.0 && c <= 1.0);
+    if (status == "moved") {
+      EXPECT_TRUE(is_matrix4(o.at("transform")));
+    }
+    // Mission order decides removed (earlier) versus added (later).
+    if (status == "removed") {
+      EXPECT_EQ(o.at("mission"), "A");
+    }
+    if (status == "added") {
+      EXPECT_EQ(o.at("mission"), "B");
+    }
+  }
+  EXPECT_TRUE(r.at("timings_s").contains("match"));
+  EXPECT_TRUE(r.at("timings_s").contains("refine"));
+}
+
+TEST_F(TinyScene, MovedObjectsComeInPairsWithInverseTransforms) {
+  require_run();
+  const json r = report();
+  std::map<int, json> by_id;
+  for (const auto& o : r.at("objects")) by_id[o.at("id")] = o;
+  int moved = 0;
+  for (const auto& [id, o] : by_id) {
+    if (o.at("status") != "moved") continue;
+    ++moved;
+    SCOPED_TRACE(o.dump());
+    const int partner = o.at("match");
+    ASSERT_TRUE(by_id.count(partner));
+    const json& p = by_id.at(partner);
+    EXPECT_EQ(p.at("status"), "moved");
+    EXPECT_EQ(p.at("match"), id);
+    EXPECT_NE(p.at("mission"), o.at("mission"));
+    // T moves this object's centroid close to its partner's (centroids of
+    // two partial views differ a little, hence the loose bound).
+    const json& t = o.at("transform");
+    double err2 = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      double v = t[i][3].get<double>();
+      for (int k = 0; k < 3; ++k) v += t[i][k].get<double>() * o.at("centroid")[k].get<double>();
+      err2 += std::pow(v - p.at("centroid")[i].get<double>(), 2);
+    }
+    EXPECT_LT(std::sqrt(err2), 0.5);
+  }
+  EXPECT_GE(moved, 2) << "the tiny scene moves objects; at least one pair is expected";
+}
+
+TEST_F(TinyScene, EvaluatorScoresTheRun) {
+  require_run();
+  const e2e::Result ev =
+      e2e::run(e2e::bin("lista-eval") + " --dataset " + data_ + " --run " + out_ + " --json 2>/dev/null");
+  ASSERT_EQ(ev.status, 0) << ev.output;
+  const json s = json::parse(ev.output);
+  const json& p = s.at("points");
+  EXPECT_GT(p.at("tp").get<long>(), 0);
+  // A floor, not a target: the change found must be mostly real change.
+  EXPECT_GT(p.at("precision").get<double>(), 0.5);
+  EXPECT_GT(p.at("recall").get<double>(), 0.3);
+}
