@@ -1,3 +1,4 @@
+#include "loop_closures.hpp"
 #include "pose_graph.hpp"
 #include "posegraph_stage.hpp"
 #include "scan_context.hpp"
@@ -169,4 +170,38 @@ TEST(CloudOps, LevelledFrameKeepsHeadingOnly) {
   EXPECT_NEAR(std::atan2(f.linear()(1, 0), f.linear()(0, 0)) * 180 / M_PI, 30.0, 1e-9);
   const Cloud pts = {{0.01f, 0.01f, 0.01f}, {0.02f, 0.02f, 0.02f}, {1.01f, 0.f, 0.f}};
   EXPECT_EQ(voxel_downsample(pts, 0.5).size(), 2u);
+}
+
+TEST(LoopClosures, IntraMissionCandidatesOnlyFarBackAlongThePath) {
+  // One mission going around the hall twice: the second lap revisits the first.
+  const Scene hall = make_hall(kHallX, kHallY, 40, 7);
+  auto route = loop_route(kHallX, kHallY, 4.0, 2.0, 0.0);
+  const size_t lap = route.size();
+  const auto second = loop_route(kHallX, kHallY, 4.0, 2.0, 1.0, 0.3);
+  route.insert(route.end(), second.begin(), second.end());
+  MissionSet set;
+  set.missions.push_back(make_mission("twice", hall, route, route, 1));
+  KeyframeOptions ko;
+  ko.keyframe_distance = 2.0;
+  const auto kf = make_keyframes(set, ko, 2);
+  CandidateOptions co;
+  EXPECT_TRUE(find_candidates(kf, 1, co, 2).empty());  // off by default
+  co.intra_min_travel = 30.0;
+  const auto found = find_candidates(kf, 1, co, 2);
+  ASSERT_FALSE(found.empty());
+  for (const auto& c : found) {
+    EXPECT_GE(kf[c.query].travelled - kf[c.reference].travelled, 30.0);
+    EXPECT_EQ(kf[c.reference].mission, kf[c.query].mission);
+  }
+  // On the second lap many are true revisits (reference keyframe within 4 m);
+  // the symmetric box hall aliases about half of them to the far side, which
+  // is why every candidate is verified by GICP before it becomes a closure.
+  size_t second_lap = 0, near = 0;
+  for (const auto& c : found) {
+    if (kf[c.query].scan < lap) continue;
+    ++second_lap;
+    near += (route[kf[c.reference].scan].translation() - route[kf[c.query].scan].translation()).norm() < 4.0;
+  }
+  EXPECT_GT(second_lap, lap / 4);
+  EXPECT_GE(near * 3, second_lap) << near << " of " << second_lap;
 }
