@@ -3,7 +3,7 @@
 // missions in one run. Each backend runs in a forked child so that its peak
 // memory (VmHWM, reset at the child's start) is its own.
 //
-//   lista-bench-volumetric --dataset DIR [--missions A,B] [--threads 2]
+//   lista-bench-volumetric --dataset DIR [--missions A,B] [--threads 2] [--gt-poses]
 //   lista-bench-volumetric --synthetic [--scale 2 --scans-per-position 8]
 #include "octomap/volumetric_octomap.hpp"
 #include "openvdb/volumetric_openvdb.hpp"
@@ -39,6 +39,7 @@ struct Options {
   std::string dataset, out;
   std::vector<std::string> missions;
   bool synthetic = false;
+  bool gt_poses = false;
   raycast::SyntheticSceneConfig scene;
   int threads = 2;
   size_t stock_scans = 0;
@@ -198,6 +199,7 @@ int main(int argc, char** argv) {
   app.add_option("--backends", backends_csv, "which to run, comma-separated");
   app.add_option("--resolution", o.resolution, "voxel size, m");
   app.add_option("--max-range", o.max_range, "beam range cut, m (<= 0: none)");
+  app.add_flag("--gt-poses", o.gt_poses, "use poses_gt.txt (true poses, common frame) instead of poses.txt: isolates the volumetric stage from SLAM drift");
   app.add_option("--out", o.out, "write <out>/<backend>/changes/<mission>.pcd (contract format) for lista-eval");
   CLI11_PARSE(app, argc, argv);
   try {
@@ -233,6 +235,14 @@ int main(int argc, char** argv) {
           auto it = truth->mission_to_world.find(m.name);
           if (it != truth->mission_to_world.end()) m.to_common = Eigen::Isometry3d(it->second);
         }
+      }
+    }
+    if (o.gt_poses) {
+      for (Mission& m : missions.missions) {
+        if (m.poses_gt.size() != m.scans.size())
+          throw Error("--gt-poses: mission '" + m.name + "' has no poses_gt.txt with one pose per scan");
+        m.to_common = Eigen::Isometry3d::Identity();
+        for (size_t i = 0; i < m.scans.size(); ++i) m.scans[i].pose = m.poses_gt[i];
       }
     }
     size_t points = 0, scans = 0;
