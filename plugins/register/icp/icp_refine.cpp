@@ -138,24 +138,41 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
   }
   std::stable_sort(coarse.begin(), coarse.end(), [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
 
-  // Fine pass on the best few with the inlier distance as correspondence gate:
-  // with a wide gate, points missing from a partial view pull the solution
-  // off by a few centimetres and degrees, enough to rank a wrong symmetric
-  // pose first.
-  IcpResult best;
-  best.score = std::numeric_limits<double>::max();
-  best.hypotheses = static_cast<int>(guesses.size());
-  const size_t fine = std::min<size_t>(coarse.size(), 3);
-  for (size_t i = 0; i < fine; ++i) {
+  // Near-symmetric shapes (boxes, cabinets) fit equally well turned by 180
+  // degrees; among poses scoring within symmetry_tolerance of the best, the
+  // one with the smallest rotation is the simplest explanation of the move.
+  auto angle = [](const Eigen::Isometry3d& t) { return Eigen::AngleAxisd(t.linear()).angle(); };
+  auto pick = [&](const std::vector<Candidate>& cs) {
+    size_t b = 0;
+    for (size_t i = 1; i < cs.size(); ++i)
+      if (cs[i].score < cs[b].score) b = i;
+    const double limit = cs[b].score * (1.0 + cfg.symmetry_tolerance);
+    size_t s = b;
+    for (size_t i = 0; i < cs.size(); ++i)
+      if (cs[i].score <= limit && angle(cs[i].t) < angle(cs[s].t) - 1e-6) s = i;
+    return s;
+  };
+
+  // Fine pass on the best few (and the coarse pick) with the inlier distance
+  // as correspondence gate: with a wide gate, points missing from a partial
+  // view pull the solution off by a few centimetres and degrees, enough to
+  // rank a wrong symmetric pose first.
+  std::vector<size_t> chosen;
+  for (size_t i = 0; i < std::min<size_t>(coarse.size(), 3); ++i) chosen.push_back(i);
+  const size_t coarse_pick = pick(coarse);
+  if (coarse_pick >= chosen.size()) chosen.push_back(coarse_pick);
+  std::vector<Candidate> fine;
+  for (size_t i : chosen) {
     Candidate c{refine(coarse[i].t, std::min(cfg.max_correspondence, cfg.inlier_distance)), 0.0, 0.0};
     c.score = score_of(c.t, c.inliers);
-    if (coarse[i].score < c.score) c = coarse[i];  // never worse than the coarse result
-    if (c.score < best.score - 1e-12) {
-      best.score = c.score;
-      best.transform = c.t;
-      best.inlier_ratio = c.inliers;
-    }
+    fine.push_back(coarse[i].score < c.score ? coarse[i] : c);  // never worse than the coarse result
   }
+  const Candidate& winner = fine[pick(fine)];
+  IcpResult best;
+  best.hypotheses = static_cast<int>(guesses.size());
+  best.score = winner.score;
+  best.transform = winner.t;
+  best.inlier_ratio = winner.inliers;
   return best;
 }
 

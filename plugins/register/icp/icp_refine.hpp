@@ -8,7 +8,9 @@
 // the target, min(d^2, inlier^2), computed both ways so that a partial view
 // cannot hide inside a larger one. The three best are refined again with
 // the correspondence gate narrowed to inlier_distance (a wide gate lets a
-// partial view bias the pose); the lowest score wins.
+// partial view bias the pose); the lowest score wins, except that among
+// poses within symmetry_tolerance of it the smallest rotation wins
+// (symmetric shapes fit as well turned by 180 degrees).
 #pragma once
 
 #include <lista/points.hpp>
@@ -27,6 +29,7 @@ struct IcpConfig {
   int yaw_hypotheses = 8;             // 0 = none
   bool svd_flips = true;              // try the SVD guess's four axis flips
   double inlier_distance = 0.05;      // m: truncation of the score
+  double symmetry_tolerance = 0.1;    // poses within this share of the best score tie; smallest rotation wins
 };
 
 struct IcpResult {

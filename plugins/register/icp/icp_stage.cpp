@@ -22,6 +22,7 @@ class IcpStage : public Stage {
     cfg_.yaw_hypotheses = p.get<int>("yaw_hypotheses");
     cfg_.svd_flips = p.get<bool>("svd_flips");
     cfg_.inlier_distance = p.get<double>("inlier_distance");
+    cfg_.symmetry_tolerance = p.get<double>("symmetry_tolerance");
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
@@ -60,7 +61,9 @@ StageInfo info() {
       "Each is refined with PCL Generalized ICP (method = gicp; plain ICP below 30 points or with "
       "method = icp) on voxel-downsampled points and scored by the symmetric truncated mean squared "
       "nearest-neighbour distance (truncated at inlier_distance); the three best are refined again with the "
-      "correspondence gate narrowed to inlier_distance and the best is kept. p_match = T * p. "
+      "correspondence gate narrowed to inlier_distance and the best is kept; among poses scoring within "
+      "symmetry_tolerance (relative) of the best, the one with the smallest rotation wins (a symmetric shape "
+      "fits as well turned by 180 degrees). p_match = T * p. "
       "Records the mean inlier share as 'mean_inlier_ratio'.";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a refined transform for every moved object"}};
@@ -72,6 +75,8 @@ StageInfo info() {
       ParamSpec::integer("yaw_hypotheses", 8, "initial rotations about the vertical; 0 = none").range(0, 360),
       ParamSpec::boolean("svd_flips", true, "also start from the four axis flips of the SVD guess"),
       ParamSpec::real("inlier_distance", 0.05, "score truncation distance").range(0.001, 10.0).unit("m"),
+      ParamSpec::real("symmetry_tolerance", 0.1, "relative score margin within which the smallest rotation wins")
+          .range(0.0, 10.0),
   };
   return s;
 }
