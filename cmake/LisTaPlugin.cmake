@@ -21,7 +21,10 @@ function(lista_add_plugin)
     BUILD_WITH_INSTALL_RPATH ON
     INSTALL_RPATH "$ORIGIN/.."
     LISTA_PLUGIN_NAME "${P_NAME}")
-  target_link_options(${target} PRIVATE "LINKER:--enable-new-dtags")
+  # -Bsymbolic-functions: the library's manifest alias binds to its own
+  # manifest() even when a program already holds another plugin's (a plugin
+  # test links its plugin, then loads the others through the core).
+  target_link_options(${target} PRIVATE "LINKER:--enable-new-dtags" "LINKER:-Bsymbolic-functions")
   set_property(GLOBAL APPEND PROPERTY LISTA_PLUGIN_TARGETS ${target})
   install(TARGETS ${target} LIBRARY DESTINATION lib/${LISTA_PLUGIN_SUBDIR})
 

@@ -127,14 +127,17 @@ int main(int argc, char** argv) {
   app.add_option("pipeline", o.pipeline, "pipeline TOML file");
   app.add_option("--dataset", o.dataset, "dataset folder (overrides [pipeline].dataset)");
   app.add_option("--out", o.out, "output folder (overrides [pipeline].output)");
-  app.add_option("--set", o.sets, "override a parameter: <stage>.<param>=<value> (TOML value; bare word = string)");
+  // One value per flag (repeat it), so a pipeline path after it stays positional.
+  app.add_option("--set", o.sets, "override a parameter: <stage>.<param>=<value> (TOML value; bare word = string)")
+      ->allow_extra_args(false);
   app.add_option("-j,--jobs", o.jobs, "stages run at once")->check(CLI::Range(1, 256));
   app.add_option("--threads", o.threads, "total thread budget (default: [pipeline].threads or all cores)")
       ->check(CLI::Range(1, 4096));
   app.add_option("--seed", o.seed, "random seed (overrides [pipeline].seed)")->check(CLI::NonNegativeNumber);
   app.add_flag("-q,--quiet", o.quiet, "only errors: no progress, no info lines");
   app.add_flag("-v,--verbose", o.verbose, "also debug messages");
-  app.add_option("--plugin-dir", o.plugin_dirs, "extra folder with plugin libraries (repeatable)");
+  app.add_option("--plugin-dir", o.plugin_dirs, "extra folder with plugin libraries (repeatable)")
+      ->allow_extra_args(false);
   app.add_flag("--no-default-plugins", o.no_default_plugins,
                "do not load lib/lista-plugins next to liblista_core (test plugins in isolation)");
   app.add_flag("--validate", o.validate, "check the pipeline and print a JSON verdict");

@@ -48,7 +48,7 @@ std::optional<ParamValue> to_param(const toml::value& v, std::string& problem) {
     case toml::value_t::array: {
       const auto& a = v.as_array();
       if (a.empty()) {
-        problem = "an empty array has no type; write the values or leave the default";
+        problem = kEmptyArrayProblem;
         return std::nullopt;
       }
       bool all_numbers = true, all_strings = true;
@@ -132,12 +132,14 @@ void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& 
         const SourceLocation ref_at = where(ref, file);
         if (!ref.is_string()) {
           d.error(ref_at, id, "input '" + port + "' must be a string \"<stage>.<port>\"");
+          s.unusable_inputs.push_back(port);
           continue;
         }
         const std::string text = ref.as_string();
         const size_t dot = text.rfind('.');
         if (dot == std::string::npos || dot == 0 || dot + 1 == text.size()) {
           d.error(ref_at, id, "input '" + port + "' = \"" + text + "\" is not of the form \"<stage>.<port>\"");
+          s.unusable_inputs.push_back(port);
           continue;
         }
         s.inputs.push_back({port, text.substr(0, dot), text.substr(dot + 1), ref_at});

@@ -44,15 +44,22 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
                             did_you_mean(name, param_names(info)) + "; known: " + list_or_none(param_names(info)));
       return;
     }
-    if (!value) {
+    std::optional<ParamValue> typed = value;
+    // An empty array takes its element type from the declaration.
+    if (!typed && problem == kEmptyArrayProblem) {
+      if (spec->type == ParamType::real_list) typed = ParamValue(std::vector<double>{});
+      if (spec->type == ParamType::text_list) typed = ParamValue(std::vector<std::string>{});
+    }
+    if (!typed) {
       d.error(at, s.id, origin + "parameter '" + name + "': " + problem);
       return;
     }
-    if (std::string why = spec->check(*value); !why.empty()) {
+    const std::optional<ParamValue>& value_ = typed;
+    if (std::string why = spec->check(*value_); !why.empty()) {
       d.error(at, s.id, origin + "parameter '" + name + "' " + why);
       return;
     }
-    ParamValue v = *value;
+    ParamValue v = *value_;
     // An integer written for a real parameter is stored as a real.
     if (spec->type == ParamType::real && v.index() == 1) v = double(std::get<int64_t>(v));
     params.set(name, std::move(v), true, at);
@@ -65,7 +72,8 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
 
 void check_inputs(const StageSpec& s, const StageInfo& info, const PipelineSpec& spec, const Registry& registry,
                   Diagnostics& d) {
-  std::set<std::string> connected;
+  // A port whose reference was already reported is not "missing" as well.
+  std::set<std::string> connected(s.unusable_inputs.begin(), s.unusable_inputs.end());
   for (const auto& in : s.inputs) {
     const PortSpec* port = info.input(in.port);
     if (!port) {

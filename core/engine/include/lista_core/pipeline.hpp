@@ -18,6 +18,10 @@ struct InputBinding {
   SourceLocation where;
 };
 
+// RawParam::problem of an empty TOML array: its type comes from the declared
+// parameter (a list parameter accepts it, any other refuses it with this text).
+inline const std::string kEmptyArrayProblem = "an empty array is only a value for a list parameter";
+
 struct RawParam {
   std::string name;
   std::optional<ParamValue> value;  // empty if the TOML value has no parameter type
@@ -30,6 +34,7 @@ struct StageSpec {
   SourceLocation where;         // the [stages.<id>] table
   SourceLocation plugin_where;  // the plugin = "..." value
   std::vector<InputBinding> inputs;
+  std::vector<std::string> unusable_inputs;  // ports whose reference was already reported malformed
   std::vector<RawParam> params;  // in file order
 };
 

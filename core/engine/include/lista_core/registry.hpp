@@ -19,7 +19,7 @@ struct RegisteredStage {
 
 class Registry : public Registrar {
  public:
-  // Registrar: adds a stage from the library set by library_scope().
+  // Registrar: adds a stage from the library set by set_current_library().
   void add(StageInfo info, StageFactory factory) override;
 
   // The library whose register_stages is running (for error messages and records).

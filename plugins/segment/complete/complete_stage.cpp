@@ -1,0 +1,91 @@
+// segment.complete: grows change clusters of objects moved by less than their
+// own size into whole objects (rule in completion.hpp).
+#include "completion.hpp"
+
+#include <lista/data.hpp>
+#include <lista/plugin.hpp>
+
+namespace lista::seg {
+namespace {
+
+class CompleteStage : public Stage {
+ public:
+  explicit CompleteStage(const Params& p) {
+    c_.voxel = p.get<double>("voxel");
+    c_.pair_gap = p.get<double>("pair_gap");
+    c_.box_margin = p.get<double>("box_margin");
+    c_.floor_clearance = p.get<double>("floor_clearance");
+    c_.floor_percentile = p.get<double>("floor_percentile");
+    c_.shape_tolerance = p.get<double>("shape_tolerance");
+    c_.shape_slack = p.get<double>("shape_slack");
+    c_.max_leak = p.get<double>("max_leak");
+    c_.self_complete = p.get<bool>("self_complete");
+  }
+
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "segment.complete";
+    i.version = "1.0.0";
+    i.summary = "Grows partial change clusters of short moves into whole objects";
+    i.doc =
+        "An object moved by less than its own size keeps occupying the overlap of its two poses, so "
+        "the volumetric difference finds only slivers of it. For consecutive missions, clusters whose "
+        "boxes are at most pair_gap apart are paired (nearest first, each at most once); each grows "
+        "through its own mission's full cloud (breadth-first over occupied voxels of edge `voxel`, "
+        "inside the pair's union box grown by box_margin, above the local floor clearance, "
+        "never into another object's points). The growth is kept only if neither growth finds more "
+        "than max_leak occupied voxels just outside the region per voxel it grew into (else it is part of a wall "
+        "or of furniture it touches) and both grown objects have the "
+        "shape of one rigid object (height above the floor and principal horizontal extents agree "
+        "within max(shape_tolerance x the larger, shape_slack)). Then, with self_complete, every object "
+        "grows the same way inside its own box grown by box_margin, down to the floor if it stands "
+        "on it (the difference cannot confirm change next to the floor, so objects lose their base); "
+        "if that growth wants out of the box, only the base below its lowest part is added. The local "
+        "floor is found around each object; points within max(floor_clearance, 4 sigma of the "
+        "floor's noise) of it are never added. Ids and order are kept.";
+    i.inputs = {{"objects", "objects", "per-mission change clusters"},
+                {"missions", "missions", "the aligned missions the clusters came from"}};
+    i.outputs = {{"objects", "objects", "clusters, completed where a pair agreed"}};
+    i.params = {
+        ParamSpec::real("voxel", 0.1, "connectivity grid of the growth").range(0.01, 1).unit("m"),
+        ParamSpec::real("pair_gap", 1.0, "largest box-to-box gap of a pair").range(0, 10).unit("m"),
+        ParamSpec::real("box_margin", 0.15, "growth region: union box of the pair grown by this").range(0, 2).unit("m"),
+        ParamSpec::real("floor_clearance", 0.02, "least height above the local floor of an added point (4 sigma of the floor's noise if more)").range(0, 1).unit("m"),
+        ParamSpec::real("floor_percentile", 0.1, "of the per-cell lowest points, the local floor").range(0, 1),
+        ParamSpec::real("shape_tolerance", 0.25, "relative disagreement of the pair's extents allowed").range(0, 2),
+        ParamSpec::real("shape_slack", 0.15, "absolute disagreement of the pair's extents allowed").range(0, 2).unit("m"),
+        ParamSpec::boolean("self_complete", true, "also complete every object inside its own box grown by box_margin (its base, mostly)"),
+        ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
+    };
+    return i;
+  }
+
+  Outputs run(const Inputs& in, Context& context) override {
+    CompletionConfig c = c_;
+    c.threads = context.threads();
+    CompletionStats st;
+    ObjectSet objects = complete_objects(in.get<ObjectSet>("objects"), in.get<MissionSet>("missions"), c, &st);
+    context.record("pairs", double(st.pairs));
+    context.record("completed", double(st.completed));
+    context.record("rejected", double(st.rejected));
+    context.record("self_completed", double(st.self_completed));
+    context.record("points_added", double(st.points_added));
+    context.info("completed " + std::to_string(st.completed) + " of " + std::to_string(st.pairs) +
+                 " pairs, " + std::to_string(st.points_added) + " points added");
+    Outputs out;
+    out.put("objects", std::move(objects));
+    return out;
+  }
+
+ private:
+  CompletionConfig c_;
+};
+
+void register_stages(Registrar& r) {
+  r.add(CompleteStage::info(), [](const Params& p) { return std::make_unique<CompleteStage>(p); });
+}
+
+}  // namespace
+}  // namespace lista::seg
+
+LISTA_PLUGIN(lista::seg::register_stages)

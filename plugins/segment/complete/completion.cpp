@@ -1,0 +1,413 @@
+#include "completion.hpp"
+
+#include <lista/error.hpp>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <deque>
+#include <thread>
+#include <tuple>
+#include <unordered_set>
+
+namespace lista::seg {
+namespace {
+
+struct Box {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+  Eigen::Vector3f hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
+  bool contains(const Eigen::Vector3f& p) const {
+    return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+  }
+  void extend(const Box& b) {
+    lo = lo.cwiseMin(b.lo);
+    hi = hi.cwiseMax(b.hi);
+  }
+  Box grown(float xy, float z_down, float z_up) const {
+    Box b = *this;
+    b.lo -= Eigen::Vector3f(xy, xy, z_down);
+    b.hi += Eigen::Vector3f(xy, xy, z_up);
+    return b;
+  }
+};
+
+float box_gap(const Object& a, const Object& b) {
+  const Eigen::Vector3f d = (a.bbox_min - b.bbox_max).cwiseMax(b.bbox_min - a.bbox_max).cwiseMax(0.f);
+  return d.norm();
+}
+
+uint64_t point_key(uint32_t scan, uint32_t index) { return (uint64_t(scan) << 32) | index; }
+
+// Voxel coordinates packed into 64 bits (21 bits each, offset so that
+// +-100 km at 0.1 m fits).
+uint64_t voxel_key(const Eigen::Vector3i& v) {
+  constexpr int64_t off = 1 << 20;
+  return (uint64_t(v.x() + off) << 42) | (uint64_t(v.y() + off) << 21) | uint64_t(v.z() + off);
+}
+
+// One mission's points near the pairs that involve it, with a voxel index.
+struct LocalCloud {
+  PointSet points;                                  // common frame
+  std::vector<std::pair<uint64_t, uint32_t>> grid;  // (voxel key, point), sorted
+  float inv_voxel = 10.f;
+
+  Eigen::Vector3i voxel_of(const Eigen::Vector3f& p) const {
+    return (p * inv_voxel).array().floor().cast<int>();
+  }
+  void index() {
+    grid.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) grid[i] = {voxel_key(voxel_of(points.xyz[i])), uint32_t(i)};
+    std::sort(grid.begin(), grid.end());
+  }
+  // Points in voxel v: a range of `grid`.
+  std::pair<size_t, size_t> in_voxel(const Eigen::Vector3i& v) const {
+    const uint64_t k = voxel_key(v);
+    auto lo = std::lower_bound(grid.begin(), grid.end(), std::make_pair(k, uint32_t(0)));
+    auto hi = lo;
+    while (hi != grid.end() && hi->first == k) ++hi;
+    return {size_t(lo - grid.begin()), size_t(hi - grid.begin())};
+  }
+};
+
+// Gathers the points of `mission` (common frame) that fall inside any of
+// `regions`, in scan then file order whatever the thread count.
+LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float voxel, int threads) {
+  LocalCloud cloud;
+  cloud.inv_voxel = 1.f / voxel;
+  if (regions.empty()) return cloud;
+  Box all;
+  for (const auto& r : regions) all.extend(r);
+  const size_t n = mission.scans.size();
+  std::vector<PointSet> per_scan(n);
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t s; (s = next++) < n;) {
+      const Scan& scan = mission.scans[s];
+      if (!scan.points) continue;
+      const Eigen::Affine3f T = mission.sensor_to_common(s).cast<float>();
+      const PointSet& src = *scan.points;
+      PointSet& out = per_scan[s];
+      for (size_t i = 0; i < src.size(); ++i) {
+        const Eigen::Vector3f p = T * src.xyz[i];
+        if (!all.contains(p)) continue;
+        bool in = false;
+        for (const auto& r : regions)
+          if ((in = r.contains(p))) break;
+        if (!in) continue;
+        out.push_back_from(src, i);
+        out.xyz.back() = p;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  for (auto& s : per_scan) cloud.points.append(s);
+  cloud.index();
+  return cloud;
+}
+
+// The local floor under `region`: the `percentile` of the lowest z per 0.2 m
+// cell gives a first guess f0 (robust to objects covering part of the cells);
+// the floor is the median of the points within 6 cm above f0 and its noise
+// their MAD. Points below floor + max(min_clearance, 4 sigma) count as floor.
+struct Floor {
+  float z = 0.f;          // floor height
+  float clear_z = 0.f;    // lowest z an object point may have
+};
+
+bool local_floor(const PointSet& pts, const Box& region, double percentile, double min_clearance, Floor& floor) {
+  std::vector<std::tuple<int, int, float>> cells;
+  for (const auto& p : pts.xyz)
+    if (region.contains(p)) cells.emplace_back(int(std::floor(p.x() * 5.f)), int(std::floor(p.y() * 5.f)), p.z());
+  if (cells.empty()) return false;
+  std::sort(cells.begin(), cells.end());
+  std::vector<float> lowest;
+  for (size_t i = 0; i < cells.size(); ++i)
+    if (i == 0 || std::get<0>(cells[i]) != std::get<0>(cells[i - 1]) ||
+        std::get<1>(cells[i]) != std::get<1>(cells[i - 1]))
+      lowest.push_back(std::get<2>(cells[i]));
+  std::sort(lowest.begin(), lowest.end());
+  const float f0 = lowest[std::min(lowest.size() - 1, size_t(percentile * double(lowest.size())))];
+  std::vector<float> band;
+  for (const auto& c : cells)
+    if (std::get<2>(c) >= f0 && std::get<2>(c) <= f0 + 0.06f) band.push_back(std::get<2>(c));
+  auto median = [](std::vector<float>& v) {
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  floor.z = median(band);
+  for (auto& z : band) z = std::abs(z - floor.z);
+  const float sigma = 1.4826f * median(band);
+  floor.clear_z = floor.z + std::max(float(min_clearance), 4.f * sigma);
+  return true;
+}
+
+// Breadth-first growth of `seed` through occupied voxels of `cloud` inside
+// `region`, over points above `min_z` that nobody owns. Returns the new points.
+struct Growth {
+  std::vector<uint32_t> added;  // new points, ascending
+  size_t voxels = 0;            // voxels it added points from
+  size_t leaks = 0;             // voxels it would have entered outside the region
+  size_t walked_or_one() const { return std::max<size_t>(voxels, 1); }
+};
+
+Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, float min_z,
+            const std::unordered_set<uint64_t>& owned) {
+  auto free_point = [&](uint32_t i) {
+    return cloud.points.xyz[i].z() >= min_z && !owned.count(point_key(cloud.points.scan[i], cloud.points.index[i]));
+  };
+  auto eligible = [&](uint32_t i) { return free_point(i) && region.contains(cloud.points.xyz[i]); };
+  std::unordered_set<uint64_t> leaked;
+  std::unordered_set<uint64_t> visited;
+  std::deque<Eigen::Vector3i> queue;
+  std::vector<uint32_t> added;
+  size_t walked = 0;
+  auto visit = [&](const Eigen::Vector3i& v) {
+    if (!visited.insert(voxel_key(v)).second) return;
+    const auto [b, e] = cloud.in_voxel(v);
+    bool any = false, outside = false;
+    for (size_t k = b; k < e; ++k) {
+      const uint32_t i = cloud.grid[k].second;
+      if (eligible(i)) {
+        added.push_back(i);
+        any = true;
+      } else if (!outside && free_point(i)) {
+        outside = true;
+      }
+    }
+    if (any) {
+      queue.push_back(v);
+      ++walked;
+    } else if (outside) {
+      leaked.insert(voxel_key(v));
+    }
+  };
+  // Seed voxels are walked from even when all their points are owned (they
+  // are the object's own points): that is where the growth starts.
+  for (const auto& p : seed.xyz) {
+    const Eigen::Vector3i v = cloud.voxel_of(p);
+    if (visited.count(voxel_key(v))) continue;
+    visit(v);
+    if (queue.empty() || queue.back() != v) queue.push_back(v);
+  }
+  while (!queue.empty()) {
+    const Eigen::Vector3i v = queue.front();
+    queue.pop_front();
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz)
+          if (dx || dy || dz) visit(v + Eigen::Vector3i(dx, dy, dz));
+  }
+  std::sort(added.begin(), added.end());
+  return {std::move(added), walked, leaked.size()};
+}
+
+// Height above the floor and the horizontal extents along the principal axes
+// (larger first) of an object grown by `extra` points of `cloud`.
+Eigen::Vector3f shape_of(const PointSet& own, const std::vector<uint32_t>& extra, const PointSet& cloud,
+                         float floor, float min_z) {
+  std::vector<Eigen::Vector3f> pts;
+  for (const auto& p : own.xyz)
+    if (p.z() >= min_z) pts.push_back(p);
+  for (uint32_t i : extra) pts.push_back(cloud.xyz[i]);
+  if (pts.size() < 3) return Eigen::Vector3f::Zero();
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : pts) mean += p.head<2>().cast<double>();
+  mean /= double(pts.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  float top = std::numeric_limits<float>::lowest();
+  for (const auto& p : pts) {
+    const Eigen::Vector2d d = p.head<2>().cast<double>() - mean;
+    cov += d * d.transpose();
+    top = std::max(top, p.z());
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  const Eigen::Vector2d u = es.eigenvectors().col(1), w = es.eigenvectors().col(0);
+  double umin = 1e30, umax = -1e30, wmin = 1e30, wmax = -1e30;
+  for (const auto& p : pts) {
+    const Eigen::Vector2d d = p.head<2>().cast<double>() - mean;
+    umin = std::min(umin, d.dot(u)), umax = std::max(umax, d.dot(u));
+    wmin = std::min(wmin, d.dot(w)), wmax = std::max(wmax, d.dot(w));
+  }
+  float e1 = float(umax - umin), e2 = float(wmax - wmin);
+  if (e2 > e1) std::swap(e1, e2);
+  return {top - floor, e1, e2};
+}
+
+bool same_shape(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const CompletionConfig& c) {
+  for (int k = 0; k < 3; ++k) {
+    const double allowed = std::max(c.shape_slack, c.shape_tolerance * std::max(a[k], b[k]));
+    if (std::abs(a[k] - b[k]) > allowed) return false;
+  }
+  return true;
+}
+
+// The base of an object standing on the floor: points of `cloud` below its
+// lowest detected part, down to the floor clearance, in the 5 cm columns its
+// lowest 15 cm occupy (grown by one column). The volumetric difference cannot
+// confirm change that close to the floor (the floor voxel is occupied in both
+// missions), so this is where a detected object most often lacks points.
+std::vector<uint32_t> base_points(const Object& o, const LocalCloud& cloud, const Floor& floor,
+                                  const std::unordered_set<uint64_t>& owned) {
+  std::unordered_set<uint64_t> columns;
+  auto column = [](float x, float y) {
+    return voxel_key(Eigen::Vector3i(int(std::floor(x * 20.f)), int(std::floor(y * 20.f)), 0));
+  };
+  for (const auto& p : o.points.xyz)
+    if (p.z() < o.bbox_min.z() + 0.15f) {
+      const int cx = int(std::floor(p.x() * 20.f)), cy = int(std::floor(p.y() * 20.f));
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy) columns.insert(voxel_key(Eigen::Vector3i(cx + dx, cy + dy, 0)));
+    }
+  std::vector<uint32_t> added;
+  const float top = o.bbox_min.z() + 0.05f;
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    const auto& p = cloud.points.xyz[i];
+    if (p.z() < floor.clear_z || p.z() > top || !columns.count(column(p.x(), p.y()))) continue;
+    if (owned.count(point_key(cloud.points.scan[i], cloud.points.index[i]))) continue;
+    added.push_back(uint32_t(i));
+  }
+  return added;
+}
+
+}  // namespace
+
+ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, const CompletionConfig& c,
+                           CompletionStats* stats) {
+  if (c.voxel <= 0) throw Error("segment.complete: voxel must be > 0");
+  ObjectSet out = input;
+  for (auto& o : out.objects) o.update_geometry();
+  std::vector<const Mission*> mission_of(out.missions.size(), nullptr);
+  for (size_t m = 0; m < out.missions.size(); ++m) {
+    mission_of[m] = missions.find(out.missions[m]);
+    if (!mission_of[m])
+      throw Error("segment.complete: objects name mission '" + out.missions[m] +
+                  "', which the missions input does not hold; connect the missions the objects came from");
+  }
+  for (const auto& o : out.objects)
+    if (o.mission >= out.missions.size())
+      throw Error("segment.complete: object " + std::to_string(o.id) + " names mission index " +
+                  std::to_string(o.mission) + " of " + std::to_string(out.missions.size()));
+
+  // 1. Candidate pairs across consecutive missions, nearest first.
+  std::vector<std::tuple<float, size_t, size_t>> candidates;
+  for (size_t i = 0; i < out.objects.size(); ++i)
+    for (size_t j = 0; j < out.objects.size(); ++j) {
+      const Object &a = out.objects[i], &b = out.objects[j];
+      if (b.mission != a.mission + 1 || a.points.empty() || b.points.empty()) continue;
+      const float gap = box_gap(a, b);
+      if (gap <= c.pair_gap) candidates.emplace_back(gap, i, j);
+    }
+  std::sort(candidates.begin(), candidates.end());
+  std::vector<char> used(out.objects.size(), 0);
+  struct Pair {
+    size_t a, b;
+    Box region, floor_region;
+  };
+  std::vector<Pair> pairs;
+  const float margin = float(c.box_margin);
+  for (const auto& [gap, i, j] : candidates) {
+    if (used[i] || used[j]) continue;
+    used[i] = used[j] = 1;
+    Box r;
+    for (const Object* o : {&out.objects[i], &out.objects[j]}) r.extend(Box{o->bbox_min, o->bbox_max});
+    // Down to the floor: the region's lower bound is set once the floor is known.
+    pairs.push_back({i, j, r.grown(margin, 0.f, margin), r.grown(margin + 0.75f, 1.5f, margin)});
+  }
+  CompletionStats st;
+  st.pairs = pairs.size();
+  if (pairs.empty() && !c.self_complete) {
+    if (stats) *stats = st;
+    return out;
+  }
+
+  // 2. Each mission's points around its pairs, and what its objects own.
+  const size_t nm = out.missions.size();
+  std::vector<std::vector<Box>> regions(nm);
+  for (const auto& p : pairs)
+    for (size_t k : {p.a, p.b}) regions[out.objects[k].mission].push_back(p.floor_region);
+  auto own_floor_region = [&](const Object& o) {
+    return Box{o.bbox_min, o.bbox_max}.grown(margin + 0.75f, 1.5f, margin);
+  };
+  if (c.self_complete)
+    for (const auto& o : out.objects)
+      if (!o.points.empty()) regions[o.mission].push_back(own_floor_region(o));
+  std::vector<LocalCloud> clouds(nm);
+  for (size_t m = 0; m < nm; ++m) clouds[m] = gather(*mission_of[m], regions[m], float(c.voxel), c.threads);
+  std::vector<std::unordered_set<uint64_t>> owned(nm);
+  for (const auto& o : out.objects)
+    for (size_t i = 0; i < o.points.size(); ++i) owned[o.mission].insert(point_key(o.points.scan[i], o.points.index[i]));
+
+  // 3-4. Grow both objects of each pair; keep the growth if the shapes agree.
+  for (const auto& p : pairs) {
+    Object &a = out.objects[p.a], &b = out.objects[p.b];
+    const LocalCloud &ca = clouds[a.mission], &cb = clouds[b.mission];
+    Floor fa, fb;
+    if (!local_floor(ca.points, p.floor_region, c.floor_percentile, c.floor_clearance, fa) ||
+        !local_floor(cb.points, p.floor_region, c.floor_percentile, c.floor_clearance, fb)) {
+      ++st.rejected;
+      continue;
+    }
+    const float floor_a = fa.z, floor_b = fb.z, min_a = fa.clear_z, min_b = fb.clear_z;
+    Box ra = p.region, rb = p.region;
+    ra.lo.z() = std::min(ra.lo.z(), min_a);
+    rb.lo.z() = std::min(rb.lo.z(), min_b);
+    const Growth ga = grow(a.points, ca, ra, min_a, owned[a.mission]);
+    const Growth gb = grow(b.points, cb, rb, min_b, owned[b.mission]);
+    // A growth that wants out of the region is part of something bigger
+    // (a wall, a desk the object touches): not one object moved in place.
+    const bool contained = double(ga.leaks) <= c.max_leak * double(ga.voxels) &&
+                           double(gb.leaks) <= c.max_leak * double(gb.voxels);
+    const Eigen::Vector3f sa = shape_of(a.points, ga.added, ca.points, floor_a, min_a);
+    const Eigen::Vector3f sb = shape_of(b.points, gb.added, cb.points, floor_b, min_b);
+    if (!contained || !same_shape(sa, sb, c)) {
+      ++st.rejected;
+      continue;
+    }
+    ++st.completed;
+    for (auto [o, add, cloud] : {std::tuple{&a, &ga.added, &ca}, std::tuple{&b, &gb.added, &cb}}) {
+      for (uint32_t i : *add) {
+        o->points.push_back_from(cloud->points, i);
+        owned[o->mission].insert(point_key(cloud->points.scan[i], cloud->points.index[i]));
+      }
+      st.points_added += add->size();
+      o->update_geometry();
+    }
+  }
+
+  // 5. Every object: its own missing points inside its box grown by
+  // box_margin (mostly its base next to the floor, and surfaces the
+  // difference left out next to others), or only its base when the growth
+  // wants out of the box (the object touches a wall or other furniture).
+  if (c.self_complete)
+    for (auto& o : out.objects) {
+      if (o.points.empty()) continue;
+      const LocalCloud& cloud = clouds[o.mission];
+      Floor f;
+      if (!local_floor(cloud.points, own_floor_region(o), c.floor_percentile, c.floor_clearance, f)) continue;
+      Box r = Box{o.bbox_min, o.bbox_max}.grown(margin, margin, margin);
+      const bool on_floor = o.bbox_min.z() - f.z <= 0.3f;
+      if (on_floor) r.lo.z() = f.clear_z;
+      const Growth g = grow(o.points, cloud, r, f.clear_z, owned[o.mission]);
+      std::vector<uint32_t> add;
+      if (double(g.leaks) <= c.max_leak * double(g.walked_or_one()))
+        add = g.added;
+      else if (on_floor)
+        add = base_points(o, cloud, f, owned[o.mission]);
+      if (add.empty()) continue;
+      ++st.self_completed;
+      for (uint32_t i : add) {
+        o.points.push_back_from(cloud.points, i);
+        owned[o.mission].insert(point_key(cloud.points.scan[i], cloud.points.index[i]));
+      }
+      st.points_added += add.size();
+      o.update_geometry();
+    }
+  if (stats) *stats = st;
+  return out;
+}
+
+}  // namespace lista::seg

@@ -1,0 +1,75 @@
+// Object completion: grows change clusters that a volumetric difference left
+// incomplete into the whole object, using each mission's full point cloud.
+//
+// Why: an object moved by less than its own size (or replaced by another on
+// the same spot) keeps occupying the overlap of its two poses, so only the
+// non-overlapping parts of it change. The paper names this as its main loss
+// of recall (Exp. 3) and as the cause of clusters too small to describe.
+//
+// The rule, for consecutive missions m and n = m + 1:
+//  1. Pairs. An object a of m and an object b of n whose bounding boxes are at
+//     most `pair_gap` apart are a candidate pair (both slivers of one object
+//     seen at two poses). Pairs are taken greedily by increasing gap, each
+//     object in at most one pair, so the result does not depend on order.
+//  2. Region. The growth region R is the union box of a and b grown by
+//     `box_margin`, reaching down to the local floor. For a rigid object moved
+//     by less than its size, the part that did not change (the overlap of its
+//     two poses) lies between the two slivers, hence inside R.
+//  3. Growth. a grows in m's cloud, b in n's cloud: a breadth-first walk over
+//     occupied voxels (edge `voxel`, 26-neighbourhood) from the object's own
+//     voxels, staying inside R, above the local floor clearance, and
+//     off points that another object of that mission already owns.
+//  4. Check. Neither growth may want out of R: occupied voxels next to it
+//     but outside R, over `max_leak` per voxel it grew into, mean it is part
+//     of something bigger (a wall, the desk the object touches). And both
+//     grown objects must have the same shape as one rigid object would: height above the floor and the two horizontal extents along their
+//     principal axes agree within max(`shape_tolerance` x the larger,
+//     `shape_slack`). Otherwise both objects are kept as they were, so an
+//     unrelated pair of changes never swallows the structure between them.
+//  5. Self-completion (every object, `self_complete`): the same growth inside
+//     the object's own box grown by `box_margin`, reaching down to the floor
+//     for objects standing on it. The difference cannot confirm change next
+//     to the floor (the floor voxel is occupied in both missions), so objects
+//     lose their base; this gives it back. If the growth wants out of the box
+//     (the object touches a wall), only the base below its lowest detected
+//     part, in the columns that part occupies, is added.
+// The local floor around an object: the `floor_percentile` of the lowest point
+// per 0.2 m cell gives a first guess, refined to the median of the points just
+// above it; object points must lie max(`floor_clearance`, 4 x its noise)
+// above it (robust to ramps; no global ground model needed).
+#pragma once
+
+#include <lista/missions.hpp>
+#include <lista/objects.hpp>
+
+#include <cstddef>
+
+namespace lista::seg {
+
+struct CompletionConfig {
+  double voxel = 0.1;             // m, connectivity grid of the growth
+  double pair_gap = 1.0;          // m, largest box-to-box gap of a pair
+  double box_margin = 0.15;       // m, growth region = union box of the pair grown by this
+  double floor_clearance = 0.02;  // m, least clearance above the floor (4 sigma of its noise if more)
+  double floor_percentile = 0.1;  // of the per-cell lowest points around the pair
+  double shape_tolerance = 0.25;  // relative disagreement of the pair's extents allowed
+  double shape_slack = 0.15;      // m, absolute disagreement always allowed
+  double max_leak = 0.1;          // leaked voxels per voxel grown into, at most
+  bool self_complete = true;      // also complete every object inside its own box (rule 5)
+  int threads = 1;
+};
+
+struct CompletionStats {
+  size_t pairs = 0;         // candidate pairs examined
+  size_t completed = 0;     // pairs whose growth was accepted
+  size_t rejected = 0;      // pairs whose grown shapes disagreed
+  size_t self_completed = 0;  // objects grown by rule 5
+  size_t points_added = 0;    // over all objects
+};
+
+// `missions` must be the aligned missions the objects were detected in (same
+// names, same order as objects.missions). Objects keep their ids and order.
+ObjectSet complete_objects(const ObjectSet& objects, const MissionSet& missions,
+                           const CompletionConfig& config, CompletionStats* stats = nullptr);
+
+}  // namespace lista::seg

@@ -1,0 +1,160 @@
+// lista-run as users see it: exit codes, one-line errors, JSON verdicts.
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <csignal>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs lista-run with only the test plugins visible.
+Result lista_run(const std::string& args) {
+  lista_test::TempDir dir;
+  const std::string cmd = "env -u LISTA_PLUGIN_PATH " LISTA_BIN_DIR "/lista-run --no-default-plugins --plugin-dir " +
+                          lista_test::good_dir() + " " + args + " >" + (dir.path / "out").string() + " 2>" +
+                          (dir.path / "err").string();
+  const int status = std::system(cmd.c_str());
+  Result r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(dir.path / "out");
+  r.err = slurp(dir.path / "err");
+  return r;
+}
+
+size_t lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
+
+const char* good_pipeline =
+    "[pipeline]\nname = \"cli\"\nseed = 5\n"
+    "[stages.src]\nplugin = \"test.source\"\n"
+    "[stages.p]\nplugin = \"test.to_points\"\ninputs = { missions = \"src.missions\" }\n"
+    "[stages.s]\nplugin = \"test.sink\"\ninputs = { points = \"p.points\" }\n";
+
+}  // namespace
+
+TEST(Cli, RunsAPipeline) {
+  lista_test::TempDir dir;
+  const auto r = lista_run(dir.write("ok.toml", good_pipeline) + " -j 2 --set src.count=3");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("sink saw 6 points"), std::string::npos) << r.err;
+  const auto q = lista_run(dir.path.string() + "/ok.toml --quiet");
+  EXPECT_EQ(q.code, 0);
+  EXPECT_EQ(q.err, "");
+}
+
+TEST(Cli, PipelineErrorIsOneLineWithLocationAndExitOne) {
+  lista_test::TempDir dir;
+  const std::string file = dir.write("bad.toml", std::string(good_pipeline) + "[stages.x]\nplugin = \"test.sourse\"\n");
+  const auto r = lista_run(file);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_EQ(r.err.rfind("lista-run: error: " + file + ":13:10: stage 'x': unknown plugin 'test.sourse'", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("did you mean 'test.source'"), std::string::npos);
+}
+
+TEST(Cli, SyntaxErrorAndMissingFile) {
+  lista_test::TempDir dir;
+  const auto r = lista_run(dir.write("syn.toml", "[pipeline]\nseed = = 1\n"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("syn.toml:2:"), std::string::npos) << r.err;
+  const auto m = lista_run("/nonexistent/p.toml");
+  EXPECT_EQ(m.code, 1);
+  EXPECT_NE(m.err.find("cannot open pipeline file '/nonexistent/p.toml'"), std::string::npos) << m.err;
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  EXPECT_EQ(lista_run("--no-such-flag").code, 2);
+  EXPECT_EQ(lista_run("").code, 2);
+  lista_test::TempDir dir;
+  const auto r = lista_run(dir.write("ok.toml", good_pipeline) + " --set nodot=3");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_EQ(lista_run("ok.toml -j 0").code, 2);
+}
+
+TEST(Cli, ValidatePrintsJsonVerdict) {
+  lista_test::TempDir dir;
+  const auto ok = lista_run(dir.write("ok.toml", good_pipeline) + " --validate");
+  EXPECT_EQ(ok.code, 0);
+  EXPECT_NE(ok.out.find("\"valid\": true"), std::string::npos) << ok.out;
+  // A misspelt parameter on line 6, in stage src (test.source declares count).
+  std::string text = good_pipeline;
+  const std::string after = "plugin = \"test.source\"\n";
+  text.insert(text.find(after) + after.size(), "cuont = 3\n");
+  const auto bad = lista_run(dir.write("bad.toml", text) + " --validate");
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.out.find("\"valid\": false"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("\"line\": 6"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("\"stage\": \"src\""), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("did you mean"), std::string::npos) << bad.out;
+}
+
+TEST(Cli, DryRunPrintsThePlanAndRunsNothing) {
+  lista_test::TempDir dir;
+  const auto r = lista_run(dir.write("ok.toml", good_pipeline) + " --dry-run --set src.count=7");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("3 stages in 3 levels"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("count = 7"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("sink saw"), std::string::npos);
+}
+
+TEST(Cli, ListAndDescribePlugins) {
+  const auto list = lista_run("--list-plugins");
+  EXPECT_EQ(list.code, 0);
+  EXPECT_NE(list.out.find("test.passthrough"), std::string::npos) << list.out;
+  const auto text = lista_run("--describe test.source");
+  EXPECT_EQ(text.code, 0);
+  EXPECT_NE(text.out.find("scale : float = 1.0 m  range [0.001, 1000.0]"), std::string::npos) << text.out;
+  const auto json = lista_run("--describe test.source --json");
+  EXPECT_EQ(json.code, 0);
+  EXPECT_NE(json.out.find("\"choices\": [\n        \"fast\",\n        \"exact\"\n      ]"), std::string::npos) << json.out;
+  const auto unknown = lista_run("--describe test.sourc");
+  EXPECT_EQ(unknown.code, 1);
+  EXPECT_NE(unknown.err.find("did you mean 'test.source'"), std::string::npos);
+}
+
+TEST(Cli, BrokenPluginsAreWarningsNotFatal) {
+  const auto r = lista_run("--plugin-dir " + lista_test::bad_dir() + " --list-plugins");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("test.source"), std::string::npos);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 3) << r.err;
+}
+
+TEST(Cli, CtrlCExits130) {
+  lista_test::TempDir dir;
+  const std::string file = dir.write(
+      "wait.toml", "[stages.src]\nplugin = \"test.source\"\n"
+                   "[stages.w]\nplugin = \"test.wait_cancel\"\ninputs = { missions = \"src.missions\" }\n");
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    unsetenv("LISTA_PLUGIN_PATH");
+    const std::string good = lista_test::good_dir();
+    execl(LISTA_BIN_DIR "/lista-run", "lista-run", "--no-default-plugins", "--quiet", "--plugin-dir", good.c_str(),
+          file.c_str(), static_cast<char*>(nullptr));
+    _exit(99);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+}

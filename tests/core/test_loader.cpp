@@ -1,0 +1,113 @@
+// Plugin loading: a real plugin library, and each way a library can be refused.
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+using namespace lista::core;
+using lista_test::bad_dir;
+using lista_test::good_dir;
+
+namespace {
+
+std::string load_error(const std::string& file) {
+  Registry r;
+  try {
+    load_plugin_library(r, file);
+  } catch (const lista::Error& e) {
+    EXPECT_EQ(r.size(), 0u) << "a refused library must register nothing";
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Loader, LoadsTheTestLibraryAndItsDeclarations) {
+  Registry r;
+  load_plugin_library(r, lista_test::good_library());
+  const RegisteredStage* s = r.find("test.source");
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->info.kind(), "test");
+  EXPECT_NE(s->library.find("liblista_test_stages.so"), std::string::npos);
+  ASSERT_NE(s->info.param("scale"), nullptr);
+  EXPECT_EQ(s->info.param("scale")->unit_, "m");
+  EXPECT_GE(r.size(), 7u);
+  // Loading the same file again is harmless.
+  load_plugin_library(r, lista_test::good_library());
+  EXPECT_GE(r.size(), 7u);
+}
+
+TEST(Loader, UndefinedSymbolNamesFileAndSymbol) {
+  const std::string e = load_error(bad_dir() + "/liblista_test_broken_symbol.so");
+  EXPECT_NE(e.find("liblista_test_broken_symbol.so"), std::string::npos) << e;
+  EXPECT_NE(e.find("undefined symbol"), std::string::npos) << e;
+  EXPECT_NE(e.find("lista_test_symbol_that_does_not_exist"), std::string::npos) << e;
+}
+
+TEST(Loader, LibraryWithoutManifestIsRefused) {
+  const std::string e = load_error(bad_dir() + "/liblista_test_no_manifest.so");
+  EXPECT_NE(e.find("liblista_test_no_manifest.so"), std::string::npos) << e;
+  EXPECT_NE(e.find("not a LiSTA plugin"), std::string::npos) << e;
+}
+
+TEST(Loader, AbiMismatchIsRefusedBeforeRegistration) {
+  // The library's register function aborts: reaching it would kill the test.
+  const std::string e = load_error(bad_dir() + "/liblista_test_abi_mismatch.so");
+  EXPECT_NE(e.find("bogus"), std::string::npos) << e;
+  EXPECT_NE(e.find(LISTA_BUILD_FINGERPRINT), std::string::npos) << e;
+  EXPECT_NE(e.find("ABI mismatch"), std::string::npos) << e;
+}
+
+TEST(Loader, MissingFileIsAnError) {
+  const std::string e = load_error("/nonexistent/libnothing.so");
+  EXPECT_NE(e.find("/nonexistent/libnothing.so"), std::string::npos) << e;
+}
+
+TEST(Loader, DuplicateNameNamesBothLibraries) {
+  Registry r;
+  load_plugin_library(r, lista_test::good_library());
+  try {
+    load_plugin_library(r, TEST_PLUGIN_DUP_DIR "/liblista_test_duplicate.so");
+    FAIL() << "duplicate accepted";
+  } catch (const lista::Error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("test.source"), std::string::npos) << m;
+    EXPECT_NE(m.find("liblista_test_stages.so"), std::string::npos) << m;
+    EXPECT_NE(m.find("liblista_test_duplicate.so"), std::string::npos) << m;
+  }
+  EXPECT_EQ(r.find("test.source")->info.version, "1.0.0");  // the first one stays
+}
+
+TEST(Loader, FolderLoadCollectsEveryFailureAndSkipsMissingFolders) {
+  Registry r;
+  const LoadResult res = load_plugins(r, {"/nonexistent/folder", bad_dir(), good_dir()});
+  EXPECT_EQ(res.loaded.size(), 1u);
+  EXPECT_EQ(res.errors.size(), 3u);
+  EXPECT_NE(r.find("test.join"), nullptr);
+}
+
+TEST(Loader, OnlyLibSoFilesAreConsidered) {
+  lista_test::TempDir dir;
+  dir.write("notes.txt", "x");
+  dir.write("libfake.so.txt", "x");
+  dir.write("plugin.so", "not an elf");  // no lib prefix: ignored
+  dir.write("libjunk.so", "not an elf");  // considered, and refused
+  Registry r;
+  const LoadResult res = load_plugins(r, {dir.path.string()});
+  ASSERT_EQ(res.errors.size(), 1u);
+  EXPECT_NE(res.errors[0].find("libjunk.so"), std::string::npos);
+}
+
+TEST(Loader, SearchPathOrder) {
+  setenv("LISTA_PLUGIN_PATH", "/a::/b", 1);
+  const auto dirs = plugin_search_path({"/c"}, true);
+  unsetenv("LISTA_PLUGIN_PATH");
+  ASSERT_EQ(dirs.size(), 4u);
+  EXPECT_EQ(dirs[0], "/a");
+  EXPECT_EQ(dirs[1], "/b");
+  EXPECT_EQ(dirs[2], "/c");
+  EXPECT_NE(dirs[3].find("lista-plugins"), std::string::npos);
+  EXPECT_EQ(plugin_search_path({"/c"}, false).size(), 1u);
+}

@@ -1,0 +1,206 @@
+// Pipeline parsing and validation: every error class with its exact line.
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+using namespace lista::core;
+using lista_test::plan_of;
+
+namespace {
+
+// The errors of `toml`, as "line: message" strings.
+std::vector<Diagnostic> errors_of(const std::string& toml, const std::vector<std::string>& sets = {}) {
+  Diagnostics d;
+  plan_of(toml, d, sets);
+  return d.errors;
+}
+
+// Exactly one error, at `line`, whose message contains `text`.
+void expect_one_error(const std::string& toml, int line, const std::string& text,
+                      const std::vector<std::string>& sets = {}) {
+  const auto errors = errors_of(toml, sets);
+  ASSERT_EQ(errors.size(), 1u) << (errors.empty() ? "no error" : errors[0].str() + " ... and more");
+  EXPECT_EQ(errors[0].where.file, "p.toml");
+  EXPECT_EQ(errors[0].where.line, line) << errors[0].str();
+  EXPECT_NE(errors[0].message.find(text), std::string::npos) << errors[0].str();
+}
+
+const std::string source = "[stages.src]\nplugin = \"test.source\"\n";  // lines 1-2
+const std::string chain = source +
+                          "[stages.pts]\n"                               // 3
+                          "plugin = \"test.to_points\"\n"                // 4
+                          "inputs = { missions = \"src.missions\" }\n"   // 5
+                          "[stages.sink]\n"                              // 6
+                          "plugin = \"test.sink\"\n"                     // 7
+                          "inputs = { points = \"pts.points\" }\n";      // 8
+
+}  // namespace
+
+TEST(Pipeline, ValidChainPlansInOrderWithResolvedParams) {
+  Diagnostics d;
+  const Plan plan = plan_of("[pipeline]\nname = \"ok\"\nseed = 3\n" + chain + "[stages.src2]\nplugin=\"test.source\"\n", d);
+  ASSERT_TRUE(d.ok()) << d.errors[0].str();
+  ASSERT_EQ(plan.stages.size(), 4u);
+  EXPECT_EQ(plan.stages[0].id, "src");
+  EXPECT_EQ(plan.stages[1].id, "pts");
+  EXPECT_EQ(plan.stages[2].id, "sink");
+  EXPECT_EQ(plan.stages[3].id, "src2");
+  EXPECT_EQ(plan.stages[2].level, 2);
+  EXPECT_EQ(plan.levels, 3);
+  EXPECT_EQ(plan.stages[0].params.get<int>("count"), 100);  // default
+  EXPECT_FALSE(plan.stages[0].params.is_set("count"));
+  EXPECT_EQ(*plan.spec.seed, 3u);
+  ASSERT_EQ(d.warnings.size(), 1u);  // src2.missions unused
+  EXPECT_NE(d.warnings[0].message.find("'missions'"), std::string::npos);
+  EXPECT_EQ(d.warnings[0].stage, "src2");
+}
+
+TEST(Pipeline, ParamsFromFileAndIntegerForReal) {
+  Diagnostics d;
+  const Plan plan = plan_of(chain + "[stages.src.x]\n", d);  // nested table is not a param value
+  EXPECT_FALSE(d.ok());
+  Diagnostics d2;
+  const Plan p2 = plan_of("[stages.src]\nplugin = \"test.source\"\ncount = 7\nscale = 2\nweights = [1, 2.5]\n"
+                          "tags = [\"a\"]\nmode = \"exact\"\nverbose = true\n", d2);
+  ASSERT_TRUE(d2.ok()) << d2.errors[0].str();
+  const auto& params = p2.stages[0].params;
+  EXPECT_EQ(params.get<int>("count"), 7);
+  EXPECT_DOUBLE_EQ(params.get<double>("scale"), 2.0);
+  EXPECT_EQ(params.value("scale").index(), 2u);  // stored as a real
+  EXPECT_EQ(params.get<std::vector<double>>("weights"), (std::vector<double>{1.0, 2.5}));
+  EXPECT_EQ(params.get<std::string>("mode"), "exact");
+  EXPECT_TRUE(params.get<bool>("verbose"));
+  EXPECT_EQ(params.location("count").line, 3);
+}
+
+TEST(Pipeline, UnknownPluginWithSuggestion) {
+  expect_one_error("[stages.a]\n\nplugin = \"test.sourse\"\n", 3, "did you mean 'test.source'");
+}
+
+TEST(Pipeline, StageWithoutPlugin) { expect_one_error("[stages.a]\ncount = 1\n", 1, "has no plugin"); }
+
+TEST(Pipeline, UnknownParameterWithSuggestion) {
+  expect_one_error(source + "cuont = 5\n", 3, "did you mean 'count'");
+}
+
+TEST(Pipeline, WrongParameterType) {
+  expect_one_error(source + "count = 1.5\n", 3, "must be int");
+  expect_one_error(source + "verbose = \"yes\"\n", 3, "must be bool");
+  expect_one_error(source + "tags = [1, 2]\n", 3, "must be string[]");
+  expect_one_error(source + "tags = [1, \"a\"]\n", 3, "only numbers or only strings");
+}
+
+TEST(Pipeline, OutOfRangeAndChoices) {
+  expect_one_error(source + "\nscale = 5000.0\n", 4, "[0.001, 1000");
+  expect_one_error(source + "missions = 0\n", 3, "must be in");
+  expect_one_error(source + "weights = [1.0, -2.0]\n", 3, ">= 0");
+  expect_one_error(source + "mode = \"slow\"\n", 3, "must be one of");
+}
+
+TEST(Pipeline, MissingRequiredInput) {
+  // test.join requires a and b; c is optional.
+  expect_one_error(source + "[stages.j]\nplugin = \"test.join\"\ninputs = { a = \"src.missions\" }\n", 3,
+                   "required input 'b'");
+}
+
+TEST(Pipeline, UnknownInputPort) {
+  expect_one_error(source + "[stages.p]\nplugin = \"test.passthrough\"\n"
+                            "inputs = { missions = \"src.missions\", mission = \"src.missions\" }\n",
+                   5, "unknown input port 'mission'");
+}
+
+TEST(Pipeline, ReferenceToUnknownStageOrPort) {
+  expect_one_error(source + "[stages.p]\nplugin = \"test.passthrough\"\ninputs = { missions = \"srx.missions\" }\n",
+                   5, "unknown stage 'srx' (did you mean 'src'?)");
+  expect_one_error(source + "[stages.p]\nplugin = \"test.passthrough\"\ninputs = { missions = \"src.mission\" }\n",
+                   5, "has no output 'mission' (did you mean 'missions'?)");
+  expect_one_error(source + "[stages.p]\nplugin = \"test.passthrough\"\ninputs = { missions = \"src\" }\n", 5,
+                   "not of the form");
+}
+
+TEST(Pipeline, PortTypeMismatch) {
+  expect_one_error(source + "[stages.s]\nplugin = \"test.sink\"\n\ninputs = { points = \"src.missions\" }\n", 6,
+                   "expects 'points' but src.missions is 'missions'");
+}
+
+TEST(Pipeline, CycleIsNamed) {
+  const std::string toml = source +
+                           "[stages.a]\nplugin = \"test.passthrough\"\ninputs = { missions = \"c.missions\" }\n"  // 3-5
+                           "[stages.b]\nplugin = \"test.passthrough\"\ninputs = { missions = \"a.missions\" }\n"  // 6-8
+                           "[stages.c]\nplugin = \"test.passthrough\"\ninputs = { missions = \"b.missions\" }\n"; // 9-11
+  const auto errors = errors_of(toml);
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_NE(errors[0].message.find("cycle"), std::string::npos) << errors[0].str();
+  for (const char* id : {"a ->", "b ->", "c ->"}) EXPECT_NE(errors[0].message.find(id), std::string::npos) << errors[0].str();
+  EXPECT_TRUE(errors[0].where.line == 3 || errors[0].where.line == 6 || errors[0].where.line == 9);
+  expect_one_error(source + "[stages.a]\nplugin = \"test.passthrough\"\ninputs = { missions = \"a.missions\" }\n", 5,
+                   "cycle: a -> a");
+}
+
+TEST(Pipeline, PipelineSettingsAreChecked) {
+  expect_one_error("[pipeline]\nseed = \"x\"\n" + source, 2, "seed must be an integer");
+  expect_one_error("[pipeline]\nthreads = 0\n" + source, 2, "threads must be in");
+  expect_one_error("[pipeline]\nnmae = \"x\"\n" + source, 2, "unknown key 'nmae'");
+  expect_one_error(source + "[other]\n", 3, "unknown top-level key");
+  expect_one_error("stages = 3\n", 1, "stages must be tables");
+  expect_one_error("[stages.\"a.b\"]\nplugin = \"test.source\"\n", 1, "no dots");
+}
+
+TEST(Pipeline, AllErrorsAreCollected) {
+  const auto errors = errors_of(source + "cuont = 1\nscale = -1.0\n[stages.x]\nplugin = \"nope.nope\"\n");
+  ASSERT_EQ(errors.size(), 3u);
+  EXPECT_EQ(errors[0].where.line, 3);
+  EXPECT_EQ(errors[1].where.line, 4);
+  EXPECT_EQ(errors[2].where.line, 6);
+}
+
+TEST(Pipeline, SyntaxErrorHasLineAndColumn) {
+  Diagnostics d;
+  try {
+    parse_pipeline_text("[pipeline]\nname = \"x\"\nseed = = 3\n", "p.toml", d);
+    FAIL() << "no syntax error";
+  } catch (const lista::Error& e) {
+    EXPECT_EQ(e.location().file, "p.toml");
+    EXPECT_EQ(e.location().line, 3);
+    EXPECT_GT(e.location().column, 0);
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line: " << e.what();
+  }
+}
+
+TEST(Overrides, ParsedAsTomlOrBareString) {
+  auto o = parse_override("src.count=12");
+  EXPECT_EQ(o.stage, "src");
+  EXPECT_EQ(o.param, "count");
+  EXPECT_EQ(std::get<int64_t>(*o.value), 12);
+  EXPECT_EQ(std::get<std::string>(*parse_override("src.mode=exact").value), "exact");
+  EXPECT_EQ(std::get<std::string>(*parse_override("src.mode=\"exact\"").value), "exact");
+  EXPECT_DOUBLE_EQ(std::get<double>(*parse_override("src.scale=0.5").value), 0.5);
+  EXPECT_TRUE(std::get<bool>(*parse_override("src.verbose=true").value));
+  EXPECT_EQ(std::get<std::vector<double>>(*parse_override("src.weights=[1, 2]").value).size(), 2u);
+  EXPECT_THROW(parse_override("count=3"), lista::Error);
+  EXPECT_THROW(parse_override("src.count"), lista::Error);
+  EXPECT_THROW(parse_override(".count=3"), lista::Error);
+}
+
+TEST(Overrides, ApplyAfterFileAndAreValidated) {
+  Diagnostics d;
+  const Plan plan = plan_of(source + "count = 5\n", d, {"src.count=9", "src.mode=exact"});
+  ASSERT_TRUE(d.ok()) << d.errors[0].str();
+  EXPECT_EQ(plan.stages[0].params.get<int>("count"), 9);
+  EXPECT_EQ(plan.stages[0].params.get<std::string>("mode"), "exact");
+  EXPECT_NE(plan.resolved_toml().find("count = 9"), std::string::npos);
+  expect_one_error(source, 1, "must be in", {"src.missions=1000"});
+  expect_one_error(source, 1, "unknown parameter 'cout'", {"src.cout=1"});
+  expect_one_error(source, 0, "no stage 'srx'", {"srx.count=1"});
+}
+
+TEST(Plan, ResolvedTomlRoundTrips) {
+  Diagnostics d;
+  const Plan plan = plan_of("[pipeline]\nseed = 4\n" + chain, d);
+  ASSERT_TRUE(d.ok());
+  Diagnostics d2;
+  const Plan again = plan_of(plan.resolved_toml(), d2);
+  ASSERT_TRUE(d2.ok()) << d2.errors[0].str();
+  EXPECT_EQ(again.resolved_toml(), plan.resolved_toml());
+  EXPECT_NE(plan.describe().find("level 2"), std::string::npos);
+}
