@@ -17,6 +17,8 @@ class WeightedMatchStage : public Stage {
     cfg_.group_mode = p.get<std::string>("group_mode");
     cfg_.group_penalty = p.get<double>("group_penalty");
     cfg_.max_distance = p.get<double>("max_distance");
+    cfg_.max_size_change = p.get<double>("max_size_change");
+    cfg_.size_slack = p.get<double>("size_slack");
     cfg_.max_descriptor_distance = p.get<double>("max_descriptor_distance");
     cfg_.max_cost = p.get<double>("max_cost");
     if (cfg_.alpha + cfg_.beta <= 0.0) throw Error("alpha + beta must be > 0");
@@ -59,7 +61,7 @@ StageInfo info() {
       "alpha * norm(centroid distance) + beta * norm(descriptor L2 distance) (+ group_penalty across groups "
       "when group_mode = soft). normalization = max divides the physical term by its largest candidate "
       "value and the descriptor term by the largest descriptor distance between any two objects; minmax is the paper's (x - min) / (max - min), which stretches descriptor noise between identical "
-      "objects to the full range. Candidates must lie within max_distance metres, max_descriptor_distance "
+      "objects to the full range. Candidates must lie within max_distance metres, keep their size (height and principal horizontal extents within max(max_size_change x the larger, size_slack)), max_descriptor_distance "
       "(if > 0) and cost <= max_cost (< 0: alpha + beta). The Hungarian algorithm picks the cheapest set "
       "of pairs, each pair only if cheaper than leaving both unmatched. Matched objects are 'moved' (match "
       "= partner in the next mission, else the previous one); unmatched earlier objects 'removed', later "
@@ -79,7 +81,10 @@ StageInfo info() {
           .one_of({"soft", "hard", "ignore"}),
       ParamSpec::real("group_penalty", 0.5, "cost added to a cross-group pair (group_mode = soft)")
           .range(0.0, 100.0),
-      ParamSpec::real("max_distance", 5.0, "farthest centroid displacement accepted as a move")
+      ParamSpec::real("max_size_change", 0.3, "size gate: largest relative change of height or principal horizontal extents of a pair (a moved rigid object keeps its size); 0 = off")
+          .range(0.0, 10.0),
+      ParamSpec::real("size_slack", 0.15, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m"),
+      ParamSpec::real("max_distance", 30.0, "farthest centroid displacement accepted as a move (room or site scale: the size gate keeps unlike objects apart)")
           .range(0.0, 1e6).unit("m"),
       ParamSpec::real("max_descriptor_distance", 0.0, "largest descriptor distance of a pair; 0 = no gate")
           .at_least(0.0),

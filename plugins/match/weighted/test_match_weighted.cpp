@@ -15,12 +15,13 @@ struct Scene {
   ObjectSet objects;
   DescriptorSet descriptors;
   // Adds an object (a small point blob) at `at` in mission `m` with descriptor `d`.
-  int add(uint32_t m, Eigen::Vector3f at, std::vector<float> d) {
+  // `size` scales the blob (a 0.1 m cube by default).
+  int add(uint32_t m, Eigen::Vector3f at, std::vector<float> d, Eigen::Vector3f size = Eigen::Vector3f::Constant(0.1f)) {
     Object o;
     o.id = static_cast<int>(objects.objects.size());
     o.mission = m;
     for (int i = 0; i < 8; ++i) {
-      o.points.xyz.push_back(at + 0.1f * Eigen::Vector3f(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+      o.points.xyz.push_back(at + Eigen::Vector3f(i & 1, (i >> 1) & 1, (i >> 2) & 1).cwiseProduct(size));
       o.points.scan.push_back(0);
       o.points.index.push_back(i);
     }
@@ -52,9 +53,9 @@ TEST(MatchWeighted, OneMovedOneRemovedOneAdded) {
   Scene s;
   s.objects.missions = {"A", "B"};
   const int chair_a = s.add(0, {0, 0, 0}, chair);
-  const int table_a = s.add(0, {-8, 4, 0}, table);
+  const int table_a = s.add(0, {-8, 4, 0}, table, {1.2f, 0.8f, 0.75f});
   const int chair_b = s.add(1, {1.5, 0.5, 0}, chair);
-  const int lamp_b = s.add(1, {9, -4, 0}, lamp);
+  const int lamp_b = s.add(1, {9, -4, 0}, lamp, {0.3f, 0.3f, 1.6f});
   const Matches m = run_stage(s);
   ASSERT_EQ(m.objects.size(), 4u);
   EXPECT_EQ(m.find(chair_a)->status, ChangeStatus::moved);
@@ -105,11 +106,26 @@ TEST(MatchWeighted, PhysicalGateKeepsFarChangesApart) {
   s.objects.missions = {"A", "B"};
   const int a = s.add(0, {0, 0, 0}, chair);
   const int b = s.add(1, {20, 0, 0}, chair);
-  Matches m = run_stage(s);  // default gate 5 m
+  Matches m = run_stage(s, {{"max_distance", 5.0}});
   EXPECT_EQ(m.find(a)->status, ChangeStatus::removed);
   EXPECT_EQ(m.find(b)->status, ChangeStatus::added);
-  m = run_stage(s, {{"max_distance", 50.0}});
+  m = run_stage(s);  // default gate 30 m: across a room is a move
   EXPECT_EQ(m.find(a)->status, ChangeStatus::moved);
+  EXPECT_EQ(m.find(a)->match, b);
+}
+
+TEST(MatchWeighted, SizeGateKeepsUnlikeSizesApart) {
+  // Same descriptor, 1 m apart, but one is 0.5 m tall and the other 1.5 m:
+  // no rigid object changes its height by moving.
+  Scene s;
+  s.objects.missions = {"A", "B"};
+  const int a = s.add(0, {0, 0, 0}, chair, {0.5f, 0.5f, 0.5f});
+  const int b = s.add(1, {1, 0, 0}, chair, {0.5f, 0.5f, 1.5f});
+  const int c = s.add(1, {4, 0, 0}, chair, {0.55f, 0.5f, 0.45f});
+  Matches m = run_stage(s);
+  EXPECT_EQ(m.find(a)->match, c);
+  EXPECT_EQ(m.find(b)->status, ChangeStatus::added);
+  m = run_stage(s, {{"max_size_change", 0.0}});  // gate off: the nearer one wins
   EXPECT_EQ(m.find(a)->match, b);
 }
 

@@ -4,6 +4,7 @@
 
 #include <lista/error.hpp>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -35,6 +36,35 @@ void normalise(Eigen::MatrixXd& d, const BoolMatrix& mask, const std::string& ho
       d(i, j) = range > 1e-12 ? std::clamp((d(i, j) - lo) / range, 0.0, 1.0) : 0.0;
 }
 
+// Height and horizontal extents along the principal axes (larger first): what
+// a rigid object keeps when it moves, whatever its yaw.
+Eigen::Vector3d size_of(const Object& o) {
+  if (o.points.size() < 3) return (o.bbox_max - o.bbox_min).cast<double>();
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : o.points.xyz) mean += p.head<2>().cast<double>();
+  mean /= double(o.points.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& p : o.points.xyz) {
+    const Eigen::Vector2d d = p.head<2>().cast<double>() - mean;
+    cov += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
+  double lo[2] = {1e30, 1e30}, hi[2] = {-1e30, -1e30};
+  for (const auto& p : o.points.xyz)
+    for (int k = 0; k < 2; ++k) {
+      const double t = (p.head<2>().cast<double>() - mean).dot(es.eigenvectors().col(k));
+      lo[k] = std::min(lo[k], t), hi[k] = std::max(hi[k], t);
+    }
+  const double e0 = hi[0] - lo[0], e1 = hi[1] - lo[1];
+  return {double(o.bbox_max.z() - o.bbox_min.z()), std::max(e0, e1), std::min(e0, e1)};
+}
+
+bool same_size(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double relative, double slack) {
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(a[k] - b[k]) > std::max(slack, relative * std::max(a[k], b[k]))) return false;
+  return true;
+}
+
 // The largest descriptor distance between any two objects of the scene: the
 // descriptor scale for "max" normalisation, so that noise between
 // near-identical objects stays small next to real class differences.
@@ -58,6 +88,11 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
   pc.descriptor.resize(n, m);
   pc.allowed.setConstant(n, m, true);
   Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(n, m);
+  std::vector<Eigen::Vector3d> size_a, size_b;
+  if (cfg.max_size_change > 0.0) {
+    for (const Object* o : a) size_a.push_back(size_of(*o));
+    for (const Object* o : b) size_b.push_back(size_of(*o));
+  }
   for (int i = 0; i < n; ++i) {
     const int ra = desc.row_of(a[i]->id);
     for (int j = 0; j < m; ++j) {
@@ -68,6 +103,8 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
           ? (desc.values.row(ra) - desc.values.row(rb)).cast<double>().norm()
           : std::numeric_limits<double>::quiet_NaN();
       bool ok = pc.physical(i, j) <= cfg.max_distance;
+      if (cfg.max_size_change > 0.0 && !same_size(size_a[size_t(i)], size_b[size_t(j)], cfg.max_size_change, cfg.size_slack))
+        ok = false;
       if (cfg.max_descriptor_distance > 0.0 && !(pc.descriptor(i, j) <= cfg.max_descriptor_distance))
         ok = false;
       if (groups && cfg.group_mode != "ignore") {

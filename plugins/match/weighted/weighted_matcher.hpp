@@ -17,7 +17,9 @@
 //
 // Gates. A pair is a candidate only if its centroids are at most
 // `max_distance` metres apart (two unrelated changes far apart are never a
-// move), its descriptor distance is at most `max_descriptor_distance` (if > 0)
+// move), its sizes agree as one rigid object's would (height and the
+// horizontal extents along the principal axes differ by at most
+// max(`max_size_change` x the larger, `size_slack`); 0 turns it off), its descriptor distance is at most `max_descriptor_distance` (if > 0)
 // and its weighted cost is at most `max_cost`. With the default max_cost =
 // alpha + beta every same-group pair inside the physical gate is a candidate
 // and a cross-group pair must be clearly closer or more similar than the
@@ -39,7 +41,9 @@ struct WeightedMatchConfig {
   std::string normalization = "max";  // "max" or "minmax"
   std::string group_mode = "soft";  // "soft", "hard" or "ignore"
   double group_penalty = 0.5;       // soft mode: added to cross-group pairs
-  double max_distance = 5.0;        // m: physical gate
+  double max_distance = 30.0;       // m: physical gate
+  double max_size_change = 0.3;     // size gate: relative change of height / extents; 0 = off
+  double size_slack = 0.15;         // m: size change always allowed (partial views, noise)
   double max_descriptor_distance = 0.0;  // descriptor units; 0 = no gate
   double max_cost = -1.0;           // weighted gate; < 0 means alpha + beta
 };
