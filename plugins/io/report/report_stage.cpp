@@ -51,6 +51,16 @@ class ReportStage : public Stage {
     std::snprintf(line, sizeof line, "objects %zu: moved %d, removed %d, added %d; matched pairs %d",
                   b.report.objects.size(), by_status["moved"], by_status["removed"], by_status["added"], pairs);
     ctx.info(line);
+    // The matches, one line each: what moved where, and how sure we are.
+    std::map<int, const lista::io::ReportObject*> by_id;
+    for (const auto& o : b.report.objects) by_id[o.id] = &o;
+    for (const auto& o : b.report.objects) {
+      if (o.match < 0 || o.id > o.match || !by_id.count(o.match)) continue;
+      const auto& m = *by_id[o.match];
+      std::snprintf(line, sizeof line, "  moved %d (%s) -> %d (%s): %.2f m, confidence %.2f", o.id, o.mission.c_str(),
+                    m.id, m.mission.c_str(), (m.centroid - o.centroid).norm(), std::min(o.confidence, m.confidence));
+      ctx.info(line);
+    }
     for (const auto& c : b.clouds) {
       std::snprintf(line, sizeof line, "  changes/%s.pcd: %zu points", c.mission.c_str(), c.size());
       ctx.info(line);
