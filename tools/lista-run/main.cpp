@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", o.threads, "total thread budget (default: [pipeline].threads or all cores)")
       ->check(CLI::Range(1, 4096));
   app.add_option("--seed", o.seed, "random seed (overrides [pipeline].seed)")->check(CLI::NonNegativeNumber);
-  app.add_flag("-q,--quiet", o.quiet, "only errors: no progress, no info lines");
+  app.add_flag("-q,--quiet", o.quiet, "warnings and errors only: no progress, no info lines");
   app.add_flag("-v,--verbose", o.verbose, "also debug messages");
   app.add_option("--plugin-dir", o.plugin_dirs, "extra folder with plugin libraries (repeatable)")
       ->allow_extra_args(false);
