@@ -69,6 +69,8 @@ void StageProgress::advance(uint64_t n) {
 }
 
 void StageProgress::end() {
+  // Plain lines: the 100% line was already printed by advance().
+  if (!display_.tty() && total_ != 0 && shown_step_.load() >= 100) return;
   std::string what;
   {
     std::lock_guard<std::mutex> lock(mutex_);
