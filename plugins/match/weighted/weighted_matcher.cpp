@@ -3,8 +3,8 @@
 #include "hungarian.hpp"
 
 #include <lista/error.hpp>
+#include <lista_geometry/object_geometry.hpp>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -39,24 +39,8 @@ void normalise(Eigen::MatrixXd& d, const BoolMatrix& mask, const std::string& ho
 // Height and horizontal extents along the principal axes (larger first): what
 // a rigid object keeps when it moves, whatever its yaw.
 Eigen::Vector3d size_of(const Object& o) {
-  if (o.points.size() < 3) return (o.bbox_max - o.bbox_min).cast<double>();
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& p : o.points.xyz) mean += p.head<2>().cast<double>();
-  mean /= double(o.points.size());
-  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-  for (const auto& p : o.points.xyz) {
-    const Eigen::Vector2d d = p.head<2>().cast<double>() - mean;
-    cov += d * d.transpose();
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-  double lo[2] = {1e30, 1e30}, hi[2] = {-1e30, -1e30};
-  for (const auto& p : o.points.xyz)
-    for (int k = 0; k < 2; ++k) {
-      const double t = (p.head<2>().cast<double>() - mean).dot(es.eigenvectors().col(k));
-      lo[k] = std::min(lo[k], t), hi[k] = std::max(hi[k], t);
-    }
-  const double e0 = hi[0] - lo[0], e1 = hi[1] - lo[1];
-  return {double(o.bbox_max.z() - o.bbox_min.z()), std::max(e0, e1), std::min(e0, e1)};
+  const Eigen::Vector2f e = geometry::horizontal_extents(o.points.xyz);
+  return {double(o.bbox_max.z() - o.bbox_min.z()), double(e[0]), double(e[1])};
 }
 
 bool same_size(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double relative, double slack) {

@@ -1,12 +1,13 @@
 #include "completion.hpp"
 
 #include <lista/error.hpp>
+#include <lista_geometry/object_geometry.hpp>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <thread>
 #include <tuple>
 #include <unordered_set>
@@ -32,10 +33,7 @@ struct Box {
   }
 };
 
-float box_gap(const Object& a, const Object& b) {
-  const Eigen::Vector3f d = (a.bbox_min - b.bbox_max).cwiseMax(b.bbox_min - a.bbox_max).cwiseMax(0.f);
-  return d.norm();
-}
+using geometry::box_gap;
 
 uint64_t point_key(uint32_t scan, uint32_t index) { return (uint64_t(scan) << 32) | index; }
 
@@ -46,7 +44,7 @@ uint64_t voxel_key(const Eigen::Vector3i& v) {
   return (uint64_t(v.x() + off) << 42) | (uint64_t(v.y() + off) << 21) | uint64_t(v.z() + off);
 }
 
-// One mission's points near the pairs that involve it, with a voxel index.
+// One mission's points near its objects and pairs, with a voxel index.
 struct LocalCloud {
   PointSet points;                                  // common frame
   std::vector<std::pair<uint64_t, uint32_t>> grid;  // (voxel key, point), sorted
@@ -151,7 +149,9 @@ struct Growth {
   std::vector<uint32_t> added;  // new points, ascending
   size_t voxels = 0;            // voxels it added points from
   size_t leaks = 0;             // voxels it would have entered outside the region
-  size_t walked_or_one() const { return std::max<size_t>(voxels, 1); }
+  // A growth that wants out of its region is part of something bigger (a
+  // wall, the desk the object touches): not one object.
+  bool contained(double max_leak) const { return double(leaks) <= max_leak * double(std::max<size_t>(voxels, 1)); }
 };
 
 Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, float min_z,
@@ -160,11 +160,10 @@ Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, fl
     return cloud.points.xyz[i].z() >= min_z && !owned.count(point_key(cloud.points.scan[i], cloud.points.index[i]));
   };
   auto eligible = [&](uint32_t i) { return free_point(i) && region.contains(cloud.points.xyz[i]); };
-  std::unordered_set<uint64_t> leaked;
   std::unordered_set<uint64_t> visited;
   std::deque<Eigen::Vector3i> queue;
   std::vector<uint32_t> added;
-  size_t walked = 0;
+  size_t walked = 0, leaks = 0;
   auto visit = [&](const Eigen::Vector3i& v) {
     if (!visited.insert(voxel_key(v)).second) return;
     const auto [b, e] = cloud.in_voxel(v);
@@ -182,7 +181,7 @@ Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, fl
       queue.push_back(v);
       ++walked;
     } else if (outside) {
-      leaked.insert(voxel_key(v));
+      ++leaks;  // each voxel is visited once
     }
   };
   // Seed voxels are walked from even when all their points are owned (they
@@ -202,7 +201,7 @@ Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, fl
           if (dx || dy || dz) visit(v + Eigen::Vector3i(dx, dy, dz));
   }
   std::sort(added.begin(), added.end());
-  return {std::move(added), walked, leaked.size()};
+  return {std::move(added), walked, leaks};
 }
 
 // Height above the floor and the horizontal extents along the principal axes
@@ -214,27 +213,10 @@ Eigen::Vector3f shape_of(const PointSet& own, const std::vector<uint32_t>& extra
     if (p.z() >= min_z) pts.push_back(p);
   for (uint32_t i : extra) pts.push_back(cloud.xyz[i]);
   if (pts.size() < 3) return Eigen::Vector3f::Zero();
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const auto& p : pts) mean += p.head<2>().cast<double>();
-  mean /= double(pts.size());
-  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
   float top = std::numeric_limits<float>::lowest();
-  for (const auto& p : pts) {
-    const Eigen::Vector2d d = p.head<2>().cast<double>() - mean;
-    cov += d * d.transpose();
-    top = std::max(top, p.z());
-  }
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(cov);
-  const Eigen::Vector2d u = es.eigenvectors().col(1), w = es.eigenvectors().col(0);
-  double umin = 1e30, umax = -1e30, wmin = 1e30, wmax = -1e30;
-  for (const auto& p : pts) {
-    const Eigen::Vector2d d = p.head<2>().cast<double>() - mean;
-    umin = std::min(umin, d.dot(u)), umax = std::max(umax, d.dot(u));
-    wmin = std::min(wmin, d.dot(w)), wmax = std::max(wmax, d.dot(w));
-  }
-  float e1 = float(umax - umin), e2 = float(wmax - wmin);
-  if (e2 > e1) std::swap(e1, e2);
-  return {top - floor, e1, e2};
+  for (const auto& p : pts) top = std::max(top, p.z());
+  const Eigen::Vector2f e = geometry::horizontal_extents(pts);
+  return {top - floor, e[0], e[1]};
 }
 
 bool same_shape(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const CompletionConfig& c) {
@@ -357,10 +339,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     rb.lo.z() = std::min(rb.lo.z(), min_b);
     const Growth ga = grow(a.points, ca, ra, min_a, owned[a.mission]);
     const Growth gb = grow(b.points, cb, rb, min_b, owned[b.mission]);
-    // A growth that wants out of the region is part of something bigger
-    // (a wall, a desk the object touches): not one object moved in place.
-    const bool contained = double(ga.leaks) <= c.max_leak * double(ga.voxels) &&
-                           double(gb.leaks) <= c.max_leak * double(gb.voxels);
+    const bool contained = ga.contained(c.max_leak) && gb.contained(c.max_leak);
     const Eigen::Vector3f sa = shape_of(a.points, ga.added, ca.points, floor_a, min_a);
     const Eigen::Vector3f sb = shape_of(b.points, gb.added, cb.points, floor_b, min_b);
     if (!contained || !same_shape(sa, sb, c)) {
@@ -393,7 +372,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       if (on_floor) r.lo.z() = f.clear_z;
       const Growth g = grow(o.points, cloud, r, f.clear_z, owned[o.mission]);
       std::vector<uint32_t> add;
-      if (double(g.leaks) <= c.max_leak * double(g.walked_or_one()))
+      if (g.contained(c.max_leak))
         add = g.added;
       else if (on_floor)
         add = base_points(o, cloud, f, owned[o.mission]);

@@ -1,6 +1,7 @@
 #include "overlap_rule.hpp"
 
 #include <lista/error.hpp>
+#include <lista_geometry/object_geometry.hpp>
 
 #include <algorithm>
 #include <limits>
@@ -20,10 +21,7 @@ double inside(const Object& a, const Object& b, double margin) {
   return double(n) / double(a.points.size());
 }
 
-float box_gap(const Object& a, const Object& b) {
-  const Eigen::Vector3f d = (a.bbox_min - b.bbox_max).cwiseMax(b.bbox_min - a.bbox_max).cwiseMax(0.f);
-  return d.norm();
-}
+using geometry::box_gap;
 
 float point_box_distance(const Eigen::Vector3f& p, const Object& b) {
   return (b.bbox_min - p).cwiseMax(p - b.bbox_max).cwiseMax(0.f).norm();
