@@ -115,13 +115,15 @@ void run_backend(const std::string& backend, const MissionSet& missions, const O
     Outputs res = stage->run(in, ctx);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const MissionPoints& ch = res.at("changes").as<MissionPoints>();
-    double visits = 0, rays = 0, scans = 0;
+    double visits = 0, walked = 0, rays = 0, scans = 0;
     for (const Mission& m : missions.missions) scans += static_cast<double>(m.scans.size());
     for (const auto& [k, v] : ctx.info.metrics["volumetric"]) {
       out << "metric." << k << " " << v << "\n";
       if (k.size() > 13 && k.compare(k.size() - 13, 13, ".voxel_visits") == 0) visits += v;
       if (k.size() > 5 && k.compare(k.size() - 5, 5, ".rays") == 0) rays += v;
+      if (k.size() > 14 && k.compare(k.size() - 14, 14, ".voxels_walked") == 0) walked += v;
     }
+    out << "voxels_walked " << walked << "\n";
     out << "seconds " << seconds << "\nvoxel_visits " << visits << "\nrays " << rays << "\nscans " << scans << "\n";
     for (size_t m = 0; m < ch.sets.size(); ++m) {
       out << "changed " << m << " " << ch.sets[m].size() << "\n";
@@ -282,6 +284,10 @@ int main(int argc, char** argv) {
     std::cout << std::setprecision(1);
     if (results.count("stock") && results.count("openvdb"))
       std::cout << "\nthroughput openvdb / stock octomap: " << vps("openvdb") / vps("stock") << "x\n";
+    if (results.count("openvdb"))
+      std::cout << "volumetric.openvdb stepped through " << 100.0 * results["openvdb"].num["voxels_walked"] /
+                       std::max(1.0, results["openvdb"].num["voxel_visits"])
+                << " % of the visits (beams stop on free space their scan already counted)\n";
     if (results.count("stock") && results.count("octomap"))
       std::cout << "throughput octomap backend / stock octomap: " << vps("octomap") / vps("stock") << "x\n";
     if (results.count("stock") && results.count("openvdb") && o.stock_scans)

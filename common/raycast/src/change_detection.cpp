@@ -128,6 +128,7 @@ void record_stats(Context& context, const MissionSet& missions, const std::vecto
     if (m < maps.size()) {
       context.record(k + "rays", static_cast<double>(maps[m].rays));
       context.record(k + "voxel_visits", static_cast<double>(maps[m].voxel_visits));
+      context.record(k + "voxels_walked", static_cast<double>(maps[m].voxels_walked));
       context.record(k + "occupied_voxels", static_cast<double>(maps[m].occupied_voxels));
       context.record(k + "free_voxels", static_cast<double>(maps[m].free_voxels));
     }

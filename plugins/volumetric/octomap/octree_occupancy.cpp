@@ -106,6 +106,7 @@ std::unique_ptr<OccupancyMap> build_octree_map(const Mission& mission, const Vol
   }
   tree->updateInnerOccupancy();
   stats.voxel_visits = visits;
+  stats.voxels_walked = visits;
   for (auto it = tree->begin_leafs(), end = tree->end_leafs(); it != end; ++it) {
     if (tree->isNodeOccupied(*it)) ++stats.occupied_voxels;
     else ++stats.free_voxels;

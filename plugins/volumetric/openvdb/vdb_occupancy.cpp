@@ -1,12 +1,20 @@
 // How the map is built, and why it is fast:
 //  - scans are shared out to threads (dynamic); each thread owns an Int64Grid
-//    of packed per-voxel counters, so ray casting never locks;
-//  - a counter packs (last scan stamp | hits | misses): within a scan, hits are
-//    applied first and every voxel is counted at most once (the stamp), so one
-//    scan gives a voxel at most one hit or one miss and a hit wins over a miss
-//    in the same scan (OctoMap's computeUpdate rule) without any per-scan set;
-//  - the DDA writes through a cached leaf pointer (8^3 voxels), falling back to
-//    a ValueAccessor only on leaf changes;
+//    of per-voxel counters (hits << 32 | misses), so ray casting never locks;
+//  - a scan is first cast into two bit masks (MaskGrid: 64 bytes per 8^3
+//    leaf, so a scan's free space stays in cache): its hit voxels, then the
+//    free voxels of its beams. Setting a bit twice is a no-op, so every voxel
+//    gets at most one update per scan, and free & ~hit makes a hit win over a
+//    miss in the same scan (OctoMap's computeUpdate rule). The masks are then
+//    added into the counters leaf by leaf: one tree lookup per 512 voxels and
+//    a sequential pass over the counters, instead of a cache miss per step;
+//  - beams are walked from their end back towards the sensor and stop after
+//    kStopRun consecutive voxels the scan already marked free: beams from one
+//    origin converge, so the rest of the path is already marked. A shorter
+//    run loses voxels where two converging beams' staircases differ by one
+//    cell; at kStopRun = 8 the loss does not show in the changed points;
+//  - the DDA writes through a cached leaf pointer, falling back to a
+//    ValueAccessor only on leaf changes;
 //  - thread grids merge by adding counts leaf by leaf, then log-odds =
 //    clamp(hits*l_hit + misses*l_miss). Integer counts make the result
 //    independent of thread count and scheduling. Unlike OctoMap, clamping is
@@ -29,81 +37,132 @@ namespace {
 
 using namespace lista::raycast;
 using Int64Leaf = openvdb::Int64Tree::LeafNodeType;
+using MaskLeaf = openvdb::MaskTree::LeafNodeType;
 
-constexpr int kHitShift = 22, kStampShift = 44;
-constexpr int64_t kCountMask = (int64_t(1) << 22) - 1;
-constexpr int64_t kMaxScans = (int64_t(1) << 19) - 2;  // stamp = scan + 1 must fit in 19 bits
+constexpr int kHitShift = 32;
+constexpr int64_t kMissMask = (int64_t(1) << kHitShift) - 1;
+constexpr int64_t kMaxScans = (int64_t(1) << 31) - 1;  // counts fit in 31 bits
+// A beam stops after this many consecutive voxels its scan already marked
+// free. Measured on the synthetic test scene: 1 -> 0.72 agreement with
+// volumetric.octomap, 2 -> 0.81, 4 -> 0.97, 6 and more -> 1.00; exp1 walks
+// 49 % of the voxels at 8 and the stage takes 8.6 s instead of 11.7 s.
+constexpr int kStopRun = 8;
 
-inline int64_t stamp_of(int64_t v) { return v >> kStampShift; }
-inline int64_t hits_of(int64_t v) { return (v >> kHitShift) & kCountMask; }
-inline int64_t misses_of(int64_t v) { return v & kCountMask; }
+inline int64_t hits_of(int64_t v) { return v >> kHitShift; }
+inline int64_t misses_of(int64_t v) { return v & kMissMask; }
 
-// Per-thread writer: caches the current leaf so consecutive DDA steps inside
-// one 8^3 block cost an array access.
-class CounterWriter {
+// One scan's voxels as bits; caches the current leaf so consecutive DDA steps
+// inside one 8^3 block cost a bit test.
+class ScanMask {
  public:
-  explicit CounterWriter(openvdb::Int64Grid& grid) : acc_(grid.getAccessor()) {}
+  ScanMask() : acc_(grid_.getAccessor()) {}
 
-  // Counts one hit (hit=true) or miss for `scan_stamp`, once per scan.
-  inline void touch(const Voxel& v, int64_t scan_stamp, bool hit) {
-    const openvdb::Coord c(v.x(), v.y(), v.z());
-    const openvdb::Coord origin = c & ~(Int64Leaf::DIM - 1);
-    if (!leaf_ || origin != leaf_origin_) {
-      leaf_ = acc_.touchLeaf(c);
-      leaf_origin_ = origin;
-    }
-    const openvdb::Index off = Int64Leaf::coordToOffset(c);
-    const int64_t cur = leaf_->getValue(off);
-    if (stamp_of(cur) == scan_stamp) return;  // already counted in this scan
-    const int64_t counts = cur & ((int64_t(1) << kStampShift) - 1);
-    leaf_->setValueOn(off, (scan_stamp << kStampShift) | (counts + (hit ? (int64_t(1) << kHitShift) : 1)));
+  // Marks `v`; returns false when it was already marked.
+  inline bool mark(const Voxel& v) {
+    const int ox = v.x() & ~7, oy = v.y() & ~7, oz = v.z() & ~7;
+    if (ox != ox_ || oy != oy_ || oz != oz_) [[unlikely]]
+      switch_leaf(ox, oy, oz);
+    // MaskLeaf::coordToOffset: x picks the 64-bit word, (y, z) the bit.
+    uint64_t& word = words_[v.x() & 7];
+    const uint64_t bit = uint64_t(1) << (((v.y() & 7) << 3) | (v.z() & 7));
+    if (word & bit) return false;
+    word |= bit;
+    return true;
   }
 
+  // Forgets every mark (the next scan starts empty).
+  void clear() {
+    acc_.clear();
+    grid_.tree().clear();
+    ox_ = kNoLeaf;
+  }
+
+  const openvdb::MaskTree& tree() const { return grid_.tree(); }
+
  private:
-  openvdb::Int64Grid::Accessor acc_;
-  Int64Leaf* leaf_ = nullptr;
-  openvdb::Coord leaf_origin_;
+  static_assert(MaskLeaf::LOG2DIM == 3, "mark() assumes 8^3 leaves of 8 words");
+  static constexpr int kNoLeaf = 1;  // no leaf origin is odd
+
+  __attribute__((noinline)) void switch_leaf(int ox, int oy, int oz) {
+    MaskLeaf* leaf = acc_.touchLeaf(openvdb::Coord(ox, oy, oz));
+    words_ = &leaf->getValueMask().template getWord<uint64_t>(0);
+    ox_ = ox, oy_ = oy, oz_ = oz;
+  }
+
+  openvdb::MaskGrid grid_;
+  openvdb::MaskGrid::Accessor acc_;
+  uint64_t* words_ = nullptr;
+  int ox_ = kNoLeaf, oy_ = kNoLeaf, oz_ = kNoLeaf;
 };
 
 struct ThreadWork {
   openvdb::Int64Grid::Ptr grid = openvdb::Int64Grid::create(0);
-  uint64_t rays = 0, visits = 0;
+  ScanMask hits, free;
+  std::vector<Eigen::Vector3d> ends;
+  std::vector<char> is_hit;
+  uint64_t rays = 0, visits = 0, walked = 0;
 };
 
-void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, CounterWriter& w,
-               ThreadWork& work, std::vector<Eigen::Vector3d>& ends, std::vector<char>& is_hit) {
+// Adds `increment` to the counter of every voxel set in `mask` and not in
+// `except` (may be null), activating it.
+void add_mask(openvdb::Int64Grid::Accessor& acc, const openvdb::MaskTree& mask, const openvdb::MaskTree* except,
+              int64_t increment) {
+  for (auto leaf = mask.cbeginLeaf(); leaf; ++leaf) {
+    openvdb::util::NodeMask<3> bits = leaf->getValueMask();
+    if (except)
+      if (const MaskLeaf* ex = except->probeConstLeaf(leaf->origin())) bits -= ex->getValueMask();
+    if (bits.isOff()) continue;
+    Int64Leaf* d = acc.touchLeaf(leaf->origin());
+    int64_t* data = d->buffer().data();
+    for (auto it = bits.beginOn(); it; ++it) data[it.pos()] += increment;
+    d->getValueMask() |= bits;
+  }
+}
+
+void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, ThreadWork& work) {
   const PointSet& pts = *mission.scans[i].points;
   const double inv_res = 1.0 / c.resolution;
   const double max_range = c.max_range > 0 ? c.max_range * inv_res : 0.0;
   const double margin = c.hit_margin * inv_res;
   const Eigen::Affine3d to_index = Eigen::Scaling(inv_res) * mission.sensor_to_common(i);
   const Eigen::Vector3d origin = to_index.translation();
-  const int64_t stamp = static_cast<int64_t>(i) + 1;
+  auto& ends = work.ends;
+  auto& is_hit = work.is_hit;
   ends.resize(pts.size());
   is_hit.resize(pts.size());
-  // Hits first, so that a voxel holding a return is never counted free in the same scan.
   for (size_t j = 0; j < pts.size(); ++j) {
     ends[j] = to_index * pts.xyz[j].cast<double>();
     is_hit[j] = clip_ray(origin, ends[j], max_range);
-    if (is_hit[j]) w.touch(voxel_of(ends[j]), stamp, true);
+    if (is_hit[j]) work.hits.mark(voxel_of(ends[j]));
   }
-  uint64_t visits = 0;
-  for (size_t j = 0; j < pts.size(); ++j)
-    visits += walk_ray(origin, is_hit[j] ? free_end(origin, ends[j], margin) : ends[j],
-                       [&](const Voxel& v) { w.touch(v, stamp, false); });
+  uint64_t visits = 0, walked = 0;
+  for (size_t j = 0; j < pts.size(); ++j) {
+    const Eigen::Vector3d end = is_hit[j] ? free_end(origin, ends[j], margin) : ends[j];
+    visits += ray_voxels(origin, end);
+    int run = 0;
+    walked += walk_ray_back(origin, end, [&](const Voxel& v) {
+      run = work.free.mark(v) ? 0 : run + 1;
+      return run < kStopRun;
+    });
+  }
+  auto acc = work.grid->getAccessor();
+  add_mask(acc, work.hits.tree(), nullptr, int64_t(1) << kHitShift);
+  add_mask(acc, work.free.tree(), &work.hits.tree(), 1);
+  work.hits.clear();
+  work.free.clear();
   work.rays += pts.size();
   work.visits += visits;
+  work.walked += walked;
 }
 
-// Adds the counts of `src` into `dst` (stamps dropped).
+// Adds the counts of `src` into `dst`.
 void merge_counts(openvdb::Int64Grid& dst, const openvdb::Int64Grid& src) {
   auto acc = dst.getAccessor();
-  constexpr int64_t counts_mask = (int64_t(1) << kStampShift) - 1;
   for (auto leaf = src.tree().cbeginLeaf(); leaf; ++leaf) {
     Int64Leaf* d = acc.touchLeaf(leaf->origin());
     for (auto it = leaf->cbeginValueOn(); it; ++it) {
       const openvdb::Index off = it.pos();
-      d->setValueOn(off, (d->getValue(off) & counts_mask) + (*it & counts_mask));
+      d->setValueOn(off, d->getValue(off) + *it);
     }
   }
 }
@@ -146,11 +205,8 @@ std::unique_ptr<OccupancyMap> build_vdb_map(const Mission& mission, const Volume
   std::mutex failure_mutex;
   auto worker = [&](int t) {
     try {
-      CounterWriter writer(*work[t].grid);
-      std::vector<Eigen::Vector3d> ends;
-      std::vector<char> is_hit;
       for (size_t i; (i = next.fetch_add(1)) < mission.scans.size();) {
-        cast_scan(mission, i, c, writer, work[t], ends, is_hit);
+        cast_scan(mission, i, c, work[t]);
         if (progress) progress->advance(1);
       }
     } catch (...) {
@@ -190,6 +246,7 @@ std::unique_ptr<OccupancyMap> build_vdb_map(const Mission& mission, const Volume
   for (const auto& w : work) {
     stats.rays += w.rays;
     stats.voxel_visits += w.visits;
+    stats.voxels_walked += w.walked;
   }
   return std::make_unique<VdbMap>(grid);
 }

@@ -32,7 +32,8 @@ class OccupancyMap {
 // What building one mission's map cost and produced.
 struct MapStats {
   uint64_t rays = 0;             // beams cast (hits and max-range misses)
-  uint64_t voxel_visits = 0;     // free-space voxels traversed, before de-duplication
+  uint64_t voxel_visits = 0;     // free-space voxels on the beams, before de-duplication
+  uint64_t voxels_walked = 0;    // of those, the ones a backend actually stepped through
   uint64_t occupied_voxels = 0;  // P > occupied_threshold after all scans
   uint64_t free_voxels = 0;      // observed, not occupied
 };

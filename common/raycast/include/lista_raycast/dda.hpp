@@ -11,6 +11,65 @@
 
 namespace lista::raycast {
 
+// Number of voxels walk_ray(from, to) visits: the L1 distance between the two voxels.
+inline int ray_voxels(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+  return (voxel_of(to) - voxel_of(from)).cwiseAbs().sum();
+}
+
+// One Amanatides-Woo walk: the voxel holding `from`, stepped towards `to`.
+// Plain scalars and a branch-free step keep the walk in registers: the axis
+// to step is data-dependent and would mispredict as a branch.
+struct DdaWalk {
+  int x, y, z;
+  int steps;  // L1 distance between the start and end voxels: the walk's length
+  int sx, sy, sz;
+  double tx, ty, tz, dx, dy, dz;  // next boundary crossing and spacing, per axis
+
+  DdaWalk(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+    const Voxel v = voxel_of(from);
+    x = v.x(), y = v.y(), z = v.z();
+    steps = ray_voxels(from, to);
+    const Eigen::Vector3d d = to - from;
+    axis(d.x(), from.x(), x, sx, tx, dx);
+    axis(d.y(), from.y(), y, sy, ty, dy);
+    axis(d.z(), from.z(), z, sz, tz, dz);
+  }
+
+  Voxel voxel() const { return Voxel(x, y, z); }
+
+  // Moves into the next voxel the segment crosses; ties go to the later axis
+  // among the smallest (y before x, z before y), as they always have.
+  inline void advance() {
+    const bool mx = tx < ty && tx < tz;
+    const bool my = !mx && ty < tz;
+    const bool mz = !mx && !my;
+    x += mx ? sx : 0;
+    y += my ? sy : 0;
+    z += mz ? sz : 0;
+    tx += mx ? dx : 0.0;
+    ty += my ? dy : 0.0;
+    tz += mz ? dz : 0.0;
+  }
+
+ private:
+  static void axis(double d, double from, int v, int& step, double& t_max, double& t_delta) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    if (d > 0) {
+      step = 1;
+      t_delta = 1.0 / d;
+      t_max = (v + 1 - from) * t_delta;
+    } else if (d < 0) {
+      step = -1;
+      t_delta = -1.0 / d;
+      t_max = (from - v) * t_delta;
+    } else {
+      step = 0;
+      t_delta = inf;
+      t_max = inf;
+    }
+  }
+};
+
 // Visits every voxel from the one holding `from` up to, but NOT including, the
 // one holding `to` (both in index units). The end voxel is left out because it
 // holds the return, which is a hit, not free space (OctoMap's computeRayKeys
@@ -18,36 +77,27 @@ namespace lista::raycast {
 // the L1 distance between the two voxels, so rounding can never loop forever.
 template <class Visit>
 inline uint32_t walk_ray(const Eigen::Vector3d& from, const Eigen::Vector3d& to, Visit&& visit) {
-  Voxel v = voxel_of(from);
-  const Voxel end = voxel_of(to);
-  const int steps = std::abs(end.x() - v.x()) + std::abs(end.y() - v.y()) + std::abs(end.z() - v.z());
-  if (steps == 0) return 0;
-  const Eigen::Vector3d d = to - from;
-  int step[3];
-  double t_max[3], t_delta[3];
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  for (int k = 0; k < 3; ++k) {
-    if (d[k] > 0) {
-      step[k] = 1;
-      t_delta[k] = 1.0 / d[k];
-      t_max[k] = (v[k] + 1 - from[k]) * t_delta[k];
-    } else if (d[k] < 0) {
-      step[k] = -1;
-      t_delta[k] = -1.0 / d[k];
-      t_max[k] = (from[k] - v[k]) * t_delta[k];
-    } else {
-      step[k] = 0;
-      t_delta[k] = inf;
-      t_max[k] = inf;
-    }
+  DdaWalk w(from, to);
+  for (int n = 0; n < w.steps; ++n) {
+    visit(w.voxel());
+    w.advance();
   }
-  for (int n = 0; n < steps; ++n) {
-    visit(v);
-    const int a = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
-    v[a] += step[a];
-    t_max[a] += t_delta[a];
+  return static_cast<uint32_t>(w.steps);
+}
+
+// The voxels of walk_ray(from, to), walked backwards: from the voxel after the
+// one holding `to` back to the one holding `from` (included), for as long as
+// `visit` returns true. Returns the number of voxels visited. Lets a beam stop
+// once it meets free space its scan has already counted: beams from one origin
+// converge, so the rest of its path is (all but a few voxels) already covered.
+template <class Visit>
+inline uint32_t walk_ray_back(const Eigen::Vector3d& from, const Eigen::Vector3d& to, Visit&& visit) {
+  DdaWalk w(to, from);
+  for (int n = 0; n < w.steps; ++n) {
+    w.advance();
+    if (!visit(w.voxel())) return static_cast<uint32_t>(n + 1);
   }
-  return static_cast<uint32_t>(steps);
+  return static_cast<uint32_t>(w.steps);
 }
 
 // Clips a ray to `max_range` (index units; <= 0 means unlimited). Returns true
