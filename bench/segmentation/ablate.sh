@@ -20,13 +20,17 @@ for b in "$run" "$eval_bin"; do
 done
 
 # branch name -> its stages after the shared read/align/difference (for timing)
-branches=(volumetric no_filters no_ground no_morphology plain_opening no_overlap full euclidean region_growing mls)
+branches=(volumetric no_filters no_ground no_morphology plain_opening no_overlap no_complete full euclidean region_growing mls)
 declare -A stages=(
   [volumetric]="segment_raw" [no_filters]="segment_raw"
-  [no_ground]="clean_ng segment_ng overlap_ng" [no_morphology]="ground segment_nm overlap_nm"
-  [plain_opening]="ground clean_open segment_open overlap_open" [no_overlap]="ground clean segment" [full]="ground clean segment overlap"
-  [euclidean]="ground clean segment_eu overlap_eu" [region_growing]="ground clean segment_rg overlap_rg"
-  [mls]="ground smooth clean_mls segment_mls overlap_mls")
+  [no_ground]="clean_ng segment_ng overlap_ng complete_no_ground"
+  [no_morphology]="ground segment_nm overlap_nm complete_no_morphology"
+  [plain_opening]="ground clean_open segment_open overlap_open complete_plain_opening"
+  [no_overlap]="ground clean segment complete_no_overlap" [no_complete]="ground clean segment overlap"
+  [full]="ground clean segment overlap complete"
+  [euclidean]="ground clean segment_eu overlap_eu complete_euclidean"
+  [region_growing]="ground clean segment_rg overlap_rg complete_region_growing"
+  [mls]="ground smooth clean_mls segment_mls overlap_mls complete_mls")
 
 rm -rf "$out"
 mkdir -p "$out"

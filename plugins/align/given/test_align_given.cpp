@@ -58,6 +58,25 @@ TEST(AlignGiven, GroundTruthRecoversMapToWorldAndSharesPoints) {
   EXPECT_LT(ctx.info.metrics["align"]["B.fit_rmse_m"], 1e-9);
 }
 
+TEST(AlignGiven, GroundTruthPosesTakeTheDriftOut) {
+  const Eigen::Isometry3d b = pose(3, -2, 0.7);
+  MissionSet set = two_missions(b);
+  // Drift: B's later scans wander off their true poses.
+  for (size_t i = 0; i < set.missions[1].scans.size(); ++i)
+    set.missions[1].scans[i].pose.translation() += Eigen::Vector3d(0.05 * i, -0.03 * i, 0.0);
+  for (const char* mode : {"ground-truth", "ground-truth-poses"}) {
+    BasicContext ctx("align");
+    auto out = io_test::make_stage("align.given", {{"mode", std::string(mode)}})->run(inputs_of(set), ctx);
+    const Mission& m = out.at("missions").as<MissionSet>().missions[1];
+    double worst = 0;
+    for (size_t i = 0; i < m.scans.size(); ++i)
+      worst = std::max(worst, (m.sensor_to_common(i).matrix() - m.poses_gt[i].matrix()).cwiseAbs().maxCoeff());
+    if (std::string(mode) == "ground-truth") EXPECT_GT(worst, 0.05) << "the rigid fit cannot remove drift";
+    else EXPECT_LT(worst, 1e-9) << "every scan at its true pose";
+    EXPECT_GT(ctx.info.metrics["align"]["B.fit_rmse_m"], 0.01);
+  }
+}
+
 TEST(AlignGiven, SingleScanIsEnoughBecauseRotationsCount) {
   MissionSet set = two_missions(pose(1, 2, -1.0));
   for (auto& m : set.missions) {
