@@ -20,6 +20,8 @@ class CompleteStage : public Stage {
     c_.shape_slack = p.get<double>("shape_slack");
     c_.max_leak = p.get<double>("max_leak");
     c_.self_complete = p.get<bool>("self_complete");
+    c_.static_check = p.get<bool>("static_check");
+    c_.static_share = p.get<double>("static_share");
   }
 
   static StageInfo info() {
@@ -40,7 +42,11 @@ class CompleteStage : public Stage {
         "within max(shape_tolerance x the larger, shape_slack)). Then, with self_complete, every object "
         "grows the same way inside its own box grown by box_margin, down to the floor if it stands "
         "on it (the difference cannot confirm change next to the floor, so objects lose their base); "
-        "if that growth wants out of the box, only the base below its lowest part is added. The local "
+        "if that growth wants out of the box, only the base below its lowest part is added. With "
+        "static_check, when at least static_share of what a self-completion would add lies in voxels "
+        "every neighbouring mission also holds above its own local floor, those points are left out: "
+        "they did not change (a sliver of phantom change on a static wall stays a sliver; below the "
+        "share the growth is kept, as a short move overlaps its other pose). The local "
         "floor is found around each object; points within max(floor_clearance, 4 sigma of the "
         "floor's noise) of it are never added. Ids and order are kept.";
     i.inputs = {{"objects", "objects", "per-mission change clusters"},
@@ -55,6 +61,11 @@ class CompleteStage : public Stage {
         ParamSpec::real("shape_tolerance", 0.25, "relative disagreement of the pair's extents allowed").range(0, 2),
         ParamSpec::real("shape_slack", 0.15, "absolute disagreement of the pair's extents allowed").range(0, 2).unit("m"),
         ParamSpec::boolean("self_complete", true, "also complete every object inside its own box grown by box_margin (its base, mostly)"),
+        ParamSpec::boolean("static_check", true,
+                           "self-completion leaves out points every neighbouring mission also holds (see static_share)"),
+        ParamSpec::real("static_share", 0.8,
+                        "share of a self-completion held unchanged by every neighbouring mission from which on those points are left out")
+            .range(0, 1),
         ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
     };
     return i;
@@ -69,6 +80,7 @@ class CompleteStage : public Stage {
     context.record("completed", double(st.completed));
     context.record("rejected", double(st.rejected));
     context.record("self_completed", double(st.self_completed));
+    context.record("points_static", double(st.points_static));
     context.record("points_added", double(st.points_added));
     context.info("completed " + std::to_string(st.completed) + " of " + std::to_string(st.pairs) +
                  " pairs, " + std::to_string(st.points_added) + " points added");

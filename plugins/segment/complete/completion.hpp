@@ -33,6 +33,15 @@
 //     lose their base; this gives it back. If the growth wants out of the box
 //     (the object touches a wall), only the base below its lowest detected
 //     part, in the columns that part occupies, is added.
+//     With `static_check`, when at least `static_share` of the points a
+//     self-completion would add lie in voxels also occupied (above that
+//     mission's local floor) in every neighbouring mission (m - 1 and m + 1,
+//     where they exist), those points are left out: what the others hold at
+//     the same place did not change. A sliver of phantom change on a static
+//     wall or partition (residual misalignment) then stays a sliver instead
+//     of growing into the whole structure. Below the share the growth is
+//     kept whole: a short move whose two slivers were not paired overlaps
+//     its other pose too. The pair growth (rules 1-4) is exempt.
 // The local floor around an object: the `floor_percentile` of the lowest point
 // per 0.2 m cell gives a first guess, refined to the median of the points just
 // above it; object points must lie max(`floor_clearance`, 4 x its noise)
@@ -56,6 +65,8 @@ struct CompletionConfig {
   double shape_slack = 0.15;      // m, absolute disagreement always allowed
   double max_leak = 0.1;          // leaked voxels per voxel grown into, at most
   bool self_complete = true;      // also complete every object inside its own box (rule 5)
+  bool static_check = true;       // rule 5 adds nothing every neighbouring mission also holds
+  double static_share = 0.8;      // ... once at least this share of the growth is held there
   int threads = 1;
 };
 
@@ -65,6 +76,7 @@ struct CompletionStats {
   size_t rejected = 0;      // pairs whose grown shapes disagreed
   size_t self_completed = 0;  // objects grown by rule 5
   size_t points_added = 0;    // over all objects
+  size_t points_static = 0;   // rule 5 candidates left out as static (static_check)
 };
 
 // `missions` must be the aligned missions the objects were detected in (same

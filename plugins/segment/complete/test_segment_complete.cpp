@@ -215,3 +215,33 @@ TEST(SegmentComplete, AgainstAWallOnlyTheBaseIsAdded) {
   EXPECT_GT(count_in_box(got, {1.0f, 0.f, 0.03f}, {1.6f, 0.4f, 0.12f}), 0u) << "base not added";
   EXPECT_EQ(count_in_box(got, {0.94f, -1.f, 0.25f}, {0.96f, 3.f, 2.5f}), 0u) << "wall above the base added";
 }
+
+TEST(SegmentComplete, PhantomChangeOnStaticFurnitureStaysASliver) {
+  // Residual misalignment reports the static box above 20 cm (in both
+  // missions, unmoved) as change in B: completing it would report the whole
+  // box. Every neighbouring mission holds what it would add, so static_check
+  // leaves it out; without the check the box is swallowed.
+  const Scene s = make_scene();
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  Object o;
+  o.mission = 1;
+  o.id = 0;
+  const PointSet& c = s.cloud[1];
+  for (size_t i = 0; i < c.size(); ++i)
+    if (c.xyz[i].x() >= 2.49f && c.xyz[i].y() <= 0.51f && c.xyz[i].z() > 0.2f) o.points.push_back_from(c, i);
+  o.update_geometry();
+  in.objects.push_back(o);
+  const size_t base = count_in_box(c, {2.5f, 0.f, 0.03f}, {3.0f, 0.5f, 0.19f});
+  ASSERT_GT(base, 50u);
+
+  seg::CompletionConfig off;
+  off.static_check = false;
+  const ObjectSet grown = seg::complete_objects(in, s.missions, off);
+  EXPECT_EQ(count_in_box(grown.objects[0].points, {2.5f, 0.f, 0.03f}, {3.0f, 0.5f, 0.19f}), base);
+
+  seg::CompletionStats st;
+  const ObjectSet kept = seg::complete_objects(in, s.missions, {}, &st);
+  EXPECT_EQ(kept.objects[0].points.size(), o.points.size());
+  EXPECT_GE(st.points_static, base);
+}
