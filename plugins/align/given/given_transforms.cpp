@@ -50,7 +50,7 @@ std::map<std::string, Eigen::Isometry3d> read_transform_file(const std::string& 
 
 Eigen::Isometry3d map_to_world_from_gt(const Mission& m) {
   if (m.poses_gt.empty())
-    throw Error("mission '" + m.name + "' has no poses_gt.txt; mode \"ground-truth\" needs one per mission");
+    throw Error("mission '" + m.name + "' has no poses_gt.txt; modes \"ground-truth\" and \"ground-truth-poses\" need one per mission");
   if (m.poses_gt.size() != m.scans.size())
     throw Error("mission '" + m.name + "': poses_gt has " + std::to_string(m.poses_gt.size()) + " poses for " +
                 std::to_string(m.scans.size()) + " scans");

@@ -47,15 +47,31 @@ Scene make_scene(float static_x = 2.5f, float static_h = 0.6f) {
   return s;
 }
 
-Object sliver(const PointSet& c, uint32_t mission, float x_lo, float x_hi) {
+// An object of `mission` holding the points of `c` that `keep` accepts.
+template <class Keep>
+Object object_where(const PointSet& c, uint32_t mission, Keep keep) {
   Object o;
   o.mission = mission;
-  for (size_t i = 0; i < c.size(); ++i) {
-    const auto& p = c.xyz[i];
-    if (p.x() >= x_lo && p.x() < x_hi && p.y() <= 0.41f && p.z() > 0.05f && p.z() < 0.81f) o.points.push_back_from(c, i);
-  }
+  for (size_t i = 0; i < c.size(); ++i)
+    if (keep(c.xyz[i])) o.points.push_back_from(c, i);
   o.update_geometry();
   return o;
+}
+
+Object sliver(const PointSet& c, uint32_t mission, float x_lo, float x_hi) {
+  return object_where(c, mission, [&](const Eigen::Vector3f& p) {
+    return p.x() >= x_lo && p.x() < x_hi && p.y() <= 0.41f && p.z() > 0.05f && p.z() < 0.81f;
+  });
+}
+
+// The same, as the only object (id 0) of a set over missions A and B.
+template <class Keep>
+ObjectSet one_object(const PointSet& c, uint32_t mission, Keep keep) {
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects.push_back(object_where(c, mission, keep));
+  in.objects.back().id = 0;
+  return in;
 }
 
 size_t count_in_box(const PointSet& s, Eigen::Vector3f lo, Eigen::Vector3f hi) {
@@ -165,17 +181,9 @@ TEST(SegmentComplete, ObjectsGetTheirBaseBackButNotTheFloor) {
   // The difference found the moved box only above 12 cm (as next to a floor
   // it cannot confirm change); self-completion gives the rest back.
   const Scene s = make_scene();
-  ObjectSet in;
-  in.missions = {"A", "B"};
-  Object o;
-  o.mission = 0;
-  o.id = 0;
-  for (size_t i = 0; i < s.cloud[0].size(); ++i) {
-    const auto& p = s.cloud[0].xyz[i];
-    if (p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.12f) o.points.push_back_from(s.cloud[0], i);
-  }
-  o.update_geometry();
-  in.objects.push_back(o);
+  const ObjectSet in = one_object(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+    return p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.12f;
+  });
   seg::CompletionStats st;
   const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
   EXPECT_EQ(st.self_completed, 1u);
@@ -198,18 +206,9 @@ TEST(SegmentComplete, AgainstAWallOnlyTheBaseIsAdded) {
       c.index.push_back(uint32_t(c.index.size()));
     }
   s.missions.missions[0].scans[0].points = std::make_shared<const PointSet>(c);
-  ObjectSet in;
-  in.missions = {"A", "B"};
-  Object o;
-  o.mission = 0;
-  o.id = 0;
-  for (size_t i = 0; i < c.size(); ++i) {
-    const auto& p = c.xyz[i];
-    if (p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.12f && p.z() < 0.81f)
-      o.points.push_back_from(c, i);
-  }
-  o.update_geometry();
-  in.objects.push_back(o);
+  const ObjectSet in = one_object(c, 0, [](const Eigen::Vector3f& p) {
+    return p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.12f && p.z() < 0.81f;
+  });
   const ObjectSet out = seg::complete_objects(in, s.missions, {});
   const auto& got = out.objects[0].points;
   EXPECT_GT(count_in_box(got, {1.0f, 0.f, 0.03f}, {1.6f, 0.4f, 0.12f}), 0u) << "base not added";
@@ -222,16 +221,11 @@ TEST(SegmentComplete, PhantomChangeOnStaticFurnitureStaysASliver) {
   // box. Every neighbouring mission holds what it would add, so static_check
   // leaves it out; without the check the box is swallowed.
   const Scene s = make_scene();
-  ObjectSet in;
-  in.missions = {"A", "B"};
-  Object o;
-  o.mission = 1;
-  o.id = 0;
   const PointSet& c = s.cloud[1];
-  for (size_t i = 0; i < c.size(); ++i)
-    if (c.xyz[i].x() >= 2.49f && c.xyz[i].y() <= 0.51f && c.xyz[i].z() > 0.2f) o.points.push_back_from(c, i);
-  o.update_geometry();
-  in.objects.push_back(o);
+  const ObjectSet in = one_object(c, 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 2.49f && p.y() <= 0.51f && p.z() > 0.2f;
+  });
+  const size_t detected = in.objects[0].points.size();
   const size_t base = count_in_box(c, {2.5f, 0.f, 0.03f}, {3.0f, 0.5f, 0.19f});
   ASSERT_GT(base, 50u);
 
@@ -242,6 +236,6 @@ TEST(SegmentComplete, PhantomChangeOnStaticFurnitureStaysASliver) {
 
   seg::CompletionStats st;
   const ObjectSet kept = seg::complete_objects(in, s.missions, {}, &st);
-  EXPECT_EQ(kept.objects[0].points.size(), o.points.size());
+  EXPECT_EQ(kept.objects[0].points.size(), detected);
   EXPECT_GE(st.points_static, base);
 }
