@@ -1,8 +1,8 @@
 #include <lista_alignkit/registration.hpp>
 
 #include <lista/error.hpp>
+#include <lista_pcl/fast_kdtree.hpp>
 
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/registration/gicp.h>
@@ -36,6 +36,9 @@ Eigen::Isometry3d run_stage(const PclCloud::Ptr& source, const PclCloud::Ptr& ta
   } else {
     reg = std::make_unique<pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>>();
   }
+  // Single-query-fast trees (see fast_kdtree.hpp): GICP searches point by point.
+  reg->setSearchMethodSource(std::make_shared<pcl_search::FastKdTree>());
+  reg->setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
   reg->setInputSource(source);
   reg->setInputTarget(target);
   reg->setMaxCorrespondenceDistance(max_distance);
@@ -56,16 +59,15 @@ Eigen::Isometry3d run_stage(const PclCloud::Ptr& source, const PclCloud::Ptr& ta
 // Share of `source` points (moved by t) with a `target` point within max_distance.
 double overlap(const PclCloud& source, const PclCloud& target, const Eigen::Isometry3d& t, double max_distance) {
   auto tgt = std::make_shared<PclCloud>(target);
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  pcl_search::FastKdTree tree;
   tree.setInputCloud(tgt);
-  pcl::Indices nn(1);
-  std::vector<float> d2(1);
   const Eigen::Isometry3f tf = t.cast<float>();
   size_t hits = 0;
   for (const auto& p : source.points) {
     pcl::PointXYZ q;
     q.getVector3fMap() = tf * p.getVector3fMap();
-    if (tree.nearestKSearch(q, 1, nn, d2) == 1 && d2[0] <= max_distance * max_distance) ++hits;
+    const float d2 = tree.nearest_sqr_distance(q);
+    if (d2 >= 0.0f && d2 <= max_distance * max_distance) ++hits;
   }
   return source.empty() ? 0.0 : static_cast<double>(hits) / source.size();
 }
@@ -104,10 +106,8 @@ RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
   result.converged = converged;
   result.transform = t;
 
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  pcl_search::FastKdTree tree;
   tree.setInputCloud(tgt);
-  pcl::Indices nn(1);
-  std::vector<float> d2(1);
   size_t inliers = 0;
   double sum_sq = 0.0;
   const double max_sq = o.inlier_distance * o.inlier_distance;
@@ -115,19 +115,22 @@ RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
   auto moved = to_pcl(source);
   for (auto& q : moved->points) {
     q.getVector3fMap() = tf * q.getVector3fMap();
-    if (tree.nearestKSearch(q, 1, nn, d2) == 1 && d2[0] <= max_sq) {
+    const float d2 = tree.nearest_sqr_distance(q);
+    if (d2 >= 0.0f && d2 <= max_sq) {
       ++inliers;
-      sum_sq += d2[0];
+      sum_sq += d2;
     }
   }
   result.overlap = static_cast<double>(inliers) / source.size();
   result.inlier_rmse = inliers ? std::sqrt(sum_sq / inliers) : 0.0;
 
-  pcl::KdTreeFLANN<pcl::PointXYZ> moved_tree;
+  pcl_search::FastKdTree moved_tree;
   moved_tree.setInputCloud(moved);
   size_t reverse = 0;
-  for (const auto& q : tgt->points)
-    if (moved_tree.nearestKSearch(q, 1, nn, d2) == 1 && d2[0] <= max_sq) ++reverse;
+  for (const auto& q : tgt->points) {
+    const float d2 = moved_tree.nearest_sqr_distance(q);
+    if (d2 >= 0.0f && d2 <= max_sq) ++reverse;
+  }
   result.reverse_overlap = static_cast<double>(reverse) / target.size();
   return result;
 }

@@ -5,6 +5,7 @@
 // invariance; it needs no codebook, so it works on any object set.
 #include <lista/plugin.hpp>
 #include <lista_pcl/convert.hpp>
+#include <lista_pcl/fast_kdtree.hpp>
 
 #include <pcl/console/print.h>
 #include <pcl/features/normal_3d_omp.h>
@@ -70,7 +71,7 @@ class ShotStage : public Stage {
     grid.setLeafSize(float(voxel_), float(voxel_), float(voxel_));
     grid.filter(*keys);
 
-    auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
+    auto tree = std::make_shared<pcl_search::FastKdTree>();
     pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);
     pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(threads);
     ne.setInputCloud(keys);

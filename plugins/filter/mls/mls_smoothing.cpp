@@ -2,6 +2,7 @@
 
 #include <lista/error.hpp>
 #include <lista_pcl/convert.hpp>
+#include <lista_pcl/fast_kdtree.hpp>
 
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/mls.h>
@@ -17,7 +18,7 @@ PointSet mls_smooth(const PointSet& points, const MlsConfig& c, int threads, siz
   auto cloud = pcl_convert::to_xyz(points);
   pcl::MovingLeastSquares<pcl::PointXYZ, pcl::PointXYZ> mls;
   mls.setInputCloud(cloud);
-  mls.setSearchMethod(std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>());
+  mls.setSearchMethod(std::make_shared<pcl_search::FastKdTree>());
   mls.setSearchRadius(c.radius);
   mls.setPolynomialOrder(c.polynomial_order);
   mls.setComputeNormals(false);

@@ -3,6 +3,13 @@
 #include "weighted_matcher.hpp"
 
 #include <lista/lista.hpp>
+#include <lista_objreg/icp_refine.hpp>
+
+#include <atomic>
+#include <cstdio>
+#include <exception>
+#include <mutex>
+#include <thread>
 
 namespace lista::matching {
 
@@ -21,7 +28,59 @@ class WeightedMatchStage : public Stage {
     cfg_.size_slack = p.get<double>("size_slack");
     cfg_.max_descriptor_distance = p.get<double>("max_descriptor_distance");
     cfg_.max_cost = p.get<double>("max_cost");
-    if (cfg_.alpha + cfg_.beta <= 0.0) throw Error("alpha + beta must be > 0");
+    cfg_.shape_weight = p.get<double>("shape_weight");
+    cfg_.min_shape_fit = p.get<double>("min_shape_fit");
+    shape_.method = "icp";
+    shape_.voxel = p.get<double>("shape_voxel");
+    shape_.inlier_distance = p.get<double>("shape_distance");
+    // Wide enough for the coarse pass to pull a partial view (whose centroid
+    // is off the whole object's by a fraction of its size) into place.
+    shape_.max_correspondence = std::max(0.3, 3.0 * shape_.inlier_distance);
+    shape_.max_iterations = 30;
+    shape_.max_points = 400;
+    if (cfg_.alpha + cfg_.beta + cfg_.shape_weight <= 0.0) throw Error("alpha + beta + shape_weight must be > 0");
+  }
+
+  // Registers each pair (lista::objreg's multi-hypothesis ICP) on all threads.
+  std::vector<double> shape_fit(const std::vector<std::pair<const Object*, const Object*>>& pairs, Context& ctx) const {
+    std::vector<double> fit(pairs.size(), 0.0);
+    std::atomic<size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex mutex;
+    std::vector<std::pair<double, double>> shares(pairs.size());
+    ctx.progress().begin("shape check of candidate pairs", pairs.size());
+    auto worker = [&] {
+      for (size_t k; (k = next++) < pairs.size();) {
+        if (ctx.cancelled()) return;
+        try {
+          const registration::IcpResult r = registration::icp_refine(pairs[k].first->points.xyz, pairs[k].second->points.xyz, shape_);
+          // The view with the better-explained points is mostly the smaller or
+          // partial one: it must fit; the other must fit at least in part.
+          const double hi = std::max(r.source_inliers, r.target_inliers), lo = std::min(r.source_inliers, r.target_inliers);
+          fit[k] = 0.75 * hi + 0.25 * lo;
+          shares[k] = {r.source_inliers, r.target_inliers};
+        } catch (...) {
+          std::lock_guard<std::mutex> lock(mutex);
+          if (!failure) failure = std::current_exception();
+        }
+        ctx.progress().advance();
+      }
+    };
+    const int n_threads = std::max(1, std::min<int>(ctx.threads(), static_cast<int>(pairs.size())));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < n_threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+    ctx.progress().end();
+    ctx.throw_if_cancelled();
+    if (failure) std::rethrow_exception(failure);
+    for (size_t k = 0; k < pairs.size(); ++k) {
+      char line[160];
+      std::snprintf(line, sizeof line, "shape fit of objects %d -> %d: %.3f (shares explained %.3f / %.3f)",
+                    pairs[k].first->id, pairs[k].second->id, fit[k], shares[k].first, shares[k].second);
+      ctx.debug(line);
+    }
+    return fit;
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
@@ -29,7 +88,10 @@ class WeightedMatchStage : public Stage {
     const auto& descriptors = in.get<DescriptorSet>("descriptors");
     const Groups* groups = in.has("groups") ? &in.get<Groups>("groups") : nullptr;
     std::string warning;
-    Matches m = match_weighted(objects, descriptors, groups, cfg_, &warning);
+    const PairFit fit = [&](const std::vector<std::pair<const Object*, const Object*>>& pairs) {
+      return shape_fit(pairs, ctx);
+    };
+    Matches m = match_weighted(objects, descriptors, groups, cfg_, &warning, fit);
     if (!warning.empty()) ctx.warn(warning);
     int moved = 0, removed = 0, added = 0;
     for (const auto& c : m.objects) {
@@ -49,20 +111,29 @@ class WeightedMatchStage : public Stage {
 
  private:
   WeightedMatchConfig cfg_;
+  registration::IcpConfig shape_;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.0.0";
-  s.summary = "Object correspondences by weighted physical + descriptor distance, optimal assignment";
+  s.version = "1.1.0";
+  s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
-      "alpha * norm(centroid distance) + beta * norm(descriptor L2 distance) (+ group_penalty across groups "
-      "when group_mode = soft). normalization = max divides the physical term by its largest candidate "
-      "value and the descriptor term by the largest descriptor distance between any two objects; minmax is the paper's (x - min) / (max - min), which stretches descriptor noise between identical "
-      "objects to the full range. Candidates must lie within max_distance metres, keep their size (height and principal horizontal extents within max(max_size_change x the larger, size_slack)), max_descriptor_distance "
-      "(if > 0) and cost <= max_cost (< 0: alpha + beta). The Hungarian algorithm picks the cheapest set "
+      "alpha * norm(centroid distance) + beta * norm(descriptor L2 distance) + shape_weight * (1 - shape fit) "
+      "(+ group_penalty across groups when group_mode = soft). normalization = max divides the physical term "
+      "by its largest candidate value and the descriptor term by the largest descriptor distance between any "
+      "two objects; minmax is the paper's (x - min) / (max - min), which stretches descriptor noise between "
+      "identical objects to the full range. Candidates must lie within max_distance metres, keep their size "
+      "(height and principal horizontal extents within max(max_size_change x the larger, size_slack)), "
+      "max_descriptor_distance (if > 0), then fit as one rigid object: each surviving pair is registered "
+      "(lista::objreg multi-hypothesis ICP on shape_voxel-downsampled points, the view covering fewer voxels "
+      "moved onto the other) and shape fit = 0.75 x the larger + 0.25 x the smaller share of points within "
+      "shape_distance of the other object (a partial view must be explained; the other view at least in "
+      "part); fit < min_shape_fit is no candidate. Last, cost <= max_cost (< 0: alpha + beta + shape_weight x "
+      "(1 - min_shape_fit)). shape_weight = 0 and min_shape_fit = 0 give the paper's two-term cost and skip "
+      "the registration. The Hungarian algorithm picks the cheapest set "
       "of pairs, each pair only if cheaper than leaving both unmatched. Matched objects are 'moved' (match "
       "= partner in the next mission, else the previous one); unmatched earlier objects 'removed', later "
       "ones 'added'. history chains matches across all missions. Confidence of a move = 0.5 * (1 - "
@@ -88,7 +159,14 @@ StageInfo info() {
           .range(0.0, 1e6).unit("m"),
       ParamSpec::real("max_descriptor_distance", 0.0, "largest descriptor distance of a pair; 0 = no gate")
           .at_least(0.0),
-      ParamSpec::real("max_cost", -1.0, "largest weighted cost of a pair; < 0 = alpha + beta").range(-1.0, 1e6),
+      ParamSpec::real("max_cost", -1.0, "largest weighted cost of a pair; < 0 = alpha + beta + shape_weight x (1 - min_shape_fit)").range(-1.0, 1e6),
+      ParamSpec::real("shape_weight", 0.5, "weight of the shape misfit (1 - fit after registering the pair); 0 = the paper's two terms")
+          .range(0.0, 100.0),
+      ParamSpec::real("min_shape_fit", 0.8, "shape gate: smallest fit of a pair (share of points within shape_distance after registration); 0 = off")
+          .range(0.0, 1.0),
+      ParamSpec::real("shape_voxel", 0.04, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m"),
+      ParamSpec::real("shape_distance", 0.05, "a registered point within this distance of the other object counts as explained")
+          .range(0.001, 1.0).unit("m"),
   };
   return s;
 }

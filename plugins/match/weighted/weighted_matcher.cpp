@@ -18,7 +18,7 @@ namespace {
 using BoolMatrix = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
 
 struct PairCosts {
-  Eigen::MatrixXd physical, descriptor, weighted;
+  Eigen::MatrixXd physical, descriptor, shape, weighted;
   BoolMatrix allowed;
 };
 
@@ -65,7 +65,7 @@ double descriptor_scale(const ObjectSet& objects, const DescriptorSet& desc) {
 
 PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<const Object*>& b,
                      const DescriptorSet& desc, const Groups* groups, const WeightedMatchConfig& cfg,
-                     double desc_scale) {
+                     double desc_scale, const PairFit& fit) {
   const int n = static_cast<int>(a.size()), m = static_cast<int>(b.size());
   PairCosts pc;
   pc.physical.resize(n, m);
@@ -107,10 +107,27 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < m; ++j)
       if (!std::isfinite(pc.descriptor(i, j))) pc.descriptor(i, j) = dmax;
+  // Shape check last: it registers every surviving pair, the costly part.
+  pc.shape = Eigen::MatrixXd::Zero(n, m);
+  if (cfg.shape_weight > 0.0 || cfg.min_shape_fit > 0.0) {
+    std::vector<std::pair<const Object*, const Object*>> todo;
+    std::vector<std::pair<int, int>> where;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < m; ++j)
+        if (pc.allowed(i, j)) todo.emplace_back(a[size_t(i)], b[size_t(j)]), where.emplace_back(i, j);
+    const std::vector<double> f = todo.empty() ? std::vector<double>{} : fit(todo);
+    if (f.size() != todo.size()) throw Error("shape fit returned " + std::to_string(f.size()) + " values for " +
+                                             std::to_string(todo.size()) + " pairs");
+    for (size_t k = 0; k < todo.size(); ++k) {
+      const auto [i, j] = where[k];
+      pc.shape(i, j) = 1.0 - std::clamp(f[k], 0.0, 1.0);
+      if (f[k] < cfg.min_shape_fit) pc.allowed(i, j) = false;
+    }
+  }
   Eigen::MatrixXd p = pc.physical, d = pc.descriptor;
   normalise(p, pc.allowed, cfg.normalization);
   normalise(d, pc.allowed, cfg.normalization, desc_scale);
-  pc.weighted = cfg.alpha * p + cfg.beta * d + cross;
+  pc.weighted = cfg.alpha * p + cfg.beta * d + cfg.shape_weight * pc.shape + cross;
   return pc;
 }
 
@@ -127,12 +144,17 @@ struct UnionFind {
 }  // namespace
 
 Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptors,
-                       const Groups* groups, const WeightedMatchConfig& cfg, std::string* warning) {
+                       const Groups* groups, const WeightedMatchConfig& cfg, std::string* warning,
+                       const PairFit& fit) {
   if (cfg.normalization != "max" && cfg.normalization != "minmax")
     throw Error("normalization must be 'max' or 'minmax', got '" + cfg.normalization + "'");
   if (cfg.group_mode != "soft" && cfg.group_mode != "hard" && cfg.group_mode != "ignore")
     throw Error("group_mode must be 'soft', 'hard' or 'ignore', got '" + cfg.group_mode + "'");
-  const double max_cost = cfg.max_cost < 0.0 ? cfg.alpha + cfg.beta : cfg.max_cost;
+  if ((cfg.shape_weight > 0.0 || cfg.min_shape_fit > 0.0) && !fit)
+    throw Error("the shape term needs a pair fit function");
+  // Default gate: the costliest pair that passes every other gate.
+  const double max_cost =
+      cfg.max_cost < 0.0 ? cfg.alpha + cfg.beta + cfg.shape_weight * (1.0 - cfg.min_shape_fit) : cfg.max_cost;
   const size_t n_missions = objects.missions.size();
   for (const Object& o : objects.objects)
     if (o.mission >= n_missions)
@@ -162,7 +184,7 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
       if (o.mission == m + 1) b.push_back(&o);
     }
     if (a.empty() || b.empty()) continue;
-    PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale);
+    PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale, fit);
     for (int i = 0; i < pc.allowed.rows(); ++i)
       for (int j = 0; j < pc.allowed.cols(); ++j)
         if (pc.weighted(i, j) > max_cost) pc.allowed(i, j) = false;

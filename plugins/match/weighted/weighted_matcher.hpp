@@ -21,9 +21,17 @@
 // horizontal extents along the principal axes differ by at most
 // max(`max_size_change` x the larger, `size_slack`); 0 turns it off), its descriptor distance is at most `max_descriptor_distance` (if > 0)
 // and its weighted cost is at most `max_cost`. With the default max_cost =
-// alpha + beta every same-group pair inside the physical gate is a candidate
-// and a cross-group pair must be clearly closer or more similar than the
-// worst candidate to survive its penalty.
+// alpha + beta (+ shape_weight x (1 - min_shape_fit)) every same-group pair
+// inside the other gates is a candidate and a cross-group pair must be
+// clearly closer or more similar than the worst candidate to survive its
+// penalty.
+//
+// Shape check (not in the paper). Two changes of similar size and
+// descriptor (a removed desk, an added desk of another model) are not a move
+// unless one rigid object explains both: every pair that passed the gates is
+// registered (PairFit) and its fit in [0, 1] adds shape_weight x (1 - fit) to
+// the cost; fit < min_shape_fit rules the pair out. shape_weight = 0 and
+// min_shape_fit = 0 give the paper's cost and skip the registration.
 #pragma once
 
 #include <lista/descriptors.hpp>
@@ -31,7 +39,10 @@
 #include <lista/matches.hpp>
 #include <lista/objects.hpp>
 
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace lista::matching {
 
@@ -46,11 +57,19 @@ struct WeightedMatchConfig {
   double size_slack = 0.15;         // m: size change always allowed (partial views, noise)
   double max_descriptor_distance = 0.0;  // descriptor units; 0 = no gate
   double max_cost = -1.0;           // weighted gate; < 0 means alpha + beta
+  double shape_weight = 0.0;        // weight of the shape misfit (1 - fit); needs a PairFit
+  double min_shape_fit = 0.0;       // shape gate: smallest fit of a pair; 0 = off
 };
 
-// Every object of `objects` gets one ObjectChange. `groups` may be null.
+// How well each (earlier, later) pair of objects fits as one rigid object,
+// in [0, 1] (1 = every point explained). Called once per mission pair with
+// every candidate that passed the other gates.
+using PairFit = std::function<std::vector<double>(const std::vector<std::pair<const Object*, const Object*>>&)>;
+
+// Every object of `objects` gets one ObjectChange. `groups` may be null;
+// `fit` may be empty only when shape_weight and min_shape_fit are 0.
 Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptors,
                        const Groups* groups, const WeightedMatchConfig& cfg,
-                       std::string* warning = nullptr);
+                       std::string* warning = nullptr, const PairFit& fit = {});
 
 }  // namespace lista::matching

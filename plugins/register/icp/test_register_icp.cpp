@@ -1,6 +1,6 @@
 #include "../../group/kmeans/stage_harness.hpp"
-#include "../svd/svd_registration.hpp"
-#include "icp_refine.hpp"
+#include <lista_objreg/svd_registration.hpp>
+#include <lista_objreg/icp_refine.hpp>
 
 #include <lista/basic_context.hpp>
 

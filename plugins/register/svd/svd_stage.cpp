@@ -1,7 +1,7 @@
 // register.svd: the paper's registration of moved objects (shared centroid,
-// orientation from the SVD of the covariance); see svd_registration.hpp.
+// orientation from the SVD of the covariance); see lista_objreg/svd_registration.hpp.
 #include "register_objects.hpp"
-#include "svd_registration.hpp"
+#include <lista_objreg/svd_registration.hpp>
 
 #include <lista/lista.hpp>
 

@@ -1,5 +1,5 @@
 #include "../../group/kmeans/stage_harness.hpp"
-#include "svd_registration.hpp"
+#include <lista_objreg/svd_registration.hpp>
 
 #include <lista/basic_context.hpp>
 

@@ -1,6 +1,7 @@
 #include "euclidean_clustering.hpp"
 
 #include <lista_pcl/convert.hpp>
+#include <lista_pcl/fast_kdtree.hpp>
 
 #include <pcl/search/kdtree.h>
 #include <pcl/segmentation/extract_clusters.h>
@@ -13,7 +14,7 @@ std::vector<std::vector<uint32_t>> cluster_euclidean(const PointSet& points,
                                                      const EuclideanClusterConfig& config) {
   if (points.empty()) return {};
   auto cloud = pcl_convert::to_xyz(points);
-  auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
+  auto tree = std::make_shared<pcl_search::FastKdTree>();
   tree->setInputCloud(cloud);
   pcl::EuclideanClusterExtraction<pcl::PointXYZ> ec;
   ec.setClusterTolerance(config.tolerance);

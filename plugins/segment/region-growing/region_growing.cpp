@@ -1,6 +1,7 @@
 #include "region_growing.hpp"
 
 #include <lista_pcl/convert.hpp>
+#include <lista_pcl/fast_kdtree.hpp>
 
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/search/kdtree.h>
@@ -15,7 +16,7 @@ std::vector<std::vector<uint32_t>> cluster_region_growing(const PointSet& points
                                                           const RegionGrowingConfig& c, int threads) {
   if (points.size() < 3) return {};
   auto cloud = pcl_convert::to_xyz(points);
-  auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
+  auto tree = std::make_shared<pcl_search::FastKdTree>();
   tree->setInputCloud(cloud);
 
   pcl::PointCloud<pcl::Normal>::Ptr normals(new pcl::PointCloud<pcl::Normal>);

@@ -1,12 +1,12 @@
-// The only file of register.icp that includes PCL.
-#include "icp_refine.hpp"
+// Object-pair ICP (PCL); used by register.icp and match.weighted.
+#include <lista_objreg/icp_refine.hpp>
 
-#include "../svd/svd_registration.hpp"
+#include <lista_objreg/svd_registration.hpp>
 
 #include <lista/error.hpp>
+#include <lista_pcl/fast_kdtree.hpp>
 
 #include <pcl/filters/voxel_grid.h>
-#include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
 
@@ -34,18 +34,16 @@ Cloud::Ptr to_cloud(const std::vector<Eigen::Vector3f>& pts, double voxel) {
 }
 
 // Truncated mean squared nearest-neighbour distance of T*from to `to`.
-double one_way(const Cloud& from, const pcl::KdTreeFLANN<pcl::PointXYZ>& to_tree, const Eigen::Isometry3d& t,
+double one_way(const Cloud& from, const pcl_search::FastKdTree& to_tree, const Eigen::Isometry3d& t,
                double inlier, double& inlier_share) {
   const double cap = inlier * inlier;
   double sum = 0.0;
   size_t inliers = 0;
-  pcl::Indices idx(1);
-  std::vector<float> d2(1);
   const Eigen::Isometry3f tf = t.cast<float>();
   for (const auto& p : from) {
     const Eigen::Vector3f q = tf * p.getVector3fMap();
-    to_tree.nearestKSearch(pcl::PointXYZ(q.x(), q.y(), q.z()), 1, idx, d2);
-    const double d = d2.empty() ? cap : std::min<double>(d2[0], cap);
+    const float d2 = to_tree.nearest_sqr_distance(pcl::PointXYZ(q.x(), q.y(), q.z()));
+    const double d = d2 < 0.0f ? cap : std::min<double>(d2, cap);
     if (d < cap) ++inliers;
     sum += d;
   }
@@ -53,13 +51,18 @@ double one_way(const Cloud& from, const pcl::KdTreeFLANN<pcl::PointXYZ>& to_tree
   return from.empty() ? cap : sum / from.size();
 }
 
-}  // namespace
-
-IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
-                     const IcpConfig& cfg) {
-  if (source.empty() || target.empty()) throw Error("cannot register an object with no points");
-  const Cloud::Ptr src = to_cloud(source, cfg.voxel), dst = to_cloud(target, cfg.voxel);
-  pcl::KdTreeFLANN<pcl::PointXYZ> src_tree, dst_tree;
+// Registers `source` onto `target` (their voxelised clouds `src`, `dst`).
+IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
+                      const Cloud::Ptr& src, const Cloud::Ptr& dst, const IcpConfig& cfg) {
+  // ICP's cost is one target search per source point and iteration: it
+  // iterates on an evenly strided subset; scores use every voxelised point.
+  Cloud::Ptr src_icp = src;
+  if (cfg.max_points > 0 && src->size() > static_cast<size_t>(cfg.max_points)) {
+    src_icp.reset(new Cloud);
+    const double step = static_cast<double>(src->size()) / cfg.max_points;
+    for (int k = 0; k < cfg.max_points; ++k) src_icp->push_back((*src)[static_cast<size_t>(k * step)]);
+  }
+  pcl_search::FastKdTree src_tree, dst_tree;
   src_tree.setInputCloud(src);
   dst_tree.setInputCloud(dst);
 
@@ -84,16 +87,20 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
   }
 
   // GICP estimates local covariances from 20 neighbours: too few points, plain ICP.
-  const bool use_gicp = cfg.method == "gicp" && src->size() >= 30 && dst->size() >= 30;
+  const bool use_gicp = cfg.method == "gicp" && src_icp->size() >= 30 && dst->size() >= 30;
   // One registration object for all hypotheses: GICP then computes the
   // points' covariances once, not once per hypothesis.
   pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
   pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
   if (use_gicp) {
-    gicp.setInputSource(src);
+    gicp.setSearchMethodSource(std::make_shared<pcl_search::FastKdTree>());
+    gicp.setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
+    gicp.setInputSource(src_icp);
     gicp.setInputTarget(dst);
   } else {
-    icp.setInputSource(src);
+    icp.setSearchMethodSource(std::make_shared<pcl_search::FastKdTree>());
+    icp.setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
+    icp.setInputSource(src_icp);
     icp.setInputTarget(dst);
   }
   auto refine = [&](const Eigen::Isometry3d& guess, double max_correspondence) {
@@ -117,23 +124,20 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
     else run(icp);
     return t;
   };
-  auto score_of = [&](const Eigen::Isometry3d& t, double& inlier_ratio) {
-    double in_a = 0.0, in_b = 0.0;
-    const double s = 0.5 * (one_way(*src, dst_tree, t, cfg.inlier_distance, in_a) +
-                            one_way(*dst, src_tree, t.inverse(), cfg.inlier_distance, in_b));
-    inlier_ratio = 0.5 * (in_a + in_b);
-    return s;
+  auto score_of = [&](const Eigen::Isometry3d& t, double& in_a, double& in_b) {
+    return 0.5 * (one_way(*src, dst_tree, t, cfg.inlier_distance, in_a) +
+                  one_way(*dst, src_tree, t.inverse(), cfg.inlier_distance, in_b));
   };
 
   // Coarse pass from every hypothesis with the wide correspondence distance.
   struct Candidate {
     Eigen::Isometry3d t;
-    double score, inliers;
+    double score, in_source, in_target;
   };
   std::vector<Candidate> coarse;
   for (const Eigen::Isometry3d& guess : guesses) {
-    Candidate c{refine(guess, cfg.max_correspondence), 0.0, 0.0};
-    c.score = score_of(c.t, c.inliers);
+    Candidate c{refine(guess, cfg.max_correspondence), 0.0, 0.0, 0.0};
+    c.score = score_of(c.t, c.in_source, c.in_target);
     coarse.push_back(c);
   }
   std::stable_sort(coarse.begin(), coarse.end(), [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
@@ -163,8 +167,8 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
   if (coarse_pick >= chosen.size()) chosen.push_back(coarse_pick);
   std::vector<Candidate> fine;
   for (size_t i : chosen) {
-    Candidate c{refine(coarse[i].t, std::min(cfg.max_correspondence, cfg.inlier_distance)), 0.0, 0.0};
-    c.score = score_of(c.t, c.inliers);
+    Candidate c{refine(coarse[i].t, std::min(cfg.max_correspondence, cfg.inlier_distance)), 0.0, 0.0, 0.0};
+    c.score = score_of(c.t, c.in_source, c.in_target);
     fine.push_back(coarse[i].score < c.score ? coarse[i] : c);  // never worse than the coarse result
   }
   const Candidate& winner = fine[pick(fine)];
@@ -172,8 +176,26 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
   best.hypotheses = static_cast<int>(guesses.size());
   best.score = winner.score;
   best.transform = winner.t;
-  best.inlier_ratio = winner.inliers;
+  best.source_inliers = winner.in_source;
+  best.target_inliers = winner.in_target;
+  best.inlier_ratio = 0.5 * (winner.in_source + winner.in_target);
   return best;
+}
+
+}  // namespace
+
+IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
+                     const IcpConfig& cfg) {
+  if (source.empty() || target.empty()) throw Error("cannot register an object with no points");
+  const Cloud::Ptr src = to_cloud(source, cfg.voxel), dst = to_cloud(target, cfg.voxel);
+  // ICP pulls every source point towards the target, so a source with parts
+  // the target never saw is dragged off. Register the view covering fewer
+  // voxels (mostly the partial one) onto the other, then invert.
+  if (dst->size() >= src->size()) return refine_pair(source, target, src, dst, cfg);
+  IcpResult r = refine_pair(target, source, dst, src, cfg);
+  r.transform = r.transform.inverse();
+  std::swap(r.source_inliers, r.target_inliers);
+  return r;
 }
 
 }  // namespace lista::registration

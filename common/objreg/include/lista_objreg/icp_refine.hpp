@@ -11,6 +11,12 @@
 // partial view bias the pose); the lowest score wins, except that among
 // poses within symmetry_tolerance of it the smallest rotation wins
 // (symmetric shapes fit as well turned by 180 degrees).
+//
+// Direction: ICP pulls every moving point towards the fixed cloud, so a
+// moving cloud with parts the other never saw is dragged off. The cloud
+// covering fewer voxels (mostly a partial view) is registered onto the other
+// and the result inverted; the returned transform always maps source onto
+// target. Searches use lista_pcl's FastKdTree (see fast_kdtree.hpp).
 #pragma once
 
 #include <lista/points.hpp>
@@ -30,12 +36,15 @@ struct IcpConfig {
   bool svd_flips = true;              // try the SVD guess's four axis flips
   double inlier_distance = 0.05;      // m: truncation of the score
   double symmetry_tolerance = 0.1;    // poses within this share of the best score tie; smallest rotation wins
+  int max_points = 0;                 // ICP iterates on at most this many source points (strided); 0 = all
 };
 
 struct IcpResult {
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  // p_target = T * p_source
   double score = 0.0;        // truncated mean squared distance (m^2), lower is better
   double inlier_ratio = 0.0; // share of points within inlier_distance (both ways averaged)
+  double source_inliers = 0.0;  // share of moved source points within inlier_distance of the target
+  double target_inliers = 0.0;  // share of target points within inlier_distance of the moved source
   int hypotheses = 0;
 };
 

@@ -1,4 +1,4 @@
-#include "svd_registration.hpp"
+#include <lista_objreg/svd_registration.hpp>
 
 #include <lista/error.hpp>
 

@@ -1,0 +1,97 @@
+// Compiled without OpenMP on purpose: FLANN's per-query `omp parallel`
+// pragmas then vanish (see fast_kdtree.hpp).
+#include <lista_pcl/fast_kdtree.hpp>
+
+// FLANN is header-only templates: hide this library's copies so that they
+// neither interpose on PCL's (OpenMP) copies nor get interposed by them; each
+// caller then gets the search it asked for, whatever the load order.
+#pragma GCC visibility push(hidden)
+#include <flann/flann.hpp>
+#pragma GCC visibility pop
+
+#include <cmath>
+
+namespace lista::pcl_search {
+
+struct FastKdTree::Index {
+  std::vector<float> xyz;      // packed coordinates of the indexed points
+  std::vector<int> to_cloud;   // index position -> point of the input cloud
+  std::unique_ptr<flann::KDTreeSingleIndex<flann::L2_Simple<float>>> tree;
+};
+
+FastKdTree::FastKdTree() : Base(true), index_(std::make_unique<Index>()) {}
+FastKdTree::~FastKdTree() = default;
+
+void FastKdTree::setInputCloud(const PointCloudConstPtr& cloud, const IndicesConstPtr& indices) {
+  input_ = cloud;
+  indices_ = indices;
+  auto next = std::make_unique<Index>();
+  auto add = [&](int i) {
+    const pcl::PointXYZ& p = (*cloud)[static_cast<size_t>(i)];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return;
+    next->xyz.insert(next->xyz.end(), {p.x, p.y, p.z});
+    next->to_cloud.push_back(i);
+  };
+  if (cloud) {
+    if (indices) {
+      for (const auto i : *indices) add(static_cast<int>(i));
+    } else {
+      for (size_t i = 0; i < cloud->size(); ++i) add(static_cast<int>(i));
+    }
+  }
+  if (!next->to_cloud.empty()) {
+    flann::Matrix<float> data(next->xyz.data(), next->to_cloud.size(), 3);
+    next->tree = std::make_unique<flann::KDTreeSingleIndex<flann::L2_Simple<float>>>(
+        data, flann::KDTreeSingleIndexParams(15));
+    next->tree->buildIndex();
+  }
+  index_ = std::move(next);
+}
+
+int FastKdTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& k_indices,
+                               std::vector<float>& k_sqr_distances) const {
+  k_indices.clear();
+  k_sqr_distances.clear();
+  if (!index_->tree || k <= 0) return 0;
+  k = std::min<int>(k, static_cast<int>(index_->to_cloud.size()));
+  std::vector<int> idx(static_cast<size_t>(k));
+  k_sqr_distances.resize(static_cast<size_t>(k));
+  float q[3] = {point.x, point.y, point.z};
+  flann::Matrix<int> mi(idx.data(), 1, static_cast<size_t>(k));
+  flann::Matrix<float> md(k_sqr_distances.data(), 1, static_cast<size_t>(k));
+  flann::SearchParams params(-1, 0.0f, true);
+  index_->tree->knnSearch(flann::Matrix<float>(q, 1, 3), mi, md, static_cast<size_t>(k), params);
+  k_indices.resize(static_cast<size_t>(k));
+  for (int i = 0; i < k; ++i) k_indices[static_cast<size_t>(i)] = index_->to_cloud[static_cast<size_t>(idx[static_cast<size_t>(i)])];
+  return k;
+}
+
+int FastKdTree::radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Indices& k_indices,
+                             std::vector<float>& k_sqr_distances, unsigned int max_nn) const {
+  k_indices.clear();
+  k_sqr_distances.clear();
+  if (!index_->tree) return 0;
+  std::vector<std::vector<int>> idx(1);
+  std::vector<std::vector<float>> dist(1);
+  float q[3] = {point.x, point.y, point.z};
+  flann::SearchParams params(-1, 0.0f, sorted_results_);
+  if (max_nn > 0) params.max_neighbors = static_cast<int>(max_nn);
+  index_->tree->radiusSearch(flann::Matrix<float>(q, 1, 3), idx, dist, static_cast<float>(radius * radius), params);
+  k_indices.reserve(idx[0].size());
+  for (int i : idx[0]) k_indices.push_back(index_->to_cloud[static_cast<size_t>(i)]);
+  k_sqr_distances = std::move(dist[0]);
+  return static_cast<int>(k_indices.size());
+}
+
+float FastKdTree::nearest_sqr_distance(const pcl::PointXYZ& point) const {
+  if (!index_->tree) return -1.0f;
+  int idx = 0;
+  float d2 = 0.0f;
+  float q[3] = {point.x, point.y, point.z};
+  flann::Matrix<int> mi(&idx, 1, 1);
+  flann::Matrix<float> md(&d2, 1, 1);
+  index_->tree->knnSearch(flann::Matrix<float>(q, 1, 3), mi, md, 1, flann::SearchParams(-1, 0.0f, false));
+  return d2;
+}
+
+}  // namespace lista::pcl_search

@@ -1,0 +1,101 @@
+// FastKdTree must answer exactly as PCL's KdTreeFLANN (it replaces it inside
+// PCL's ICP/GICP, clustering and MLS) and work as their search method.
+#include <lista_pcl/fast_kdtree.hpp>
+
+#include <gtest/gtest.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/registration/icp.h>
+
+#include <random>
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+
+Cloud::Ptr random_cloud(size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  Cloud::Ptr c(new Cloud);
+  for (size_t i = 0; i < n; ++i) c->push_back(pcl::PointXYZ(u(rng), u(rng), u(rng)));
+  return c;
+}
+
+TEST(FastKdTree, KnnMatchesKdTreeFlann) {
+  const Cloud::Ptr cloud = random_cloud(2000, 1), queries = random_cloud(300, 2);
+  lista::pcl_search::FastKdTree fast;
+  fast.setInputCloud(cloud);
+  pcl::KdTreeFLANN<pcl::PointXYZ> stock;
+  stock.setInputCloud(cloud);
+  for (const auto& q : queries->points) {
+    pcl::Indices fi, si;
+    std::vector<float> fd, sd;
+    ASSERT_EQ(fast.nearestKSearch(q, 5, fi, fd), 5);
+    ASSERT_EQ(stock.nearestKSearch(q, 5, si, sd), 5);
+    EXPECT_EQ(fi, si);
+    for (size_t k = 0; k < 5; ++k) EXPECT_FLOAT_EQ(fd[k], sd[k]);
+    EXPECT_FLOAT_EQ(fast.nearest_sqr_distance(q), sd[0]);
+  }
+}
+
+TEST(FastKdTree, RadiusMatchesKdTreeFlann) {
+  const Cloud::Ptr cloud = random_cloud(2000, 3), queries = random_cloud(100, 4);
+  lista::pcl_search::FastKdTree fast;
+  fast.setInputCloud(cloud);
+  pcl::KdTreeFLANN<pcl::PointXYZ> stock;
+  stock.setInputCloud(cloud);
+  for (const auto& q : queries->points) {
+    pcl::Indices fi, si;
+    std::vector<float> fd, sd;
+    const int n = fast.radiusSearch(q, 0.2, fi, fd);
+    ASSERT_EQ(n, stock.radiusSearch(q, 0.2, si, sd));
+    EXPECT_EQ(fi, si);
+    EXPECT_EQ(fast.radiusSearch(q, 0.2, fi, fd, 3), std::min(n, 3));
+  }
+}
+
+TEST(FastKdTree, IndicesSubsetAnswersInCloudPositions) {
+  const Cloud::Ptr cloud = random_cloud(500, 5);
+  auto odd = std::make_shared<pcl::Indices>();
+  for (int i = 1; i < 500; i += 2) odd->push_back(i);
+  lista::pcl_search::FastKdTree fast;
+  fast.setInputCloud(cloud, odd);
+  pcl::Indices idx;
+  std::vector<float> d2;
+  ASSERT_EQ(fast.nearestKSearch((*cloud)[2], 1, idx, d2), 1);
+  EXPECT_EQ(idx[0] % 2, 1);  // the even query point itself is not indexed
+  ASSERT_EQ(fast.nearestKSearch((*cloud)[7], 1, idx, d2), 1);
+  EXPECT_EQ(idx[0], 7);
+  EXPECT_FLOAT_EQ(d2[0], 0.0f);
+}
+
+TEST(FastKdTree, EmptyTreeFindsNothing) {
+  lista::pcl_search::FastKdTree fast;
+  fast.setInputCloud(Cloud::Ptr(new Cloud));
+  pcl::Indices idx;
+  std::vector<float> d2;
+  EXPECT_EQ(fast.nearestKSearch(pcl::PointXYZ(0, 0, 0), 3, idx, d2), 0);
+  EXPECT_EQ(fast.radiusSearch(pcl::PointXYZ(0, 0, 0), 1.0, idx, d2), 0);
+  EXPECT_LT(fast.nearest_sqr_distance(pcl::PointXYZ(0, 0, 0)), 0.0f);
+}
+
+TEST(FastKdTree, ServesAsIcpSearchMethod) {
+  const Cloud::Ptr target = random_cloud(1500, 6);
+  Eigen::Affine3f shift = Eigen::Affine3f::Identity();
+  shift.translation() << 0.03f, -0.02f, 0.01f;
+  Cloud::Ptr source(new Cloud);
+  pcl::transformPointCloud(*target, *source, shift);
+  pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+  icp.setSearchMethodTarget(std::make_shared<lista::pcl_search::FastKdTree>());
+  icp.setInputSource(source);
+  icp.setInputTarget(target);
+  icp.setMaximumIterations(50);
+  Cloud aligned;
+  icp.align(aligned);
+  ASSERT_TRUE(icp.hasConverged());
+  const Eigen::Vector3f t = icp.getFinalTransformation().topRightCorner<3, 1>();
+  EXPECT_NEAR(t.x(), -0.03f, 1e-3);
+  EXPECT_NEAR(t.y(), 0.02f, 1e-3);
+  EXPECT_NEAR(t.z(), -0.01f, 1e-3);
+}
+
+}  // namespace
