@@ -61,7 +61,9 @@ StageInfo info() {
       "Each is refined with PCL Generalized ICP (method = gicp; plain ICP below 30 points or with "
       "method = icp) on voxel-downsampled points and scored by the symmetric truncated mean squared "
       "nearest-neighbour distance (truncated at inlier_distance); the three best are refined again with the "
-      "correspondence gate narrowed to inlier_distance and the best is kept; among poses scoring within "
+      "correspondence gate narrowed to inlier_distance (with gicp, a point-to-point ICP polish competes: GICP's "
+      "minimum can sit degrees off on box-like objects) and the best is kept; the view covering fewer voxels "
+      "is the one moved (then inverted); among poses scoring within "
       "symmetry_tolerance (relative) of the best, the one with the smallest rotation wins (a symmetric shape "
       "fits as well turned by 180 degrees). p_match = T * p. "
       "Records the mean inlier share as 'mean_inlier_ratio'.";

@@ -8,7 +8,9 @@
 // the target, min(d^2, inlier^2), computed both ways so that a partial view
 // cannot hide inside a larger one. The three best are refined again with
 // the correspondence gate narrowed to inlier_distance (a wide gate lets a
-// partial view bias the pose); the lowest score wins, except that among
+// partial view bias the pose), and with GICP a point-to-point ICP polish of
+// each competes (GICP's minimum can sit degrees off on box-like objects);
+// the lowest score wins, except that among
 // poses within symmetry_tolerance of it the smallest rotation wins
 // (symmetric shapes fit as well turned by 180 degrees).
 //
