@@ -1,16 +1,13 @@
 // Reading missions and datasets (data contract, sect. 1): poses.txt + scans/,
 // or the VIEWPOINT layout (map-frame .pcd scans carrying the sensor pose).
 #include <lista/error.hpp>
+#include <lista/parallel.hpp>
 #include <lista_io/dataset.hpp>
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
 #include <filesystem>
-#include <mutex>
-#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -40,35 +37,6 @@ std::vector<std::string> files_in(const fs::path& dir, bool pcd_only) {
 bool is_mission_dir(const fs::path& dir) {
   if (fs::is_regular_file(dir / "poses.txt")) return true;
   return !files_in(dir, true).empty();  // VIEWPOINT layout
-}
-
-// Runs fn(i) for i in [0, n) on up to `threads` threads; rethrows the first error.
-template <class Fn>
-void parallel_for(size_t n, int threads, Fn fn) {
-  const size_t workers = std::min<size_t>(std::max(1, threads), n);
-  if (workers <= 1) {
-    for (size_t i = 0; i < n; ++i) fn(i);
-    return;
-  }
-  std::atomic<size_t> next{0};
-  std::exception_ptr error;
-  std::mutex mutex;
-  auto work = [&] {
-    for (size_t i; (i = next.fetch_add(1)) < n;) {
-      try {
-        fn(i);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!error) error = std::current_exception();
-        next = n;  // stop handing out work
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (size_t w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace

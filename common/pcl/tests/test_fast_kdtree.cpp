@@ -20,12 +20,21 @@ Cloud::Ptr random_cloud(size_t n, unsigned seed) {
   return c;
 }
 
-TEST(FastKdTree, KnnMatchesKdTreeFlann) {
-  const Cloud::Ptr cloud = random_cloud(2000, 1), queries = random_cloud(300, 2);
+// Both trees over the same random cloud.
+struct Trees {
+  explicit Trees(unsigned seed) : cloud(random_cloud(2000, seed)) {
+    fast.setInputCloud(cloud);
+    stock.setInputCloud(cloud);
+  }
+  Cloud::Ptr cloud;
   lista::pcl_search::FastKdTree fast;
-  fast.setInputCloud(cloud);
   pcl::KdTreeFLANN<pcl::PointXYZ> stock;
-  stock.setInputCloud(cloud);
+};
+
+TEST(FastKdTree, KnnMatchesKdTreeFlann) {
+  Trees t(1);
+  auto& [cloud, fast, stock] = t;
+  const Cloud::Ptr queries = random_cloud(300, 2);
   for (const auto& q : queries->points) {
     pcl::Indices fi, si;
     std::vector<float> fd, sd;
@@ -38,11 +47,9 @@ TEST(FastKdTree, KnnMatchesKdTreeFlann) {
 }
 
 TEST(FastKdTree, RadiusMatchesKdTreeFlann) {
-  const Cloud::Ptr cloud = random_cloud(2000, 3), queries = random_cloud(100, 4);
-  lista::pcl_search::FastKdTree fast;
-  fast.setInputCloud(cloud);
-  pcl::KdTreeFLANN<pcl::PointXYZ> stock;
-  stock.setInputCloud(cloud);
+  Trees t(3);
+  auto& [cloud, fast, stock] = t;
+  const Cloud::Ptr queries = random_cloud(100, 4);
   for (const auto& q : queries->points) {
     pcl::Indices fi, si;
     std::vector<float> fd, sd;

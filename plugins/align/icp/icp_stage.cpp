@@ -6,7 +6,7 @@
 
 #include <lista/lista.hpp>
 #include <lista_alignkit/cloud_ops.hpp>
-#include <lista_alignkit/parallel.hpp>
+#include <lista/parallel.hpp>
 #include <lista_alignkit/registration.hpp>
 #include <lista_alignkit/trajectory_error.hpp>
 

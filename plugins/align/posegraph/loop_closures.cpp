@@ -3,7 +3,7 @@
 #include "ring_key_index.hpp"
 
 #include <lista/error.hpp>
-#include <lista_alignkit/parallel.hpp>
+#include <lista/parallel.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -3,13 +3,11 @@
 #include "weighted_matcher.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/parallel.hpp>
 #include <lista_objreg/icp_refine.hpp>
 
-#include <atomic>
+#include <algorithm>
 #include <cstdio>
-#include <exception>
-#include <mutex>
-#include <thread>
 
 namespace lista::matching {
 
@@ -44,36 +42,21 @@ class WeightedMatchStage : public Stage {
   // Registers each pair (lista::objreg's multi-hypothesis ICP) on all threads.
   std::vector<double> shape_fit(const std::vector<std::pair<const Object*, const Object*>>& pairs, Context& ctx) const {
     std::vector<double> fit(pairs.size(), 0.0);
-    std::atomic<size_t> next{0};
-    std::exception_ptr failure;
-    std::mutex mutex;
     std::vector<std::pair<double, double>> shares(pairs.size());
     ctx.progress().begin("shape check of candidate pairs", pairs.size());
-    auto worker = [&] {
-      for (size_t k; (k = next++) < pairs.size();) {
-        if (ctx.cancelled()) return;
-        try {
-          const registration::IcpResult r = registration::icp_refine(pairs[k].first->points.xyz, pairs[k].second->points.xyz, shape_);
-          // The view with the better-explained points is mostly the smaller or
-          // partial one: it must fit; the other must fit at least in part.
-          const double hi = std::max(r.source_inliers, r.target_inliers), lo = std::min(r.source_inliers, r.target_inliers);
-          fit[k] = 0.75 * hi + 0.25 * lo;
-          shares[k] = {r.source_inliers, r.target_inliers};
-        } catch (...) {
-          std::lock_guard<std::mutex> lock(mutex);
-          if (!failure) failure = std::current_exception();
-        }
-        ctx.progress().advance();
-      }
-    };
-    const int n_threads = std::max(1, std::min<int>(ctx.threads(), static_cast<int>(pairs.size())));
-    std::vector<std::thread> pool;
-    for (int t = 1; t < n_threads; ++t) pool.emplace_back(worker);
-    worker();
-    for (auto& t : pool) t.join();
+    parallel_for(pairs.size(), ctx.threads(), [&](size_t k) {
+      if (ctx.cancelled()) return;
+      const registration::IcpResult r =
+          registration::icp_refine(pairs[k].first->points.xyz, pairs[k].second->points.xyz, shape_);
+      // The view with the better-explained points is mostly the smaller or
+      // partial one: it must fit; the other must fit at least in part.
+      const double hi = std::max(r.source_inliers, r.target_inliers), lo = std::min(r.source_inliers, r.target_inliers);
+      fit[k] = 0.75 * hi + 0.25 * lo;
+      shares[k] = {r.source_inliers, r.target_inliers};
+      ctx.progress().advance();
+    });
     ctx.progress().end();
     ctx.throw_if_cancelled();
-    if (failure) std::rethrow_exception(failure);
     for (size_t k = 0; k < pairs.size(); ++k) {
       char line[160];
       std::snprintf(line, sizeof line, "shape fit of objects %d -> %d: %.3f (shares explained %.3f / %.3f)",

@@ -1,13 +1,10 @@
 #include "register_objects.hpp"
 
 #include <lista/error.hpp>
+#include <lista/parallel.hpp>
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
 #include <map>
-#include <mutex>
-#include <thread>
 #include <utility>
 
 namespace lista::registration {
@@ -28,30 +25,14 @@ Matches register_matches(const ObjectSet& objects, const Matches& matches, const
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 
   std::vector<Eigen::Isometry3d> result(pairs.size());
-  std::atomic<size_t> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
   ctx.progress().begin("registering moved objects", pairs.size());
-  auto worker = [&] {
-    for (size_t k; (k = next++) < pairs.size();) {
-      if (ctx.cancelled()) return;
-      try {
-        result[k] = reg(*objects.find(pairs[k].first), *objects.find(pairs[k].second));
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(failure_mutex);
-        if (!failure) failure = std::current_exception();
-      }
-      ctx.progress().advance();
-    }
-  };
-  const int n_threads = std::max(1, std::min<int>(ctx.threads(), static_cast<int>(pairs.size())));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n_threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  parallel_for(pairs.size(), ctx.threads(), [&](size_t k) {
+    if (ctx.cancelled()) return;
+    result[k] = reg(*objects.find(pairs[k].first), *objects.find(pairs[k].second));
+    ctx.progress().advance();
+  });
   ctx.progress().end();
   ctx.throw_if_cancelled();
-  if (failure) std::rethrow_exception(failure);
 
   std::map<std::pair<int, int>, Eigen::Isometry3d> by_pair;
   for (size_t k = 0; k < pairs.size(); ++k) by_pair[pairs[k]] = result[k];

@@ -1,5 +1,9 @@
-// A tiny work-sharing loop: indices handed out one at a time (work items here
-// differ a lot in cost), the first exception rethrown in the caller.
+// lista::parallel_for: the one work-sharing loop of the SDK, for stages that
+// spread independent items (object pairs, keyframes, files) over
+// Context::threads(). Indices are handed out one at a time (items often
+// differ a lot in cost); the first exception stops handing out work and is
+// rethrown in the caller once every thread has finished. Deterministic
+// results are the caller's job: write result i into slot i.
 #pragma once
 
 #include <algorithm>
@@ -10,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-namespace lista::align {
+namespace lista {
 
 template <class Fn>
 void parallel_for(size_t count, int threads, Fn&& fn) {
@@ -18,9 +22,7 @@ void parallel_for(size_t count, int threads, Fn&& fn) {
   std::exception_ptr error;
   std::mutex error_mutex;
   auto worker = [&] {
-    for (;;) {
-      const size_t i = next.fetch_add(1);
-      if (i >= count) return;
+    for (size_t i; (i = next.fetch_add(1)) < count;) {
       try {
         fn(i);
       } catch (...) {
@@ -30,12 +32,12 @@ void parallel_for(size_t count, int threads, Fn&& fn) {
       }
     }
   };
-  const int n = std::max(1, std::min<int>(threads, static_cast<int>(count)));
+  const size_t n = std::min<size_t>(static_cast<size_t>(std::max(1, threads)), count);
   std::vector<std::thread> pool;
-  for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+  for (size_t t = 1; t < n; ++t) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
   if (error) std::rethrow_exception(error);
 }
 
-}  // namespace lista::align
+}  // namespace lista
