@@ -33,22 +33,25 @@ Cloud::Ptr to_cloud(const std::vector<Eigen::Vector3f>& pts, double voxel) {
   return d->size() >= 3 ? d : c;
 }
 
-// Truncated mean squared nearest-neighbour distance of T*from to `to`.
+// Truncated mean squared nearest-neighbour distance of T*from to `to`, over
+// at most max_points evenly strided points of `from` (0 = all).
 double one_way(const Cloud& from, const pcl_search::FastKdTree& to_tree, const Eigen::Isometry3d& t,
-               double inlier, double& inlier_share) {
+               double inlier, int max_points, double& inlier_share) {
   const double cap = inlier * inlier;
   double sum = 0.0;
-  size_t inliers = 0;
+  size_t inliers = 0, used = 0;
   const Eigen::Isometry3f tf = t.cast<float>();
-  for (const auto& p : from) {
-    const Eigen::Vector3f q = tf * p.getVector3fMap();
+  const double step = max_points > 0 && from.size() > static_cast<size_t>(max_points)
+                          ? static_cast<double>(from.size()) / max_points : 1.0;
+  for (double k = 0.0; k < static_cast<double>(from.size()); k += step, ++used) {
+    const Eigen::Vector3f q = tf * from[static_cast<size_t>(k)].getVector3fMap();
     const float d2 = to_tree.nearest_sqr_distance(pcl::PointXYZ(q.x(), q.y(), q.z()));
     const double d = d2 < 0.0f ? cap : std::min<double>(d2, cap);
     if (d < cap) ++inliers;
     sum += d;
   }
-  inlier_share = from.empty() ? 0.0 : static_cast<double>(inliers) / from.size();
-  return from.empty() ? cap : sum / from.size();
+  inlier_share = used == 0 ? 0.0 : static_cast<double>(inliers) / used;
+  return used == 0 ? cap : sum / used;
 }
 
 // Registers `source` onto `target` (their voxelised clouds `src`, `dst`).
@@ -129,8 +132,8 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     return t;
   };
   auto score_of = [&](const Eigen::Isometry3d& t, double& in_a, double& in_b) {
-    return 0.5 * (one_way(*src, dst_tree, t, cfg.inlier_distance, in_a) +
-                  one_way(*dst, src_tree, t.inverse(), cfg.inlier_distance, in_b));
+    return 0.5 * (one_way(*src, dst_tree, t, cfg.inlier_distance, cfg.max_score_points, in_a) +
+                  one_way(*dst, src_tree, t.inverse(), cfg.inlier_distance, cfg.max_score_points, in_b));
   };
 
   // Coarse pass from every hypothesis with the wide correspondence distance.

@@ -36,6 +36,8 @@ class WeightedMatchStage : public Stage {
     shape_.max_correspondence = std::max(0.3, 3.0 * shape_.inlier_distance);
     shape_.max_iterations = 30;
     shape_.max_points = 400;
+    shape_.max_score_points = 2000;
+    shape_.svd_flips = false;  // objects stand on floors: the yaw turns suffice here
     if (cfg_.alpha + cfg_.beta + cfg_.shape_weight <= 0.0) throw Error("alpha + beta + shape_weight must be > 0");
   }
 
@@ -135,7 +137,7 @@ StageInfo info() {
           .one_of({"soft", "hard", "ignore"}),
       ParamSpec::real("group_penalty", 0.5, "cost added to a cross-group pair (group_mode = soft)")
           .range(0.0, 100.0),
-      ParamSpec::real("max_size_change", 0.3, "size gate: largest relative change of height or principal horizontal extents of a pair (a moved rigid object keeps its size); 0 = off")
+      ParamSpec::real("max_size_change", 0.6, "size gate, a cheap pre-filter before the shape check: largest relative change of height or principal horizontal extents of a pair (a rigid object keeps its size, but a partial view shows less of it); 0 = off")
           .range(0.0, 10.0),
       ParamSpec::real("size_slack", 0.15, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m"),
       ParamSpec::real("max_distance", 30.0, "farthest centroid displacement accepted as a move (room or site scale: the size gate keeps unlike objects apart)")

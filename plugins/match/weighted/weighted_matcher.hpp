@@ -53,7 +53,7 @@ struct WeightedMatchConfig {
   std::string group_mode = "soft";  // "soft", "hard" or "ignore"
   double group_penalty = 0.5;       // soft mode: added to cross-group pairs
   double max_distance = 30.0;       // m: physical gate
-  double max_size_change = 0.3;     // size gate: relative change of height / extents; 0 = off
+  double max_size_change = 0.6;     // size gate: relative change of height / extents; 0 = off
   double size_slack = 0.15;         // m: size change always allowed (partial views, noise)
   double max_descriptor_distance = 0.0;  // descriptor units; 0 = no gate
   double max_cost = -1.0;           // weighted gate; < 0 means alpha + beta

@@ -39,6 +39,8 @@ struct IcpConfig {
   double inlier_distance = 0.05;      // m: truncation of the score
   double symmetry_tolerance = 0.1;    // poses within this share of the best score tie; smallest rotation wins
   int max_points = 0;                 // ICP iterates on at most this many source points (strided); 0 = all
+  int max_score_points = 0;           // scores query at most this many points each way (strided; the
+                                      // searched cloud stays whole); 0 = all
 };
 
 struct IcpResult {
