@@ -58,7 +58,8 @@ double one_way(const Cloud& from, const pcl_search::FastKdTree& to_tree, const E
 IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                       const Cloud::Ptr& src, const Cloud::Ptr& dst, const IcpConfig& cfg) {
   // ICP's cost is one target search per source point and iteration: it
-  // iterates on an evenly strided subset; scores use every voxelised point.
+  // iterates on an evenly strided subset (max_points); scores search the
+  // whole voxelised clouds (querying at most max_score_points each way).
   Cloud::Ptr src_icp = src;
   if (cfg.max_points > 0 && src->size() > static_cast<size_t>(cfg.max_points)) {
     src_icp.reset(new Cloud);
