@@ -101,10 +101,6 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     gicp.setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
     gicp.setInputSource(src_icp);
     gicp.setInputTarget(dst);
-    // PCL's default (2e-3 of a rotation-matrix entry) stops GICP after one
-    // step whenever that step turns less than ~0.1 deg: from a hypothesis a
-    // few degrees off it then never leaves the hypothesis.
-    gicp.setRotationEpsilon(1e-6);
   }
   // Point-to-point ICP always: the method itself, or GICP's final polish.
   icp.setSearchMethodSource(std::make_shared<pcl_search::FastKdTree>());
