@@ -82,9 +82,9 @@ int main(int argc, char** argv) {
   CLI::App app{"FastKdTree vs PCL KdTreeFLANN, side by side"};
   size_t points = 20000, queries = 20000;
   int repeats = 10;
-  app.add_option("--points", points, "indexed points (a box surface)")->check(CLI::PositiveNumber);
-  app.add_option("--queries", queries, "queries per pass")->check(CLI::PositiveNumber);
-  app.add_option("--repeats", repeats, "passes per timing")->check(CLI::PositiveNumber);
+  app.add_option("--points", points, "indexed points (a box surface)")->check(CLI::Range(size_t{1}, size_t{100000000}));
+  app.add_option("--queries", queries, "queries per pass")->check(CLI::Range(size_t{1}, size_t{100000000}));
+  app.add_option("--repeats", repeats, "passes per timing")->check(CLI::Range(1, 100000));
   CLI11_PARSE(app, argc, argv);
 
   // A LiSTA run has used OpenMP (volumetric ray casting) before ICP runs:
