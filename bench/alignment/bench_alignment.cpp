@@ -16,6 +16,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -68,19 +70,48 @@ std::string fmt(double v, int digits = 3) {
   return b;
 }
 
+// One line per scan: mission, scan index, estimated pose in the common frame
+// and true pose (x y z qx qy qz qw each), for plotting the residual along a route.
+void write_positions(const MissionSet& set, const std::string& path) {
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << "# mission scan est_x est_y est_z est_qx est_qy est_qz est_qw gt_x gt_y gt_z gt_qx gt_qy gt_qz gt_qw\n";
+    char line[512];
+    for (const auto& m : set.missions)
+      for (size_t i = 0; i < m.scans.size(); ++i) {
+        const Eigen::Isometry3d e = m.sensor_to_common(i);
+        const Eigen::Isometry3d g = i < m.poses_gt.size() ? m.poses_gt[i] : Eigen::Isometry3d(Eigen::Matrix4d::Constant(NAN));
+        out << m.name << " " << i;
+        for (const Eigen::Isometry3d* t : {&e, &g}) {
+          const Eigen::Quaterniond q(t->linear());
+          std::snprintf(line, sizeof line, " %.5f %.5f %.5f %.7f %.7f %.7f %.7f", t->translation().x(),
+                        t->translation().y(), t->translation().z(), q.x(), q.y(), q.z(), q.w());
+          out << line;
+        }
+        out << "\n";
+      }
+    if (!out) throw Error("cannot write " + tmp);
+  }
+  std::filesystem::rename(tmp, path);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"align.posegraph vs align.icp: ATE against poses_gt.txt and stage time"};
   std::vector<std::string> datasets, sets;
   std::vector<std::string> stages = {"align.posegraph", "align.icp"};
-  std::string plugin_dir = LISTA_PLUGIN_DIR;
+  std::string plugin_dir = LISTA_PLUGIN_DIR, positions_dir;
   int threads = 2;
   app.add_option("datasets", datasets, "dataset folders (missions with poses_gt.txt)")->required();
   app.add_option("--stages", stages, "aligners to run")->delimiter(',');
   app.add_option("--set", sets, "STAGE.PARAM=VALUE override (repeatable)");
   app.add_option("--threads", threads, "threads per stage")->check(CLI::PositiveNumber);
   app.add_option("--plugin-dir", plugin_dir, "folder of the built plugins");
+  app.add_option("--positions", positions_dir,
+                 "write DIR/<dataset>.<aligner>.txt: per scan, aligned and true pose (plot the residual)");
   CLI11_PARSE(app, argc, argv);
   try {
     core::Registry registry;
@@ -123,7 +154,11 @@ int main(int argc, char** argv) {
         Errors after;
         try {
           const Outputs out = stage->factory(params)->run(in, ctx);
-          after = errors_of(out.at("missions").as<MissionSet>());
+          const auto& aligned = out.at("missions").as<MissionSet>();
+          after = errors_of(aligned);
+          if (!positions_dir.empty())
+            write_positions(aligned, positions_dir + "/" + std::filesystem::path(dir).filename().string() + "." + name +
+                                         (from_truth ? ".true-start" : "") + ".txt");
         } catch (const Error& e) {
           result = std::string("error: ") + e.what();
         }

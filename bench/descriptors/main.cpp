@@ -37,6 +37,7 @@ struct Row {
   int dim = 0;
   double median_ms = 0, p95_ms = 0;
   objfeat::RetrievalScores scores;
+  std::vector<int> hits;  // per view: top-1 correct
 };
 
 double percentile(std::vector<double> v, double q) {
@@ -61,6 +62,26 @@ ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed) {
     set.objects.push_back(std::move(o));
   }
   return set;
+}
+
+// Top-1 per view (1 when its nearest other row has its label), for the
+// breakdown by view size: sparse partial views are where descriptors fail.
+std::vector<int> top1_hits(const objfeat::Rows& values, const std::vector<int>& labels) {
+  std::vector<int> hit(labels.size(), 0);
+  for (long i = 0; i < values.rows(); ++i) {
+    long best = -1;
+    double best_d = 0.0;
+    for (long j = 0; j < values.rows(); ++j) {
+      if (j == i) continue;
+      const double d = (values.row(i) - values.row(j)).squaredNorm();
+      if (best < 0 || d < best_d) {
+        best = j;
+        best_d = d;
+      }
+    }
+    hit[size_t(i)] = best >= 0 && labels[size_t(best)] == labels[size_t(i)];
+  }
+  return hit;
 }
 
 Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std::vector<int>& labels) {
@@ -89,6 +110,7 @@ Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std:
   row.median_ms = percentile(ms, 0.5);
   row.p95_ms = percentile(ms, 0.95);
   row.scores = objfeat::score_retrieval(values, labels, 1);
+  row.hits = top1_hits(values, labels);
   return row;
 }
 
@@ -139,6 +161,33 @@ int main(int argc, char** argv) {
       j.push_back({{"plugin", r.plugin}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
                    {"top1", r.scores.top1}, {"map", r.scores.map}, {"purity", r.scores.purity},
                    {"objects", objects.objects.size()}, {"shapes", per_label.size()}});
+    }
+    // Top-1 by view size (points in the view).
+    const std::vector<std::pair<size_t, size_t>> bins = {{0, 64}, {65, 299}, {300, 1499}, {1500, SIZE_MAX}};
+    std::printf("\ntop-1 by view size (points):\n\n| plugin |");
+    for (const auto& [lo, hi] : bins)
+      hi == SIZE_MAX ? std::printf(" >= %zu |", lo) : std::printf(" %zu-%zu |", lo, hi);
+    std::printf("\n|---|");
+    for (size_t b = 0; b < bins.size(); ++b) std::printf("---:|");
+    std::printf("\n");
+    for (const auto& r : rows) {
+      std::printf("| %s |", r.plugin.c_str());
+      nlohmann::json by_size = nlohmann::json::array();
+      for (const auto& [lo, hi] : bins) {
+        size_t n = 0, hits = 0;
+        for (size_t i = 0; i < test.views.size(); ++i) {
+          const size_t points = test.views[i].points.xyz.size();
+          if (points < lo || points > hi) continue;
+          ++n;
+          hits += size_t(r.hits[i]);
+        }
+        std::printf(n ? " %.3f (%zu) |" : " - |", n ? double(hits) / double(n) : 0.0, n);
+        by_size.push_back({{"min_points", lo}, {"max_points", hi == SIZE_MAX ? -1 : int64_t(hi)}, {"views", n},
+                           {"top1", n ? double(hits) / double(n) : 0.0}});
+      }
+      std::printf("\n");
+      for (auto& e : j)
+        if (e["plugin"] == r.plugin) e["top1_by_view_size"] = by_size;
     }
     if (!json_out.empty()) std::ofstream(json_out) << j.dump(1) << "\n";
   } catch (const std::exception& e) {

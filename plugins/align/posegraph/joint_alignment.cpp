@@ -181,6 +181,14 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
       g.odometry.push_back(e);
     }
   }
+  ScanEdgeReport scan_report;
+  const std::vector<PoseGraphEdge> scan_edges = scan_registration_edges(set, g.offset, o.scan_edges, threads, scan_report);
+  g.odometry.insert(g.odometry.end(), scan_edges.begin(), scan_edges.end());
+  report.scan_edges_tried = scan_report.tried;
+  report.scan_edges = scan_report.accepted;
+  if (scan_report.tried > 0)
+    ctx.info(std::to_string(scan_report.accepted) + " of " + std::to_string(scan_report.tried) +
+             " scan-to-scan registrations accepted after " + elapsed());
 
   // First solve without the robust loss: the vetted closures start far from
   // their optimum (the drift), where a robust loss would hardly pull.

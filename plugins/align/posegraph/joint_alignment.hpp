@@ -6,6 +6,7 @@
 
 #include "loop_closures.hpp"
 #include "pose_graph.hpp"
+#include "scan_odometry.hpp"
 
 #include <lista/context.hpp>
 #include <lista/missions.hpp>
@@ -21,6 +22,7 @@ struct JointAlignmentOptions {
   VerifyOptions verify;
   ConsistencyOptions consistency;
   PoseGraphOptions graph;
+  ScanEdgeOptions scan_edges;
   double odometry_sigma_translation = 0.02;  // m per consecutive-scan edge
   double odometry_sigma_rotation = 0.005;    // rad
   double closure_sigma_translation = 0.05;   // m
@@ -33,6 +35,7 @@ struct JointAlignmentOptions {
 struct JointAlignmentReport {
   size_t keyframes = 0, candidates = 0, verified = 0, consistent = 0, proximity = 0, final_closures = 0;
   size_t intra = 0;  // consistent closures within one mission
+  size_t scan_edges_tried = 0, scan_edges = 0;  // scan-to-scan registrations tried / accepted
   std::vector<size_t> closures_per_mission;  // consistent closures to other missions
   double initial_cost = 0.0, final_cost = 0.0;
 };

@@ -11,8 +11,11 @@ namespace {
 // Residual of T_from_to measured vs estimated, whitened: translation error in
 // the `from` frame and twice the vector part of the rotation error quaternion.
 struct RelativePoseError {
-  RelativePoseError(const Eigen::Isometry3d& m, double sigma_t, double sigma_r)
-      : t_meas(m.translation()), q_meas(m.linear()), w_t(1.0 / sigma_t), w_r(1.0 / sigma_r) {}
+  explicit RelativePoseError(const PoseGraphEdge& e) : t_meas(e.measurement.translation()), q_meas(e.measurement.linear()) {
+    const double along = 1.0 / e.sigma_translation, turn = 1.0 / e.sigma_rotation;
+    w_t = Eigen::Vector3d(along, along, e.planar ? 0.0 : along);
+    w_r = Eigen::Vector3d(e.planar ? 0.0 : turn, e.planar ? 0.0 : turn, turn);
+  }
 
   template <class T>
   bool operator()(const T* q_a_ptr, const T* t_a_ptr, const T* q_b_ptr, const T* t_b_ptr, T* res) const {
@@ -23,14 +26,14 @@ struct RelativePoseError {
     const Eigen::Matrix<T, 3, 1> t_ab = q_a_inv * (t_b - t_a);
     const Eigen::Quaternion<T> dq = q_meas.template cast<T>().conjugate() * q_ab;
     Eigen::Map<Eigen::Matrix<T, 6, 1>> r(res);
-    r.template head<3>() = (t_ab - t_meas.template cast<T>()) * T(w_t);
-    r.template tail<3>() = T(2.0) * dq.vec() * T(w_r);
+    r.template head<3>() = (t_ab - t_meas.template cast<T>()).cwiseProduct(w_t.template cast<T>());
+    r.template tail<3>() = (T(2.0) * dq.vec()).cwiseProduct(w_r.template cast<T>());
     return true;
   }
 
   Eigen::Vector3d t_meas;
   Eigen::Quaterniond q_meas;
-  double w_t, w_r;
+  Eigen::Vector3d w_t, w_r;  // per axis: 1 / sigma
 };
 
 }  // namespace
@@ -64,7 +67,7 @@ PoseGraphSummary optimise_pose_graph(std::vector<Eigen::Isometry3d>& nodes, cons
     if (e.from >= nodes.size() || e.to >= nodes.size() || e.from == e.to)
       throw Error("pose graph: edge between invalid nodes");
     auto* cost = new ceres::AutoDiffCostFunction<RelativePoseError, 6, 4, 3, 4, 3>(
-        new RelativePoseError(e.measurement, e.sigma_translation, e.sigma_rotation));
+        new RelativePoseError(e));
     ceres::LossFunction* loss = nullptr;  // owned by the problem
     if (e.robust && o.loss == "cauchy") loss = new ceres::CauchyLoss(o.loss_scale);
     if (e.robust && o.loss == "huber") loss = new ceres::HuberLoss(o.loss_scale);

@@ -15,6 +15,10 @@ struct PoseGraphEdge {
   Eigen::Isometry3d measurement = Eigen::Isometry3d::Identity();  // T_from_to
   double sigma_translation = 0.05;  // m
   double sigma_rotation = 0.01;     // rad
+  // Only x, y (in the `from` sensor frame) and yaw: for measurements weak in
+  // height and level (scan-to-scan registration of sparse scans, whose small
+  // roll/pitch errors would tilt the map by tenths of a degree).
+  bool planar = false;
   bool robust = false;              // under the robust loss (loop closures)
 };
 

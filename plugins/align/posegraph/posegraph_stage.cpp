@@ -55,6 +55,19 @@ JointAlignmentOptions options_from(const Params& p) {
   o.fix_reference_mission = p.get<std::string>("fix_reference") == "mission";
   o.refine_rounds = p.get<int>("refine_rounds");
   o.refine_radius = p.get<double>("refine_radius");
+  o.scan_edges.neighbours = p.get<int>("scan_edges");
+  o.scan_edges.max_range = p.get<double>("scan_range");
+  o.scan_edges.registration = o.verify.registration;
+  o.scan_edges.registration.voxel = p.get<double>("scan_voxel");
+  o.scan_edges.max_points = static_cast<size_t>(p.get<int>("scan_points"));
+  o.scan_edges.registration.coarse_distance = p.get<double>("scan_coarse_distance");
+  o.scan_edges.registration.fine_distance = p.get<double>("scan_fine_distance");
+  o.scan_edges.registration.inlier_distance = p.get<double>("scan_inlier_distance");
+  o.scan_edges.registration.min_coarse_overlap = 0.6 * o.verify.min_overlap;
+  o.scan_edges.min_overlap = o.verify.min_overlap;
+  o.scan_edges.max_rmse = o.verify.max_rmse;
+  o.scan_edges.sigma_translation = p.get<double>("scan_sigma_translation");
+  o.scan_edges.sigma_rotation = p.get<double>("scan_sigma_rotation") * kDeg;
   return o;
 }
 
@@ -73,6 +86,7 @@ class PoseGraphStage : public Stage {
     ctx.record("closures_consistent", static_cast<double>(report.consistent));
     ctx.record("closures_intra", static_cast<double>(report.intra));
     ctx.record("closures_proximity", static_cast<double>(report.proximity));
+    ctx.record("scan_edges", static_cast<double>(report.scan_edges));
     ctx.record("closures", static_cast<double>(report.final_closures));
     ctx.record("initial_cost", report.initial_cost);
     ctx.record("final_cost", report.final_cost);
@@ -110,8 +124,10 @@ StageInfo posegraph_stage_info() {
       "min_overlap (checked both ways, so a floor matched to a floor alone is refused) or above max_rmse; "
       "a vote per mission pair drops closures that disagree with the best supported one. Missions are placed by a spanning tree over closures from the first (reference) "
       "mission; a mission without closures is an error naming it. The pose graph holds every mission's "
-      "odometry chain (relative poses of consecutive scans from poses.txt) and the closures under a robust "
-      "loss; it is solved with Ceres (quaternion manifold), with the reference mission's first pose (or the "
+      "odometry chain (relative poses of consecutive scans from poses.txt), scan-to-scan edges (each scan "
+      "registered by GICP onto the next scan_edges scans, from the odometry guess; they constrain horizontal "
+      "position and yaw: metric steps that remove an odometry scale or heading bias which closures cannot see when every mission shares it) and the closures "
+      "under a robust loss; it is solved with Ceres (quaternion manifold), with the reference mission's first pose (or the "
       "whole mission, fix_reference) held. After the first "
       "solve, keyframes that have come close are proposed again (refine_rounds) and verified the same way. "
       "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
@@ -157,6 +173,18 @@ StageInfo posegraph_stage_info() {
                       "first mission held as it is (the paper's choice)")
           .one_of({"mission", "first_pose"}),
       ParamSpec::integer("refine_rounds", 1, "rounds of proximity closures after the first solve").range(0, 10),
+      ParamSpec::integer("scan_edges", 2, "scan-to-scan registrations per scan (onto the next N scans; 0: odometry alone)")
+          .range(0, 10),
+      ParamSpec::real("scan_range", 40.0, "scan-to-scan: points farther from the sensor are left out").range(1, 1000).unit("m"),
+      ParamSpec::real("scan_voxel", 0.1, "scan-to-scan: finest downsampling").range(0.01, 5).unit("m"),
+      ParamSpec::integer("scan_points", 15000, "scan-to-scan: denser scans are downsampled coarser to about this many points")
+          .range(100, 1e7),
+      ParamSpec::real("scan_coarse_distance", 1.0, "scan-to-scan: max correspondence distance, coarse stage").range(0.01, 50).unit("m"),
+      ParamSpec::real("scan_fine_distance", 0.5, "scan-to-scan: max correspondence distance, fine stage").range(0.01, 10).unit("m"),
+      ParamSpec::real("scan_inlier_distance", 0.3, "scan-to-scan: distance counted as overlap").range(0.01, 10).unit("m"),
+      ParamSpec::real("scan_sigma_translation", 0.005, "std. dev. of a scan-to-scan edge, horizontal (height and level are left to the odometry)").range(1e-5, 10).unit("m"),
+      ParamSpec::real("scan_sigma_rotation", 0.05, "std. dev. of a scan-to-scan edge, yaw")
+          .range(1e-4, 90).unit("deg"),
       ParamSpec::real("refine_radius", 3.0, "keyframes this close in the common frame are tried").range(0.1, 100).unit("m"),
   };
   return s;

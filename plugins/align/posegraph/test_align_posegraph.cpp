@@ -205,3 +205,28 @@ TEST(LoopClosures, IntraMissionCandidatesOnlyFarBackAlongThePath) {
   EXPECT_GT(second_lap, lap / 4);
   EXPECT_GE(near * 3, second_lap) << near << " of " << second_lap;
 }
+
+TEST(AlignPosegraph, ScanEdgesRemoveAScaleErrorBothMissionsShare) {
+  // Both missions' odometry is 2 % too long: closures between them agree with
+  // each other and a scaled loop still closes, so only metric scan-to-scan
+  // registration sees the error.
+  const Scene hall = make_hall(kHallX, kHallY, 40, 7);
+  const auto truth_a = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
+  const auto truth_b = loop_route(kHallX, kHallY, 4.0, 1.0, 10.3, 0.4);
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, truth_a, drifted(truth_a, 0.0, 0.02, Eigen::Isometry3d::Identity()), 1));
+  set.missions.push_back(make_mission("b", hall, truth_b, drifted(truth_b, 0.0, 0.02, offset(5, -3, 0.2, 40)), 2));
+  auto ate_with = [&](int scan_edges) {
+    BasicContext ctx("align", 2, 0);
+    ctx.min_level = LogLevel::warning;
+    Params p = light();
+    p.set("scan_edges", int64_t{scan_edges});
+    const auto after = trajectory_error(run_stage(set, ctx, p).at("missions").as<MissionSet>());
+    EXPECT_EQ(ctx.info.metrics["align"].at("scan_edges") > 0, scan_edges > 0);
+    return after ? after->rmse : 1e9;
+  };
+  const double odometry_only = ate_with(0), with_scans = ate_with(2);
+  EXPECT_GT(odometry_only, 0.05);
+  EXPECT_LT(with_scans, 0.02);
+  EXPECT_LT(with_scans * 10, odometry_only) << "odometry only " << odometry_only << " m, with scans " << with_scans << " m";
+}

@@ -1,0 +1,43 @@
+// Scan-to-scan registration edges within each mission: metric relative poses
+// measured from the scans themselves. Odometry can carry a bias (a path a few
+// per mille too long, a heading creeping one way) that loop closures cannot
+// see when every mission shares it; a registered pair of nearby scans can.
+#pragma once
+
+#include "pose_graph.hpp"
+
+#include <lista/missions.hpp>
+#include <lista_alignkit/registration.hpp>
+
+#include <vector>
+
+namespace lista::align {
+
+struct ScanEdgeOptions {
+  int neighbours = 0;           // each scan registered onto this many following scans (0: off)
+  double max_range = 40.0;      // m; points farther from the sensor are dropped (sparse, noisy)
+  RegistrationOptions registration;  // registration.voxel: the finest downsampling
+  // Dense scans are downsampled coarser (x1.25 steps) until at most this many
+  // points are left: registration time grows with points, accuracy hardly.
+  size_t max_points = 15000;
+  double min_overlap = 0.5;     // both ways, as for loop closures
+  double max_rmse = 0.15;       // m
+  // A result this far from the odometry is a wrong minimum, not a correction.
+  double max_translation_change = 0.5;  // m
+  double max_rotation_change = 0.087;   // rad
+  // Edges constrain x, y and yaw only (PoseGraphEdge::planar): height and
+  // level stay the odometry's, which sparse scans do not register better.
+  double sigma_translation = 0.005;     // m, horizontal
+  double sigma_rotation = 0.001;        // rad, yaw
+};
+
+struct ScanEdgeReport {
+  size_t tried = 0, accepted = 0;
+};
+
+// Edges between graph nodes: node of scan s of mission m is offsets[m] + s.
+std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& missions, const std::vector<size_t>& offsets,
+                                                   const ScanEdgeOptions& options, int threads,
+                                                   ScanEdgeReport& report);
+
+}  // namespace lista::align
