@@ -97,6 +97,81 @@ void write_positions(const MissionSet& set, const std::string& path) {
   std::filesystem::rename(tmp, path);
 }
 
+// Top view of every mission's aligned path against the truth (after the one
+// rigid fit the ATE uses), residuals drawn `gain` times longer so that
+// centimetres show on a 100 m map. Written as SVG next to the positions file.
+void write_residual_plot(const MissionSet& set, const std::string& path, const std::string& title) {
+  std::vector<Eigen::Vector3d> est, gt;
+  std::vector<size_t> mission_of;
+  for (size_t m = 0; m < set.missions.size(); ++m)
+    for (size_t i = 0; i < set.missions[m].scans.size() && i < set.missions[m].poses_gt.size(); ++i) {
+      est.push_back(set.missions[m].sensor_to_common(i).translation());
+      gt.push_back(set.missions[m].poses_gt[i].translation());
+      mission_of.push_back(m);
+    }
+  if (est.size() < 3) return;
+  Eigen::Matrix3Xd src(3, est.size()), dst(3, gt.size());
+  for (size_t i = 0; i < est.size(); ++i) {
+    src.col(long(i)) = est[i];
+    dst.col(long(i)) = gt[i];
+  }
+  const Eigen::Matrix4d fit = Eigen::umeyama(src, dst, false);
+  const double gain = 50.0;
+  Eigen::Vector2d lo = dst.topRows<2>().rowwise().minCoeff(), hi = dst.topRows<2>().rowwise().maxCoeff();
+  for (size_t i = 0; i < est.size(); ++i) {  // the magnified path must fit too
+    const Eigen::Vector3d a = fit.topLeftCorner<3, 3>() * est[i] + fit.topRightCorner<3, 1>();
+    const Eigen::Vector2d e = gt[i].head<2>() + gain * (a - gt[i]).head<2>();
+    lo = lo.cwiseMin(e);
+    hi = hi.cwiseMax(e);
+  }
+  const double margin = 0.03 * std::max(hi.x() - lo.x(), hi.y() - lo.y()) + 0.5;
+  lo.array() -= margin;
+  hi.array() += margin;
+  const double scale = 900.0 / std::max(hi.x() - lo.x(), hi.y() - lo.y());
+  auto to_px = [&](const Eigen::Vector2d& p) {  // y up in the map, down in SVG
+    return Eigen::Vector2d((p.x() - lo.x()) * scale, (hi.y() - p.y()) * scale + 40);
+  };
+  auto px = [&](const Eigen::Vector2d& p) {
+    char b[64];
+    const Eigen::Vector2d q = to_px(p);
+    std::snprintf(b, sizeof b, "%.1f,%.1f", q.x(), q.y());
+    return std::string(b);
+  };
+  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
+  std::ostringstream svg;
+  const double w = (hi.x() - lo.x()) * scale, h = (hi.y() - lo.y()) * scale + 60;
+  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << int(w) << "' height='" << int(h)
+      << "' font-family='sans-serif' font-size='14'>\n<rect width='100%' height='100%' fill='white'/>\n"
+      << "<text x='8' y='22'>" << title << " (residual x" << int(gain) << ")</text>\n";
+  double sum = 0.0;
+  for (size_t i = 0; i < est.size(); ++i) {
+    const Eigen::Vector3d a = fit.topLeftCorner<3, 3>() * est[i] + fit.topRightCorner<3, 1>();
+    sum += (a - gt[i]).squaredNorm();
+    const Eigen::Vector2d g = gt[i].head<2>(), e = g + gain * (a - gt[i]).head<2>();
+    svg << "<polyline stroke='" << colours[mission_of[i] % 5] << "' stroke-width='1' stroke-opacity='0.5' points='"
+        << px(g) << " " << px(e) << "'/>\n";
+  }
+  for (size_t m = 0; m < set.missions.size(); ++m) {
+    std::string truth, aligned;
+    for (size_t i = 0; i < est.size(); ++i) {
+      if (mission_of[i] != m) continue;
+      const Eigen::Vector3d a = fit.topLeftCorner<3, 3>() * est[i] + fit.topRightCorner<3, 1>();
+      truth += px(gt[i].head<2>()) + " ";
+      aligned += px(gt[i].head<2>() + gain * (a - gt[i]).head<2>()) + " ";
+    }
+    svg << "<polyline fill='none' stroke='#999' stroke-width='1' points='" << truth << "'/>\n"
+        << "<polyline fill='none' stroke='" << colours[m % 5] << "' stroke-width='2' points='" << aligned << "'/>\n"
+        << "<text x='" << 8 + 140 * m << "' y='" << int(h) - 8 << "' fill='" << colours[m % 5] << "'>mission "
+        << set.missions[m].name << "</text>\n";
+  }
+  char ate[64];
+  std::snprintf(ate, sizeof ate, "ATE %.3f m", std::sqrt(sum / double(est.size())));
+  svg << "<text x='" << int(w) - 130 << "' y='22'>" << ate << "</text>\n</svg>\n";
+  const std::string tmp = path + ".tmp";
+  std::ofstream(tmp) << svg.str();
+  std::filesystem::rename(tmp, path);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -111,7 +186,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "threads per stage")->check(CLI::PositiveNumber);
   app.add_option("--plugin-dir", plugin_dir, "folder of the built plugins");
   app.add_option("--positions", positions_dir,
-                 "write DIR/<dataset>.<aligner>.txt: per scan, aligned and true pose (plot the residual)");
+                 "write DIR/<dataset>.<aligner>.txt (per scan, aligned and true pose) and .svg (top view, residuals x50)");
   CLI11_PARSE(app, argc, argv);
   try {
     core::Registry registry;
@@ -156,9 +231,13 @@ int main(int argc, char** argv) {
           const Outputs out = stage->factory(params)->run(in, ctx);
           const auto& aligned = out.at("missions").as<MissionSet>();
           after = errors_of(aligned);
-          if (!positions_dir.empty())
-            write_positions(aligned, positions_dir + "/" + std::filesystem::path(dir).filename().string() + "." + name +
-                                         (from_truth ? ".true-start" : "") + ".txt");
+          if (!positions_dir.empty()) {
+            const std::string stem = positions_dir + "/" + std::filesystem::path(dir).filename().string() + "." + name +
+                                     (from_truth ? ".true-start" : "");
+            write_positions(aligned, stem + ".txt");
+            write_residual_plot(aligned, stem + ".svg",
+                                std::filesystem::path(dir).filename().string() + ": " + name + (from_truth ? " (true start)" : ""));
+          }
         } catch (const Error& e) {
           result = std::string("error: ") + e.what();
         }

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <random>
@@ -38,6 +39,7 @@ struct Row {
   double median_ms = 0, p95_ms = 0;
   objfeat::RetrievalScores scores;
   std::vector<int> hits;  // per view: top-1 correct
+  objfeat::Rows values;   // one descriptor row per view
 };
 
 double percentile(std::vector<double> v, double q) {
@@ -111,6 +113,7 @@ Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std:
   row.p95_ms = percentile(ms, 0.95);
   row.scores = objfeat::score_retrieval(values, labels, 1);
   row.hits = top1_hits(values, labels);
+  row.values = values;
   return row;
 }
 
@@ -118,7 +121,7 @@ Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std:
 
 int main(int argc, char** argv) {
   CLI::App app{"Compare describe.* plugins: time per object, top-1, mAP, cluster purity"};
-  std::string views_dir, plugin_dir = LISTA_PLUGIN_DIR, json_out;
+  std::string views_dir, plugin_dir = LISTA_PLUGIN_DIR, json_out, rows_dir;
   std::vector<std::string> plugins = {"describe.learned", "describe.esf", "describe.rift", "describe.shot"};
   int synthetic = 0, max_views = 0;
   bool all_splits = false;
@@ -131,6 +134,8 @@ int main(int argc, char** argv) {
   app.add_option("--plugin-dir", plugin_dir, "folder of the plugin libraries");
   app.add_option("--seed", seed, "seed of the random poses");
   app.add_option("--json", json_out, "also write the results as JSON");
+  app.add_option("--rows", rows_dir,
+                 "write DIR/<plugin>.csv: per view (held-out views in index order) its label, point count and descriptor");
   CLI11_PARSE(app, argc, argv);
 
   try {
@@ -190,6 +195,25 @@ int main(int argc, char** argv) {
         if (e["plugin"] == r.plugin) e["top1_by_view_size"] = by_size;
     }
     if (!json_out.empty()) std::ofstream(json_out) << j.dump(1) << "\n";
+    if (!rows_dir.empty()) {
+      std::filesystem::create_directories(rows_dir);
+      for (const auto& r : rows) {
+        const std::string path = rows_dir + "/" + r.plugin + ".csv";
+        {
+          std::ofstream out(path + ".tmp");
+          out << "label,points";
+          for (long c = 0; c < r.values.cols(); ++c) out << ",d" << c;
+          out << "\n";
+          for (long i = 0; i < r.values.rows(); ++i) {
+            out << test.views[size_t(i)].label << "," << test.views[size_t(i)].points.xyz.size();
+            for (long c = 0; c < r.values.cols(); ++c) out << "," << r.values(i, c);
+            out << "\n";
+          }
+          if (!out) throw Error("cannot write " + path + ".tmp");
+        }
+        std::filesystem::rename(path + ".tmp", path);
+      }
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "lista-bench-descriptors: %s\n", e.what());
     return 1;
