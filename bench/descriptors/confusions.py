@@ -1,24 +1,48 @@
-import json, numpy as np, sys, collections
-j=json.load(open('/tmp/desc-views/index.json'))
-shape={s['id']:s for s in j['shapes']}
-labels={}; 
-for v in j['views']: labels.setdefault(v['shape'], len(labels))
-inv={l:s for s,l in labels.items()}
-d=np.loadtxt(sys.argv[1],delimiter=',',skiprows=1)
-lab=d[:,0].astype(int); X=d[:,2:]
-D=((X[:,None,:]-X[None,:,:])**2).sum(-1); np.fill_diagonal(D,1e9)
-nn=D.argmin(1)
-wrong=lab[nn]!=lab
-print("top1",1-wrong.mean())
-same_cls=0; ext=[]
-pairs=collections.Counter()
-for i in np.where(wrong)[0]:
-  a=shape[inv[lab[i]]]; b=shape[inv[lab[nn[i]]]]
-  if a['class']==b['class']: same_cls+=1
-  ext.append(np.abs(np.array(a['extent'])-np.array(b['extent'])).max())
-  pairs[(a['class'],b['class'])]+=1
-ext=np.array(ext)
-print("wrong",wrong.sum(),"same class",same_cls, "max extent diff p25/50/75", np.percentile(ext,[25,50,75]))
-print(pairs.most_common(12))
-cls=collections.Counter(shape[inv[l]]['class'] for l in set(lab))
-print("held-out shapes per class",cls)
+#!/usr/bin/env python3
+"""Which shapes a descriptor confuses: reads a lista-sim views folder and the
+rows `lista-bench descriptors --rows DIR` wrote for one plugin, and prints
+top-1, how many wrong nearest neighbours are of the same class, how far
+their footprints/heights differ (largest extent difference, m) and the most
+confused class pairs.
+
+    bench/descriptors/confusions.py /tmp/desc-views /tmp/rows/describe.learned.csv
+"""
+import collections
+import json
+import sys
+
+import numpy as np
+
+
+def main(views_dir, rows_csv):
+    index = json.load(open(f"{views_dir}/index.json"))
+    shapes = {s["id"]: s for s in index["shapes"]}
+    # Labels as lista's reader gives them: shapes numbered in order of first view.
+    labels = {}
+    for v in index["views"]:
+        labels.setdefault(v["shape"], len(labels))
+    shape_of = {label: shape for shape, label in labels.items()}
+    data = np.loadtxt(rows_csv, delimiter=",", skiprows=1, ndmin=2)
+    label, rows = data[:, 0].astype(int), data[:, 2:]
+    dist = ((rows[:, None, :] - rows[None, :, :]) ** 2).sum(-1)
+    np.fill_diagonal(dist, np.inf)
+    nearest = dist.argmin(1)
+    wrong = np.where(label[nearest] != label)[0]
+    same_class, extent_gap, pairs = 0, [], collections.Counter()
+    for i in wrong:
+        a, b = shapes[shape_of[label[i]]], shapes[shape_of[label[nearest[i]]]]
+        same_class += a["class"] == b["class"]
+        extent_gap.append(np.abs(np.array(a["extent"]) - np.array(b["extent"])).max())
+        pairs[(a["class"], b["class"])] += 1
+    print(f"views {len(label)}, top-1 {1 - len(wrong) / len(label):.3f}, wrong {len(wrong)}, of the same class {same_class}")
+    if extent_gap:
+        q = np.percentile(extent_gap, [25, 50, 75])
+        print(f"largest extent difference of a confused pair (m): p25 {q[0]:.2f}, median {q[1]:.2f}, p75 {q[2]:.2f}")
+    for (a, b), n in pairs.most_common(10):
+        print(f"  {a} -> {b}: {n}")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit("usage: confusions.py VIEWS_DIR ROWS_CSV")
+    main(sys.argv[1], sys.argv[2])

@@ -16,36 +16,80 @@ namespace lista::align {
 namespace {
 
 using PclCloud = pcl::PointCloud<pcl::PointXYZ>;
+using Gicp = pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>;
+constexpr int kCovarianceNeighbours = 10;
 
-PclCloud::Ptr to_pcl(const Cloud& cloud) {
-  auto out = std::make_shared<PclCloud>();
-  out->resize(cloud.size());
-  for (size_t i = 0; i < cloud.size(); ++i) out->points[i].getVector3fMap() = cloud[i];
-  return out;
+// PCL computes GICP covariances inside align(); this exposes that step so a
+// cloud's covariances are computed once, not per registration.
+struct CovarianceGicp : Gicp {
+  Gicp::MatricesVectorPtr covariances_of(const PclCloud::ConstPtr& cloud, const pcl_search::FastKdTree::Ptr& tree) {
+    setCorrespondenceRandomness(kCovarianceNeighbours);
+    auto out = std::make_shared<Gicp::MatricesVector>();
+    computeCovariances<pcl::PointXYZ>(cloud, tree, *out);
+    return out;
+  }
+};
+
+}  // namespace
+
+// One resolution of a prepared cloud.
+struct Level {
+  PclCloud::Ptr cloud;
+  pcl_search::FastKdTree::Ptr tree;
+  Gicp::MatricesVectorPtr covariances;  // GICP only
+
+  Level() = default;
+  Level(const Cloud& points, bool gicp) : cloud(std::make_shared<PclCloud>()), tree(std::make_shared<pcl_search::FastKdTree>()) {
+    cloud->resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) cloud->points[i].getVector3fMap() = points[i];
+    if (points.empty()) return;
+    tree->setInputCloud(cloud);
+    if (gicp && points.size() >= kCovarianceNeighbours) covariances = CovarianceGicp().covariances_of(cloud, tree);
+  }
+  bool usable() const { return cloud && cloud->size() >= 20; }
+};
+
+struct PreparedCloud::Impl {
+  Level coarse, fine;
+};
+
+namespace {
+
+double coarse_voxel_of(const RegistrationOptions& o) { return std::max(o.voxel, o.coarse_distance / 4.0); }
+
+void check_method(const RegistrationOptions& o) {
+  if (o.method != "gicp" && o.method != "icp")
+    throw Error("registration method must be 'gicp' or 'icp', got '" + o.method + "'");
 }
 
-Eigen::Isometry3d run_stage(const PclCloud::Ptr& source, const PclCloud::Ptr& target,
-                            const Eigen::Isometry3d& guess, double max_distance,
-                            const RegistrationOptions& o, bool& converged) {
+Eigen::Isometry3d run_stage(const Level& source, const Level& target, const Eigen::Isometry3d& guess,
+                            double max_distance, const RegistrationOptions& o, bool& converged) {
   std::unique_ptr<pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>> reg;
-  if (o.method == "gicp") {
-    auto g = std::make_unique<pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>>();
-    g->setCorrespondenceRandomness(10);
+  const bool gicp = o.method == "gicp";
+  if (gicp) {
+    auto g = std::make_unique<Gicp>();
+    g->setCorrespondenceRandomness(kCovarianceNeighbours);
     g->setRotationEpsilon(2e-4);  // rotation-matrix entries; 2e-4 is 4 mm at 20 m
     reg = std::move(g);
   } else {
     reg = std::make_unique<pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>>();
   }
-  // Single-query-fast trees (see fast_kdtree.hpp): GICP searches point by point.
-  reg->setSearchMethodSource(std::make_shared<pcl_search::FastKdTree>());
-  reg->setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
-  reg->setInputSource(source);
-  reg->setInputTarget(target);
+  // The prepared trees (single-query-fast, see fast_kdtree.hpp) already hold
+  // their clouds: PCL must not rebuild them.
+  reg->setSearchMethodSource(source.tree, true);
+  reg->setSearchMethodTarget(target.tree, true);
+  reg->setInputSource(source.cloud);
+  reg->setInputTarget(target.cloud);
+  if (gicp) {  // after the clouds: setting a cloud drops its covariances
+    auto* g = static_cast<Gicp*>(reg.get());
+    if (source.covariances) g->setSourceCovariances(source.covariances);
+    if (target.covariances) g->setTargetCovariances(target.covariances);
+  }
   reg->setMaxCorrespondenceDistance(max_distance);
   reg->setMaximumIterations(o.max_iterations);
   // Stop when a step moves less than 0.1 mm. PCL's GICP compares the plain
   // translation step with the epsilon, its ICP the squared one.
-  reg->setTransformationEpsilon(o.method == "gicp" ? 1e-4 : 1e-8);
+  reg->setTransformationEpsilon(gicp ? 1e-4 : 1e-8);
   reg->setEuclideanFitnessEpsilon(1e-8);
   PclCloud aligned;
   reg->align(aligned, guess.matrix().cast<float>());
@@ -56,43 +100,58 @@ Eigen::Isometry3d run_stage(const PclCloud::Ptr& source, const PclCloud::Ptr& ta
   return result;
 }
 
-// Share of `source` points (moved by t) with a `target` point within max_distance.
-double overlap(const PclCloud& source, const PclCloud& target, const Eigen::Isometry3d& t, double max_distance) {
-  auto tgt = std::make_shared<PclCloud>(target);
-  pcl_search::FastKdTree tree;
-  tree.setInputCloud(tgt);
+// Points of `from` (moved by t) with a point of `to` within max_distance:
+// their count and the sum of their squared distances.
+std::pair<size_t, double> hits(const Level& from, const Level& to, const Eigen::Isometry3d& t, double max_distance) {
   const Eigen::Isometry3f tf = t.cast<float>();
-  size_t hits = 0;
-  for (const auto& p : source.points) {
+  const float max_sq = static_cast<float>(max_distance * max_distance);
+  size_t n = 0;
+  double sum_sq = 0.0;
+  for (const auto& p : from.cloud->points) {
     pcl::PointXYZ q;
     q.getVector3fMap() = tf * p.getVector3fMap();
-    const float d2 = tree.nearest_sqr_distance(q);
-    if (d2 >= 0.0f && d2 <= max_distance * max_distance) ++hits;
+    const float d2 = to.tree->nearest_sqr_distance(q);
+    if (d2 >= 0.0f && d2 <= max_sq) {
+      ++n;
+      sum_sq += d2;
+    }
   }
-  return source.empty() ? 0.0 : static_cast<double>(hits) / source.size();
+  return {n, sum_sq};
 }
+
+double share(size_t n, const Level& of) { return of.cloud->empty() ? 0.0 : static_cast<double>(n) / of.cloud->size(); }
 
 }  // namespace
 
-RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
-                                   const Eigen::Isometry3d& guess, const RegistrationOptions& o) {
-  if (o.method != "gicp" && o.method != "icp")
-    throw Error("registration method must be 'gicp' or 'icp', got '" + o.method + "'");
+PreparedCloud::PreparedCloud(const Cloud& points, const RegistrationOptions& o) {
+  check_method(o);
+  auto impl = std::make_shared<Impl>();
+  const bool gicp = o.method == "gicp";
+  impl->fine = Level(points, gicp);
+  impl->coarse = Level(voxel_downsample(points, coarse_voxel_of(o)), gicp);
+  impl_ = std::move(impl);
+}
+
+size_t PreparedCloud::size() const { return impl_ ? impl_->fine.cloud->size() : 0; }
+
+RegistrationResult register_prepared(const PreparedCloud& source, const PreparedCloud& target,
+                                     const Eigen::Isometry3d& guess, const RegistrationOptions& o) {
+  check_method(o);
   RegistrationResult result;
-  if (source.size() < 20 || target.size() < 20) return result;
+  if (!source.impl_ || !target.impl_ || !source.impl_->fine.usable() || !target.impl_->fine.usable()) return result;
+  const PreparedCloud::Impl& src = *source.impl_;
+  const PreparedCloud::Impl& tgt = *target.impl_;
 
   // Coarse stage on a sparser cloud reaches further; fine stage settles it.
-  const double coarse_voxel = std::max(o.voxel, o.coarse_distance / 4.0);
-  auto src_coarse = to_pcl(voxel_downsample(source, coarse_voxel));
-  auto tgt_coarse = to_pcl(voxel_downsample(target, coarse_voxel));
   bool converged = false;
   Eigen::Isometry3d t = guess;
-  if (src_coarse->size() >= 20 && tgt_coarse->size() >= 20) {
-    t = run_stage(src_coarse, tgt_coarse, guess, o.coarse_distance, o, converged);
+  if (src.coarse.usable() && tgt.coarse.usable()) {
+    t = run_stage(src.coarse, tgt.coarse, guess, o.coarse_distance, o, converged);
     // Most wrong candidates show here, at a fraction of the fine stage's cost.
     if (o.min_coarse_overlap > 0.0) {
-      const double d = std::max(coarse_voxel, o.inlier_distance);
-      const double ov = std::min(overlap(*src_coarse, *tgt_coarse, t, d), overlap(*tgt_coarse, *src_coarse, t.inverse(), d));
+      const double d = std::max(coarse_voxel_of(o), o.inlier_distance);
+      const double ov = std::min(share(hits(src.coarse, tgt.coarse, t, d).first, src.coarse),
+                                 share(hits(tgt.coarse, src.coarse, t.inverse(), d).first, tgt.coarse));
       if (ov < o.min_coarse_overlap) {
         result.transform = t;
         result.overlap = result.reverse_overlap = ov;
@@ -100,39 +159,21 @@ RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
       }
     }
   }
-  auto src = to_pcl(source);
-  auto tgt = to_pcl(target);
-  t = run_stage(src, tgt, t, o.fine_distance, o, converged);
+  t = run_stage(src.fine, tgt.fine, t, o.fine_distance, o, converged);
   result.converged = converged;
   result.transform = t;
-
-  pcl_search::FastKdTree tree;
-  tree.setInputCloud(tgt);
-  size_t inliers = 0;
-  double sum_sq = 0.0;
-  const double max_sq = o.inlier_distance * o.inlier_distance;
-  const Eigen::Isometry3f tf = t.cast<float>();
-  auto moved = to_pcl(source);
-  for (auto& q : moved->points) {
-    q.getVector3fMap() = tf * q.getVector3fMap();
-    const float d2 = tree.nearest_sqr_distance(q);
-    if (d2 >= 0.0f && d2 <= max_sq) {
-      ++inliers;
-      sum_sq += d2;
-    }
-  }
-  result.overlap = static_cast<double>(inliers) / source.size();
+  const auto [inliers, sum_sq] = hits(src.fine, tgt.fine, t, o.inlier_distance);
+  result.overlap = share(inliers, src.fine);
   result.inlier_rmse = inliers ? std::sqrt(sum_sq / inliers) : 0.0;
-
-  pcl_search::FastKdTree moved_tree;
-  moved_tree.setInputCloud(moved);
-  size_t reverse = 0;
-  for (const auto& q : tgt->points) {
-    const float d2 = moved_tree.nearest_sqr_distance(q);
-    if (d2 >= 0.0f && d2 <= max_sq) ++reverse;
-  }
-  result.reverse_overlap = static_cast<double>(reverse) / target.size();
+  result.reverse_overlap = share(hits(tgt.fine, src.fine, t.inverse(), o.inlier_distance).first, tgt.fine);
   return result;
+}
+
+RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
+                                   const Eigen::Isometry3d& guess, const RegistrationOptions& o) {
+  check_method(o);
+  if (source.size() < 20 || target.size() < 20) return {};
+  return register_prepared(PreparedCloud(source, o), PreparedCloud(target, o), guess, o);
 }
 
 }  // namespace lista::align

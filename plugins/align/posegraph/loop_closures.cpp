@@ -132,6 +132,17 @@ std::vector<Closure> verify_candidates(const std::vector<Keyframe>& keyframes,
                                        const VerifyOptions& o, int threads) {
   if (!guesses.empty() && guesses.size() != candidates.size())
     throw Error("loop closure verification: one guess per candidate expected");
+  // Each keyframe's submap prepared once, however many candidates it is in.
+  std::vector<size_t> used;
+  for (const auto& c : candidates) used.insert(used.end(), {c.reference, c.query});
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::vector<PreparedCloud> prepared(used.size());
+  parallel_for(used.size(), threads,
+               [&](size_t i) { prepared[i] = PreparedCloud(keyframes[used[i]].submap, o.registration); });
+  auto prepared_of = [&](size_t keyframe) -> const PreparedCloud& {
+    return prepared[size_t(std::lower_bound(used.begin(), used.end(), keyframe) - used.begin())];
+  };
   std::vector<std::optional<Closure>> results(candidates.size());
   parallel_for(candidates.size(), threads, [&](size_t i) {
     const Candidate& c = candidates[i];
@@ -139,7 +150,7 @@ std::vector<Closure> verify_candidates(const std::vector<Keyframe>& keyframes,
     if (guesses.empty()) guess.linear() = Eigen::AngleAxisd(c.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     else guess = guesses[i];
     const RegistrationResult r =
-        register_clouds(keyframes[c.query].submap, keyframes[c.reference].submap, guess, o.registration);
+        register_prepared(prepared_of(c.query), prepared_of(c.reference), guess, o.registration);
     // Overlap both ways: a floor alone matches a floor, but the walls and
     // furniture of the other submap then find no partner.
     const double overlap = std::min(r.overlap, r.reverse_overlap);

@@ -39,7 +39,7 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
     size_t mission, from, to;
   };
   std::vector<Pair> pairs;
-  std::vector<std::vector<Cloud>> clouds(set.missions.size());
+  std::vector<std::vector<PreparedCloud>> clouds(set.missions.size());
   for (size_t m = 0; m < set.missions.size(); ++m) {
     const size_t n = set.missions[m].scans.size();
     clouds[m].resize(n);
@@ -51,17 +51,16 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
     for (size_t s = 0; s < set.missions[m].scans.size(); ++s) scans.push_back({m, s});
   parallel_for(scans.size(), threads, [&](size_t i) {
     const auto [m, s] = scans[i];
-    clouds[m][s] = scan_cloud(set.missions[m].scans[s], o);
+    // Prepared once: each scan is registered up to 2 x neighbours times.
+    clouds[m][s] = PreparedCloud(scan_cloud(set.missions[m].scans[s], o), o.registration);
   });
   std::vector<std::optional<PoseGraphEdge>> edges(pairs.size());
   parallel_for(pairs.size(), threads, [&](size_t i) {
     const Pair& p = pairs[i];
     const auto& scans_m = set.missions[p.mission].scans;
     const Eigen::Isometry3d odometry = scans_m[p.from].pose.inverse() * scans_m[p.to].pose;
-    const Cloud& target = clouds[p.mission][p.from];
-    const Cloud& source = clouds[p.mission][p.to];
-    if (target.size() < 10 || source.size() < 10) return;
-    const RegistrationResult r = register_clouds(source, target, odometry, o.registration);
+    const RegistrationResult r =
+        register_prepared(clouds[p.mission][p.to], clouds[p.mission][p.from], odometry, o.registration);
     if (!r.converged || std::min(r.overlap, r.reverse_overlap) < o.min_overlap || r.inlier_rmse > o.max_rmse) return;
     const Eigen::Isometry3d change = odometry.inverse() * r.transform;
     if (change.translation().norm() > o.max_translation_change || rotation_angle(change.linear()) > o.max_rotation_change)
