@@ -18,4 +18,4 @@ done
 # 600 object instances (about 260 shapes, about 40 held out by the simulator's
 # val/test split) x 8 partial views from random viewpoints and sensors.
 "$sim" views --out "$views" --objects 600 --views-per-object 8 --seed 1 --threads 2 --overwrite
-"$build/bin/lista-train" --views "$views" --out "$out" --loss triplet --steps 1500 --eval-every 250 --seed 1 --threads 1
+"$build/bin/lista-train" --views "$views" --out "$out" --loss triplet --steps 5000 --eval-every 500 --seed 1 --threads 1
