@@ -3,6 +3,7 @@
 #include <lista/parallel.hpp>
 #include <lista_alignkit/cloud_ops.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -35,50 +36,48 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
                                                    const ScanEdgeOptions& o, int threads, ScanEdgeReport& report) {
   report = {};
   if (o.neighbours <= 0) return {};
-  struct Pair {
-    size_t mission, from, to;
-  };
-  std::vector<Pair> pairs;
-  std::vector<std::vector<PreparedCloud>> clouds(set.missions.size());
+  // Scans are prepared (k-d trees, GICP covariances: ~100 bytes a point)
+  // block by block, so memory stays bounded however long a mission is.
+  constexpr size_t kBlock = 64;
+  std::vector<std::optional<PoseGraphEdge>> edges;
   for (size_t m = 0; m < set.missions.size(); ++m) {
-    const size_t n = set.missions[m].scans.size();
-    clouds[m].resize(n);
-    for (size_t s = 0; s < n; ++s)
-      for (int k = 1; k <= o.neighbours && s + k < n; ++k) pairs.push_back({m, s, s + k});
+    const auto& scans = set.missions[m].scans;
+    for (size_t first = 0; first < scans.size(); first += kBlock) {
+      const size_t last = std::min(scans.size(), first + kBlock + size_t(o.neighbours));  // exclusive
+      std::vector<PreparedCloud> clouds(last - first);
+      // Prepared once: each scan is registered up to 2 x neighbours times.
+      parallel_for(clouds.size(), threads,
+                   [&](size_t i) { clouds[i] = PreparedCloud(scan_cloud(scans[first + i], o), o.registration); });
+      std::vector<std::pair<size_t, size_t>> pairs;  // (from, to) scan indices
+      for (size_t s = first; s < std::min(scans.size(), first + kBlock); ++s)
+        for (size_t k = 1; k <= size_t(o.neighbours) && s + k < scans.size(); ++k) pairs.push_back({s, s + k});
+      const size_t offset = edges.size();
+      edges.resize(offset + pairs.size());
+      parallel_for(pairs.size(), threads, [&](size_t i) {
+        const auto [from, to] = pairs[i];
+        const Eigen::Isometry3d odometry = scans[from].pose.inverse() * scans[to].pose;
+        const RegistrationResult r = register_prepared(clouds[to - first], clouds[from - first], odometry, o.registration);
+        if (!r.converged || std::min(r.overlap, r.reverse_overlap) < o.min_overlap || r.inlier_rmse > o.max_rmse) return;
+        const Eigen::Isometry3d change = odometry.inverse() * r.transform;
+        if (change.translation().norm() > o.max_translation_change ||
+            rotation_angle(change.linear()) > o.max_rotation_change)
+          return;
+        PoseGraphEdge e;
+        e.from = offsets[m] + from;
+        e.to = offsets[m] + to;
+        e.measurement = r.transform;
+        e.sigma_translation = o.sigma_translation;
+        e.sigma_rotation = o.sigma_rotation;
+        e.planar = true;
+        e.robust = true;
+        edges[offset + i] = e;
+      });
+    }
   }
-  std::vector<std::pair<size_t, size_t>> scans;
-  for (size_t m = 0; m < set.missions.size(); ++m)
-    for (size_t s = 0; s < set.missions[m].scans.size(); ++s) scans.push_back({m, s});
-  parallel_for(scans.size(), threads, [&](size_t i) {
-    const auto [m, s] = scans[i];
-    // Prepared once: each scan is registered up to 2 x neighbours times.
-    clouds[m][s] = PreparedCloud(scan_cloud(set.missions[m].scans[s], o), o.registration);
-  });
-  std::vector<std::optional<PoseGraphEdge>> edges(pairs.size());
-  parallel_for(pairs.size(), threads, [&](size_t i) {
-    const Pair& p = pairs[i];
-    const auto& scans_m = set.missions[p.mission].scans;
-    const Eigen::Isometry3d odometry = scans_m[p.from].pose.inverse() * scans_m[p.to].pose;
-    const RegistrationResult r =
-        register_prepared(clouds[p.mission][p.to], clouds[p.mission][p.from], odometry, o.registration);
-    if (!r.converged || std::min(r.overlap, r.reverse_overlap) < o.min_overlap || r.inlier_rmse > o.max_rmse) return;
-    const Eigen::Isometry3d change = odometry.inverse() * r.transform;
-    if (change.translation().norm() > o.max_translation_change || rotation_angle(change.linear()) > o.max_rotation_change)
-      return;
-    PoseGraphEdge e;
-    e.from = offsets[p.mission] + p.from;
-    e.to = offsets[p.mission] + p.to;
-    e.measurement = r.transform;
-    e.sigma_translation = o.sigma_translation;
-    e.sigma_rotation = o.sigma_rotation;
-    e.planar = true;
-    e.robust = true;
-    edges[i] = e;
-  });
   std::vector<PoseGraphEdge> out;
   for (auto& e : edges)
     if (e) out.push_back(*e);
-  report.tried = pairs.size();
+  report.tried = edges.size();
   report.accepted = out.size();
   return out;
 }
