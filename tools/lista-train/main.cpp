@@ -26,8 +26,6 @@ int main(int argc, char** argv) {
   app.add_option("--steps", cfg.steps, "optimisation steps")->check(CLI::Range(1, 1000000));
   app.add_option("--batch-instances", cfg.instances_per_batch, "instances per batch (P)")->check(CLI::Range(2, 1024));
   app.add_option("--batch-views", cfg.views_per_instance, "views per instance per batch (K)")->check(CLI::Range(2, 64));
-  app.add_option("--similar", cfg.similar, "share of each batch's shapes drawn as look-alike pairs (nearest in size)")
-      ->check(CLI::Range(0.0, 1.0));
   app.add_option("--lr", cfg.lr, "Adam learning rate")->check(CLI::Range(1e-6, 1.0));
   app.add_option("--loss", cfg.loss, "triplet (batch-hard, default) or proxy (normalised softmax over shape proxies)")
       ->check(CLI::IsMember({"proxy", "triplet"}));

@@ -60,45 +60,6 @@ void augmented(const objfeat::View& v, const objfeat::NetConfig& c, std::mt19937
   std::copy(cc.features.begin(), cc.features.end(), dst);
 }
 
-// A shape's size from its views (object frame): the largest extent over
-// its views per axis, footprint sorted so that a turned shape compares alike.
-Eigen::Vector3f shape_size(const objfeat::ViewSet& set, const std::vector<int>& views) {
-  Eigen::Vector3f size = Eigen::Vector3f::Zero();
-  for (int v : views) {
-    const auto& xyz = set.views[size_t(v)].points.xyz;
-    if (xyz.empty()) continue;
-    Eigen::Vector3f lo = xyz.front(), hi = xyz.front();
-    for (const auto& p : xyz) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-    size = size.cwiseMax(hi - lo);
-  }
-  if (size.x() < size.y()) std::swap(size.x(), size.y());
-  return size;
-}
-
-// Rewrites the first P entries of a shuffled shape list so that about
-// `share` of them come in look-alike pairs: a shape, then the not yet chosen
-// shape nearest to it in size.
-void pair_look_alikes(std::vector<int>& shapes, int P, double share, const std::map<int, Eigen::Vector3f>& size_of) {
-  const int pairs = std::min(P / 2, int(share * P / 2 + 0.5));
-  for (int k = 0; k < pairs; ++k) {
-    const int anchor = 2 * k, slot = 2 * k + 1;
-    const Eigen::Vector3f& a = size_of.at(shapes[size_t(anchor)]);
-    size_t best = size_t(slot);
-    float best_d = -1.f;
-    for (size_t j = size_t(slot); j < shapes.size(); ++j) {
-      const float d = (size_of.at(shapes[j]) - a).squaredNorm();
-      if (best_d < 0.f || d < best_d) {
-        best_d = d;
-        best = j;
-      }
-    }
-    std::swap(shapes[size_t(slot)], shapes[best]);
-  }
-}
-
 }  // namespace
 
 TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewSet& test, const TrainConfig& cfg) {
@@ -115,10 +76,6 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   if (int(instances.size()) < cfg.instances_per_batch)
     throw Error("training needs at least " + std::to_string(cfg.instances_per_batch) +
                 " shapes with two or more views, got " + std::to_string(instances.size()));
-
-  std::map<int, Eigen::Vector3f> size_of;  // per training shape: sorted footprint extents and height
-  if (cfg.similar > 0.0)
-    for (int id : instances) size_of[id] = shape_size(train, by_instance[id]);
 
   objfeat::NetConfig nc;
   nc.points = cfg.points;
@@ -150,7 +107,6 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
     for (auto& g : opt.param_groups()) static_cast<torch::optim::AdamOptions&>(g.options()).lr(lr);
 
     std::shuffle(instances.begin(), instances.end(), rng);
-    if (cfg.similar > 0.0) pair_look_alikes(instances, P, cfg.similar, size_of);
     torch::Tensor x = torch::empty({B, nc.points, nc.in});
     std::vector<int64_t> labels(B), classes(B);
     for (int p = 0; p < P; ++p) {

@@ -11,11 +11,6 @@ struct TrainConfig {
   int steps = 1500;
   int instances_per_batch = 16;  // P
   int views_per_instance = 4;    // K (batch = P x K)
-  // Share of each batch's shapes drawn as look-alikes: a random shape and the
-  // training shape nearest to it in size (extents of its views). Random
-  // batches rarely hold two shapes one size step apart, so the batch-hard
-  // loss never sees the negatives retrieval fails on. 0: random batches.
-  double similar = 0.0;
   double lr = 1e-3;
   // "triplet": batch-hard triplet loss (the shipped model); "proxy":
   // normalised softmax over one learned proxy per training shape (every
