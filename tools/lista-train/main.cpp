@@ -8,8 +8,6 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <fstream>
-#include <filesystem>
 
 int main(int argc, char** argv) {
   using namespace lista::train;
@@ -44,13 +42,7 @@ int main(int argc, char** argv) {
   if (!widths.empty()) { cfg.w1 = widths[0]; cfg.w2 = widths[1]; cfg.w3 = widths[2]; cfg.head = widths[3]; }
 
   try {
-    // Fail before minutes of training, not after: the output folder is made
-    // and must be writable.
-    const std::filesystem::path out_path(cfg.out);
-    if (out_path.has_parent_path()) std::filesystem::create_directories(out_path.parent_path());
-    const std::string probe = cfg.out + ".tmp";
-    if (!std::ofstream(probe)) throw lista::Error("cannot write '" + probe + "': choose another --out");
-    std::filesystem::remove(probe);
+    prepare_output(cfg.out);
     ViewSet all;
     if (!views_dir.empty()) all = read_views(views_dir);
     else if (synthetic > 0) all = synthetic_views(synthetic, per_instance, cfg.seed);

@@ -60,3 +60,21 @@ TEST(ListaTrain, SameSeedSameWeightsAndTrainingHelps) {
 }
 
 }  // namespace
+
+TEST(ListaTrain, OutputFolderIsMadeAndAnUnwritableOutIsAnErrorBeforeTraining) {
+  const fs::path dir = fs::temp_directory_path() / ("lista-train-out-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  const std::string nested = (dir / "a" / "b" / "w.bin").string();
+  lista::train::prepare_output(nested);
+  EXPECT_TRUE(fs::is_directory(dir / "a" / "b"));
+  EXPECT_FALSE(fs::exists(nested + ".tmp"));  // the probe is gone
+  // A regular file where a folder should be: one clear error naming the path.
+  std::ofstream(dir / "file") << "x";
+  try {
+    lista::train::prepare_output((dir / "file" / "w.bin").string());
+    FAIL() << "expected an error";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("file/w.bin"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}

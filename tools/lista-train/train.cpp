@@ -17,6 +17,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 
@@ -157,6 +159,16 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   save_weights(net, cfg.out);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
+}
+
+void prepare_output(const std::string& out) {
+  const std::filesystem::path path(out);
+  std::error_code ec;
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
+  if (ec) throw Error("cannot make the folder of '" + out + "': " + ec.message() + "; choose another --out");
+  const std::string probe = out + ".tmp";
+  if (!std::ofstream(probe)) throw Error("cannot write '" + probe + "': choose another --out");
+  std::filesystem::remove(probe, ec);
 }
 
 }  // namespace lista::train

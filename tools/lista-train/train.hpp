@@ -39,4 +39,9 @@ struct TrainResult {
 
 TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewSet& test, const TrainConfig& config);
 
+// Makes the weights file's folder and checks that the file can be written,
+// so that a bad --out fails before minutes of training, not after. Throws
+// lista::Error naming the path.
+void prepare_output(const std::string& out);
+
 }  // namespace lista::train
