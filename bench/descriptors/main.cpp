@@ -38,7 +38,6 @@ struct Row {
   int dim = 0;
   double median_ms = 0, p95_ms = 0;
   objfeat::RetrievalScores scores;
-  std::vector<int> hits;  // per view: top-1 correct
   objfeat::Rows values;   // one descriptor row per view
 };
 
@@ -64,26 +63,6 @@ ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed) {
     set.objects.push_back(std::move(o));
   }
   return set;
-}
-
-// Top-1 per view (1 when its nearest other row has its label), for the
-// breakdown by view size: sparse partial views are where descriptors fail.
-std::vector<int> top1_hits(const objfeat::Rows& values, const std::vector<int>& labels) {
-  std::vector<int> hit(labels.size(), 0);
-  for (long i = 0; i < values.rows(); ++i) {
-    long best = -1;
-    double best_d = 0.0;
-    for (long j = 0; j < values.rows(); ++j) {
-      if (j == i) continue;
-      const double d = (values.row(i) - values.row(j)).squaredNorm();
-      if (best < 0 || d < best_d) {
-        best = j;
-        best_d = d;
-      }
-    }
-    hit[size_t(i)] = best >= 0 && labels[size_t(best)] == labels[size_t(i)];
-  }
-  return hit;
 }
 
 Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std::vector<int>& labels) {
@@ -112,7 +91,6 @@ Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std:
   row.median_ms = percentile(ms, 0.5);
   row.p95_ms = percentile(ms, 0.95);
   row.scores = objfeat::score_retrieval(values, labels, 1);
-  row.hits = top1_hits(values, labels);
   row.values = values;
   return row;
 }
@@ -184,7 +162,7 @@ int main(int argc, char** argv) {
           const size_t points = test.views[i].points.xyz.size();
           if (points < lo || points > hi) continue;
           ++n;
-          hits += size_t(r.hits[i]);
+          hits += size_t(r.scores.top1_hits[i]);
         }
         std::printf(n ? " %.3f (%zu) |" : " - |", n ? double(hits) / double(n) : 0.0, n);
         by_size.push_back({{"min_points", lo}, {"max_points", hi == SIZE_MAX ? -1 : int64_t(hi)}, {"views", n},

@@ -52,6 +52,7 @@ RetrievalScores score_retrieval(const Rows& x, const std::vector<int>& labels, u
   for (int l : labels) ++count[l];
 
   double top1 = 0.0, map = 0.0;
+  s.top1_hits.assign(size_t(n), 0);
   std::vector<std::pair<float, int>> ranked;
   for (int q = 0; q < n; ++q) {
     if (count[labels[q]] < 2) continue;
@@ -59,7 +60,8 @@ RetrievalScores score_retrieval(const Rows& x, const std::vector<int>& labels, u
     for (int j = 0; j < n; ++j)
       if (j != q) ranked.emplace_back((x.row(j) - x.row(q)).squaredNorm(), j);
     std::sort(ranked.begin(), ranked.end());
-    top1 += labels[ranked[0].second] == labels[q];
+    s.top1_hits[size_t(q)] = labels[ranked[0].second] == labels[q];
+    top1 += s.top1_hits[size_t(q)];
     int hits = 0;
     double ap = 0.0;
     for (size_t r = 0; r < ranked.size(); ++r)

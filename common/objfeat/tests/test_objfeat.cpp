@@ -48,7 +48,13 @@ TEST(Retrieval, PerfectAndShuffledLabels) {
   EXPECT_DOUBLE_EQ(s.top1, 1.0);
   EXPECT_DOUBLE_EQ(s.map, 1.0);
   EXPECT_DOUBLE_EQ(s.purity, 1.0);
+  EXPECT_EQ(s.top1_hits, std::vector<int>(6, 1));
   RetrievalScores bad = score_retrieval(x, {1, 2, 3, 1, 2, 3});
   EXPECT_LT(bad.top1, 0.5);
+  EXPECT_EQ(bad.top1_hits, std::vector<int>(6, 0));  // every nearest row has another label
+  // A row whose label occurs once is no query and never a hit.
+  RetrievalScores lone = score_retrieval(x, {1, 1, 2, 2, 3, 4});
+  EXPECT_EQ(lone.top1_hits, (std::vector<int>{1, 1, 1, 1, 0, 0}));
+  EXPECT_EQ(lone.queries, 4);
   EXPECT_THROW(score_retrieval(x, {1, 2}), lista::Error);
 }
