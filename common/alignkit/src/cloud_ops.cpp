@@ -53,4 +53,8 @@ Eigen::Isometry3d levelled_frame(const Eigen::Isometry3d& pose) {
   return frame;
 }
 
+double rotation_angle(const Eigen::Matrix3d& rotation) {
+  return Eigen::AngleAxisd(Eigen::Quaterniond(rotation).normalized()).angle();
+}
+
 }  // namespace lista::align

@@ -113,7 +113,7 @@ std::vector<Closure> agreeing(const MissionSet& set, const Graph& g, const std::
     const Eigen::Isometry3d est = g.nodes[node_of(g, kf[c.reference])].inverse() * g.nodes[node_of(g, kf[c.query])];
     const Eigen::Isometry3d err = closure_measurement(set, kf, c).inverse() * est;
     if (err.translation().norm() <= o.distance / 4 &&
-        Eigen::AngleAxisd(Eigen::Quaterniond(err.linear()).normalized()).angle() <= o.angle / 2)
+        rotation_angle(err.linear()) <= o.angle / 2)
       out.push_back(c);
   }
   return out;

@@ -14,10 +14,6 @@ namespace lista::align {
 
 namespace {
 
-double rotation_angle(const Eigen::Matrix3d& r) {
-  return Eigen::AngleAxisd(Eigen::Quaterniond(r).normalized()).angle();
-}
-
 // Scans within `distance` of path length either side of `centre`.
 std::pair<size_t, size_t> submap_span(const Mission& m, size_t centre, double distance) {
   size_t lo = centre, hi = centre;

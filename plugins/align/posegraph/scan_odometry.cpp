@@ -11,10 +11,6 @@ namespace lista::align {
 
 namespace {
 
-double rotation_angle(const Eigen::Matrix3d& r) {
-  return Eigen::AngleAxisd(Eigen::Quaterniond(r).normalized()).angle();
-}
-
 Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) {
   Cloud near;
   if (!scan.points) return near;

@@ -172,6 +172,9 @@ TEST(CloudOps, LevelledFrameKeepsHeadingOnly) {
   EXPECT_NEAR(std::atan2(f.linear()(1, 0), f.linear()(0, 0)) * 180 / M_PI, 30.0, 1e-9);
   const Cloud pts = {{0.01f, 0.01f, 0.01f}, {0.02f, 0.02f, 0.02f}, {1.01f, 0.f, 0.f}};
   EXPECT_EQ(voxel_downsample(pts, 0.5).size(), 2u);
+  EXPECT_NEAR(rotation_angle(pose.linear()), std::acos((pose.linear().trace() - 1) / 2), 1e-9);
+  EXPECT_NEAR(rotation_angle(offset(0, 0, 0, -170).linear()) * 180 / M_PI, 170.0, 1e-9);
+  EXPECT_NEAR(rotation_angle(Eigen::Matrix3d::Identity()), 0.0, 1e-12);
 }
 
 TEST(LoopClosures, IntraMissionCandidatesOnlyFarBackAlongThePath) {

@@ -1,5 +1,6 @@
-// Small point-cloud helpers on plain Eigen vectors (no PCL): voxel centroids
-// and the levelled local frame that descriptors and submaps are built in.
+// Small point-cloud helpers on plain Eigen vectors (no PCL): voxel centroids,
+// the levelled local frame that descriptors and submaps are built in, and the
+// angle of a rotation (for gates on how far two poses turn apart).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -15,5 +16,8 @@ Cloud voxel_downsample(const Cloud& points, double voxel);
 // The pose with roll and pitch removed: same origin, z up, same heading.
 // Descriptors are built in it so that yaw is the only rotation left to search.
 Eigen::Isometry3d levelled_frame(const Eigen::Isometry3d& pose);
+
+// Angle of a rotation matrix, in [0, pi] rad.
+double rotation_angle(const Eigen::Matrix3d& rotation);
 
 }  // namespace lista::align
