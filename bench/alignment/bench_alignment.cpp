@@ -101,40 +101,32 @@ void write_positions(const MissionSet& set, const std::string& path) {
 // rigid fit the ATE uses), residuals drawn `gain` times longer so that
 // centimetres show on a 100 m map. Written as SVG next to the positions file.
 void write_residual_plot(const MissionSet& set, const std::string& path, const std::string& title) {
-  std::vector<Eigen::Vector3d> est, gt;
+  const auto error = align::trajectory_error(set);
+  if (!error) return;
+  const double gain = 50.0;
+  // Per scan: true position and the aligned one with its residual magnified.
+  std::vector<Eigen::Vector2d> truth, shown;
   std::vector<size_t> mission_of;
   for (size_t m = 0; m < set.missions.size(); ++m)
-    for (size_t i = 0; i < set.missions[m].scans.size() && i < set.missions[m].poses_gt.size(); ++i) {
-      est.push_back(set.missions[m].sensor_to_common(i).translation());
-      gt.push_back(set.missions[m].poses_gt[i].translation());
+    for (size_t i = 0; i < set.missions[m].scans.size(); ++i) {
+      const Eigen::Vector3d g = set.missions[m].poses_gt[i].translation();
+      const Eigen::Vector3d a = error->fit * set.missions[m].sensor_to_common(i).translation();
+      truth.push_back(g.head<2>());
+      shown.push_back(g.head<2>() + gain * (a - g).head<2>());
       mission_of.push_back(m);
     }
-  if (est.size() < 3) return;
-  Eigen::Matrix3Xd src(3, est.size()), dst(3, gt.size());
-  for (size_t i = 0; i < est.size(); ++i) {
-    src.col(long(i)) = est[i];
-    dst.col(long(i)) = gt[i];
-  }
-  const Eigen::Matrix4d fit = Eigen::umeyama(src, dst, false);
-  const double gain = 50.0;
-  Eigen::Vector2d lo = dst.topRows<2>().rowwise().minCoeff(), hi = dst.topRows<2>().rowwise().maxCoeff();
-  for (size_t i = 0; i < est.size(); ++i) {  // the magnified path must fit too
-    const Eigen::Vector3d a = fit.topLeftCorner<3, 3>() * est[i] + fit.topRightCorner<3, 1>();
-    const Eigen::Vector2d e = gt[i].head<2>() + gain * (a - gt[i]).head<2>();
-    lo = lo.cwiseMin(e);
-    hi = hi.cwiseMax(e);
+  Eigen::Vector2d lo = truth.front(), hi = truth.front();
+  for (size_t i = 0; i < truth.size(); ++i) {
+    lo = lo.cwiseMin(truth[i]).cwiseMin(shown[i]);
+    hi = hi.cwiseMax(truth[i]).cwiseMax(shown[i]);
   }
   const double margin = 0.03 * std::max(hi.x() - lo.x(), hi.y() - lo.y()) + 0.5;
   lo.array() -= margin;
   hi.array() += margin;
   const double scale = 900.0 / std::max(hi.x() - lo.x(), hi.y() - lo.y());
-  auto to_px = [&](const Eigen::Vector2d& p) {  // y up in the map, down in SVG
-    return Eigen::Vector2d((p.x() - lo.x()) * scale, (hi.y() - p.y()) * scale + 40);
-  };
-  auto px = [&](const Eigen::Vector2d& p) {
+  auto px = [&](const Eigen::Vector2d& p) {  // y up in the map, down in SVG
     char b[64];
-    const Eigen::Vector2d q = to_px(p);
-    std::snprintf(b, sizeof b, "%.1f,%.1f", q.x(), q.y());
+    std::snprintf(b, sizeof b, "%.1f,%.1f", (p.x() - lo.x()) * scale, (hi.y() - p.y()) * scale + 40);
     return std::string(b);
   };
   const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e"};
@@ -143,32 +135,30 @@ void write_residual_plot(const MissionSet& set, const std::string& path, const s
   svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << int(w) << "' height='" << int(h)
       << "' font-family='sans-serif' font-size='14'>\n<rect width='100%' height='100%' fill='white'/>\n"
       << "<text x='8' y='22'>" << title << " (residual x" << int(gain) << ")</text>\n";
-  double sum = 0.0;
-  for (size_t i = 0; i < est.size(); ++i) {
-    const Eigen::Vector3d a = fit.topLeftCorner<3, 3>() * est[i] + fit.topRightCorner<3, 1>();
-    sum += (a - gt[i]).squaredNorm();
-    const Eigen::Vector2d g = gt[i].head<2>(), e = g + gain * (a - gt[i]).head<2>();
+  for (size_t i = 0; i < truth.size(); ++i)
     svg << "<polyline stroke='" << colours[mission_of[i] % 5] << "' stroke-width='1' stroke-opacity='0.5' points='"
-        << px(g) << " " << px(e) << "'/>\n";
-  }
+        << px(truth[i]) << " " << px(shown[i]) << "'/>\n";
   for (size_t m = 0; m < set.missions.size(); ++m) {
-    std::string truth, aligned;
-    for (size_t i = 0; i < est.size(); ++i) {
+    std::string true_path, shown_path;
+    for (size_t i = 0; i < truth.size(); ++i) {
       if (mission_of[i] != m) continue;
-      const Eigen::Vector3d a = fit.topLeftCorner<3, 3>() * est[i] + fit.topRightCorner<3, 1>();
-      truth += px(gt[i].head<2>()) + " ";
-      aligned += px(gt[i].head<2>() + gain * (a - gt[i]).head<2>()) + " ";
+      true_path += px(truth[i]) + " ";
+      shown_path += px(shown[i]) + " ";
     }
-    svg << "<polyline fill='none' stroke='#999' stroke-width='1' points='" << truth << "'/>\n"
-        << "<polyline fill='none' stroke='" << colours[m % 5] << "' stroke-width='2' points='" << aligned << "'/>\n"
+    svg << "<polyline fill='none' stroke='#999' stroke-width='1' points='" << true_path << "'/>\n"
+        << "<polyline fill='none' stroke='" << colours[m % 5] << "' stroke-width='2' points='" << shown_path << "'/>\n"
         << "<text x='" << 8 + 140 * m << "' y='" << int(h) - 8 << "' fill='" << colours[m % 5] << "'>mission "
         << set.missions[m].name << "</text>\n";
   }
   char ate[64];
-  std::snprintf(ate, sizeof ate, "ATE %.3f m", std::sqrt(sum / double(est.size())));
+  std::snprintf(ate, sizeof ate, "ATE %.3f m", error->rmse);
   svg << "<text x='" << int(w) - 130 << "' y='22'>" << ate << "</text>\n</svg>\n";
   const std::string tmp = path + ".tmp";
-  std::ofstream(tmp) << svg.str();
+  {
+    std::ofstream out(tmp);
+    out << svg.str();
+    if (!out) throw Error("cannot write " + tmp);
+  }
   std::filesystem::rename(tmp, path);
 }
 

@@ -23,6 +23,7 @@ std::optional<TrajectoryError> trajectory_error(const MissionSet& set) {
   }
   const Eigen::Matrix4d T = Eigen::umeyama(src, dst, false);
   TrajectoryError e;
+  e.fit.matrix() = T;
   double sum = 0.0;
   for (size_t i = 0; i < est.size(); ++i) {
     const double d = (T.topLeftCorner<3, 3>() * src.col(i) + T.topRightCorner<3, 1>() - dst.col(i)).norm();

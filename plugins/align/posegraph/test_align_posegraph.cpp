@@ -266,3 +266,19 @@ TEST(Registration, PreparedCloudsServeManyRegistrationsAtOnce) {
   // Too few points: not converged, no throw.
   EXPECT_FALSE(register_prepared(PreparedCloud(Cloud(5, Eigen::Vector3f::Zero()), o), pa, guess, o).converged);
 }
+
+TEST(TrajectoryError, ReportsTheRigidFitItUsed) {
+  // Every estimate is the truth moved by one transform: no error, and the
+  // fit is that transform undone.
+  const Scene hall = make_hall(kHallX, kHallY, 10, 7);
+  const auto route = loop_route(kHallX, kHallY, 4.0, 4.0, 0.0);
+  const Eigen::Isometry3d moved = offset(3, -2, 0.5, 25);
+  std::vector<Eigen::Isometry3d> poses;
+  for (const auto& p : route) poses.push_back(moved * p);
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, route, poses, 1));
+  const auto e = trajectory_error(set);
+  ASSERT_TRUE(e);
+  EXPECT_LT(e->rmse, 1e-9);
+  EXPECT_TRUE(e->fit.isApprox(moved.inverse(), 1e-9));
+}

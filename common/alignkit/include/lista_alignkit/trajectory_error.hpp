@@ -7,6 +7,7 @@
 
 #include <lista/missions.hpp>
 
+#include <Eigen/Geometry>
 #include <optional>
 
 namespace lista::align {
@@ -15,6 +16,7 @@ struct TrajectoryError {
   double rmse = 0.0;  // m
   double max = 0.0;   // m
   size_t poses = 0;
+  Eigen::Isometry3d fit = Eigen::Isometry3d::Identity();  // common frame -> world, the rigid fit used
 };
 
 // Empty when any mission lacks poses_gt (or its count differs from its scans),
