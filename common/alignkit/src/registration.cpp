@@ -32,28 +32,30 @@ struct CovarianceGicp : Gicp {
 
 }  // namespace
 
-// One resolution of a prepared cloud.
-struct Level {
-  PclCloud::Ptr cloud;
-  pcl_search::FastKdTree::Ptr tree;
-  Gicp::MatricesVectorPtr covariances;  // GICP only
-
-  Level() = default;
-  Level(const Cloud& points, bool gicp) : cloud(std::make_shared<PclCloud>()), tree(std::make_shared<pcl_search::FastKdTree>()) {
-    cloud->resize(points.size());
-    for (size_t i = 0; i < points.size(); ++i) cloud->points[i].getVector3fMap() = points[i];
-    if (points.empty()) return;
-    tree->setInputCloud(cloud);
-    if (gicp && points.size() >= kCovarianceNeighbours) covariances = CovarianceGicp().covariances_of(cloud, tree);
-  }
-  bool usable() const { return cloud && cloud->size() >= 20; }
-};
-
 struct PreparedCloud::Impl {
+  // One resolution: cloud, k-d tree, GICP covariances.
+  struct Level {
+    PclCloud::Ptr cloud;
+    pcl_search::FastKdTree::Ptr tree;
+    Gicp::MatricesVectorPtr covariances;  // GICP only
+
+    Level() = default;
+    Level(const Cloud& points, bool gicp)
+        : cloud(std::make_shared<PclCloud>()), tree(std::make_shared<pcl_search::FastKdTree>()) {
+      cloud->resize(points.size());
+      for (size_t i = 0; i < points.size(); ++i) cloud->points[i].getVector3fMap() = points[i];
+      if (points.empty()) return;
+      tree->setInputCloud(cloud);
+      if (gicp && points.size() >= kCovarianceNeighbours) covariances = CovarianceGicp().covariances_of(cloud, tree);
+    }
+    bool usable() const { return cloud && cloud->size() >= 20; }
+  };
   Level coarse, fine;
 };
 
 namespace {
+
+using Level = PreparedCloud::Impl::Level;
 
 double coarse_voxel_of(const RegistrationOptions& o) { return std::max(o.voxel, o.coarse_distance / 4.0); }
 

@@ -34,9 +34,10 @@ struct RegistrationResult {
 
 // A cloud made ready once for any number of registrations: its coarse and
 // fine PCL clouds with their k-d trees and (for GICP) per-point covariances.
-// A scan or submap registered against several others is prepared once;
-// preparing is about a third of one registration's cost. Immutable after
-// construction, so one prepared cloud may serve many threads at once.
+// A scan or submap registered against several others is prepared once
+// (align.posegraph: 18.8 -> 11.4 s on exp1, where each scan and keyframe
+// submap is registered several times). Immutable after construction, so one
+// prepared cloud may serve many threads at once.
 class PreparedCloud {
  public:
   PreparedCloud() = default;
