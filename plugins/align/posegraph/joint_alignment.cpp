@@ -16,7 +16,7 @@ struct Graph {
   std::vector<size_t> offset;  // first node of each mission
   std::vector<Eigen::Isometry3d> nodes;
   std::vector<bool> fixed;
-  std::vector<PoseGraphEdge> odometry;
+  std::vector<PoseGraphEdge> within;  // edges inside each mission: odometry and scan-to-scan
 };
 
 size_t node_of(const Graph& g, const Keyframe& k) { return g.offset[k.mission] + k.scan; }
@@ -100,7 +100,7 @@ std::vector<PoseGraphEdge> closure_edges(const MissionSet& set, const Graph& g, 
 }
 
 PoseGraphSummary solve(Graph& g, const std::vector<PoseGraphEdge>& closures, PoseGraphOptions options) {
-  std::vector<PoseGraphEdge> edges = g.odometry;
+  std::vector<PoseGraphEdge> edges = g.within;
   edges.insert(edges.end(), closures.begin(), closures.end());
   return optimise_pose_graph(g.nodes, g.fixed, edges, options);
 }
@@ -178,12 +178,12 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
       e.measurement = mission.scans[s - 1].pose.inverse() * mission.scans[s].pose;
       e.sigma_translation = o.odometry_sigma_translation;
       e.sigma_rotation = o.odometry_sigma_rotation;
-      g.odometry.push_back(e);
+      g.within.push_back(e);
     }
   }
   ScanEdgeReport scan_report;
   const std::vector<PoseGraphEdge> scan_edges = scan_registration_edges(set, g.offset, o.scan_edges, threads, scan_report);
-  g.odometry.insert(g.odometry.end(), scan_edges.begin(), scan_edges.end());
+  g.within.insert(g.within.end(), scan_edges.begin(), scan_edges.end());
   report.scan_edges_tried = scan_report.tried;
   report.scan_edges = scan_report.accepted;
   if (scan_report.tried > 0)
