@@ -126,12 +126,12 @@ StageInfo posegraph_stage_info() {
       "mission; a mission without closures is an error naming it. The pose graph holds every mission's "
       "odometry chain (relative poses of consecutive scans from poses.txt), scan-to-scan edges (each scan "
       "registered by GICP onto the next scan_edges scans, from the odometry guess; they constrain horizontal "
-      "position and yaw: metric steps that remove an odometry scale or heading bias which closures cannot see when every mission shares it) and the closures "
-      "under a robust loss; it is solved with Ceres (quaternion manifold), with the reference mission's first pose (or the "
-      "whole mission, fix_reference) held. After the first "
+      "position and yaw: metric steps that remove an odometry scale or heading bias which closures cannot see "
+      "when every mission shares it) and the closures under a robust loss; it is solved with Ceres (quaternion "
+      "manifold), with the reference mission's first pose (or the whole mission, fix_reference) held. After the first "
       "solve, keyframes that have come close are proposed again (refine_rounds) and verified the same way. "
       "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
-      "keyframes, candidates, closures, costs, and ATE before/after when every mission has poses_gt.txt.";
+      "keyframes, candidates, closures, scan_edges, costs, and ATE before/after when every mission has poses_gt.txt.";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with corrected poses and to_common"}};
   s.params = {
