@@ -216,3 +216,19 @@ TEST(SimDataset, ViewsModeWritesIndexAndClouds) {
   }
   EXPECT_EQ(clouds, 12u);
 }
+
+// Multi-sweep views merge sweeps along a pass: same objects and splits, more
+// of each object seen.
+TEST(SimDataset, ViewsMergeSweepsAlongAPass) {
+  const fs::path one = temp_root() / "views-one", pass = temp_root() / "views-pass";
+  ASSERT_EQ(simulate("views --objects 4 --views-per-object 3 --seed 6 --out " + one.string()), 0);
+  ASSERT_EQ(simulate("views --objects 4 --views-per-object 3 --seed 6 --scans-per-view 4 --out " + pass.string()), 0);
+  EXPECT_NE(slurp(pass / "index.json").find("\"scans\": 4"), std::string::npos);
+  auto points_in = [](const fs::path& dir) {
+    size_t n = 0;
+    for (const auto& e : fs::directory_iterator(dir / "views")) n += io::read_scan(e.path().string()).points.size();
+    return n;
+  };
+  EXPECT_GT(points_in(pass), 2 * points_in(one));
+  EXPECT_NE(simulate("views --objects 4 --scans-per-view 0 --out " + (temp_root() / "views-zero").string()), 0);
+}

@@ -13,11 +13,11 @@ int main(int argc, char** argv) {
   using namespace lista::train;
   using namespace lista::objfeat;
   CLI::App app{"Train the describe.learned object descriptor (metric learning on shape identity)"};
-  std::string views_dir;
+  std::vector<std::string> views_dirs;
   int synthetic = 0, per_instance = 6;
   double holdout = 0.2;
   TrainConfig cfg;
-  app.add_option("--views", views_dir, "lista-sim views folder (docs/datasets.md)");
+  app.add_option("--views", views_dirs, "lista-sim views folder(s) (docs/datasets.md); several are one set, by shape");
   app.add_option("--synthetic", synthetic, "use N built-in synthetic shapes instead of --views");
   app.add_option("--views-per-instance", per_instance, "synthetic views per instance")->check(CLI::Range(2, 100));
   app.add_option("--holdout", holdout, "fraction of shapes held out for evaluation")->check(CLI::Range(0.0, 0.9));
@@ -31,6 +31,10 @@ int main(int argc, char** argv) {
   app.add_option("--margin", cfg.margin, "triplet margin")->check(CLI::Range(0.0, 2.0));
   app.add_option("--dim", cfg.dim, "descriptor dimension")->check(CLI::Range(2, 1024));
   app.add_option("--points", cfg.points, "resampled points per object")->check(CLI::Range(16, 4096));
+  app.add_option("--frame", cfg.frame, "yaw frame: rectangle (minimum-perimeter footprint rectangle) or principal (axis)")
+      ->check(CLI::IsMember({"rectangle", "principal"}));
+  bool no_globals = false;
+  app.add_flag("--no-globals", no_globals, "do not give the head the object's extents (the first model's layout)");
   std::vector<int> widths;
   app.add_option("--widths", widths, "per-point MLP widths and head width: w1,w2,w3,head")
       ->delimiter(',')->expected(4)->check(CLI::Range(4, 2048));
@@ -39,12 +43,13 @@ int main(int argc, char** argv) {
   app.add_option("--eval-every", cfg.eval_every, "steps between held-out evaluations")->check(CLI::Range(1, 1000000));
   app.add_option("--out", cfg.out, "weights file to write (a .sha256 sidecar is written next to it)");
   CLI11_PARSE(app, argc, argv);
+  cfg.globals = !no_globals;
   if (!widths.empty()) { cfg.w1 = widths[0]; cfg.w2 = widths[1]; cfg.w3 = widths[2]; cfg.head = widths[3]; }
 
   try {
     prepare_output(cfg.out);
     ViewSet all;
-    if (!views_dir.empty()) all = read_views(views_dir);
+    if (!views_dirs.empty()) all = read_views(views_dirs);
     else if (synthetic > 0) all = synthetic_views(synthetic, per_instance, cfg.seed);
     else throw lista::Error("give --views <folder> (lista-sim views) or --synthetic <shapes>");
     ViewSet train, test;

@@ -3,6 +3,8 @@
 // untrained net; the held-out part of so tiny a set is too noisy to judge).
 #include "train.hpp"
 
+#include <lista_objfeat/descriptor_net.hpp>
+
 #include <lista/error.hpp>
 
 #include <filesystem>
@@ -52,9 +54,26 @@ TEST(ListaTrain, SameSeedSameWeightsAndTrainingHelps) {
   lista::train::train_descriptor(train, test, tiny(b, 30));
   EXPECT_EQ(read_all(a), read_all(b));
   EXPECT_TRUE(fs::exists(a + ".sha256"));
-  auto trained = lista::train::train_descriptor(train, train, tiny(c, 150));
-  auto untrained = lista::train::train_descriptor(train, train, tiny(c, 1));
+  // The weights file records the preprocessing the network was trained with.
+  const lista::objfeat::NetConfig saved = lista::objfeat::load_weights(a)->config;
+  EXPECT_EQ(saved.frame, lista::objfeat::YawFrame::bounding_rectangle);
+  EXPECT_EQ(saved.globals, lista::objfeat::kShapeGlobals);
+  EXPECT_EQ(saved.points, 64);
+  // Training must teach the per-point network. Without the extents in the
+  // head (on these synthetic boxes the extents alone already rank well
+  // untrained), the learned part is all there is.
+  auto per_point = [&](int steps) {
+    auto cfg = tiny(c, steps);
+    cfg.globals = false;
+    return lista::train::train_descriptor(train, train, cfg);
+  };
+  auto trained = per_point(150), untrained = per_point(1);
   EXPECT_GT(trained.test_map, untrained.test_map + 0.05) << trained.test_map << " vs " << untrained.test_map;
+  EXPECT_EQ(lista::objfeat::load_weights(c)->config.globals, 0);
+  // With the extents, training still improves the ranking.
+  auto with_globals = lista::train::train_descriptor(train, train, tiny(c, 150));
+  auto with_globals_untrained = lista::train::train_descriptor(train, train, tiny(c, 1));
+  EXPECT_GT(with_globals.test_map, with_globals_untrained.test_map);
   EXPECT_THROW(lista::train::train_descriptor(test, test, tiny(c, 1)), lista::Error);  // 4 shapes < 8 per batch
   fs::remove_all(dir);
 }

@@ -31,15 +31,12 @@ objfeat::Rows describe_all(objfeat::DescriptorNet& net, const objfeat::ViewSet& 
   objfeat::Rows out(long(set.views.size()), c.out);
   torch::NoGradGuard no_grad;
   net->eval();
+  std::vector<objfeat::CanonicalCloud> clouds;
+  for (const auto& v : set.views) clouds.push_back(objfeat::make_canonical(v.points.xyz, objfeat::canonical_config(c)));
   const size_t chunk = 128;
   for (size_t b = 0; b < set.views.size(); b += chunk) {
     size_t e = std::min(set.views.size(), b + chunk);
-    torch::Tensor x = torch::empty({long(e - b), c.points, c.in});
-    for (size_t i = b; i < e; ++i) {
-      auto cc = objfeat::make_canonical(set.views[i].points.xyz, {c.points, c.grid, objfeat::CanonicalConfig{}.seed});
-      std::copy(cc.features.begin(), cc.features.end(), x.data_ptr<float>() + (i - b) * size_t(c.points * c.in));
-    }
-    torch::Tensor d = net->forward(x).contiguous();
+    torch::Tensor d = objfeat::describe_clouds(net, clouds, b, e).contiguous();
     std::copy(d.data_ptr<float>(), d.data_ptr<float>() + d.numel(), out.data() + b * size_t(c.out));
   }
   net->train();
@@ -48,7 +45,7 @@ objfeat::Rows describe_all(objfeat::DescriptorNet& net, const objfeat::ViewSet& 
 
 // A training sample: a random yaw, a random subset of points and a random
 // voxel selection, so the network learns what survives partial observation.
-void augmented(const objfeat::View& v, const objfeat::NetConfig& c, std::mt19937_64& rng, float* dst) {
+objfeat::CanonicalCloud augmented(const objfeat::View& v, const objfeat::NetConfig& c, std::mt19937_64& rng) {
   std::uniform_real_distribution<float> u(0.f, 1.f);
   Eigen::Matrix3f r = Eigen::AngleAxisf(6.2832f * u(rng), Eigen::Vector3f::UnitZ()).toRotationMatrix();
   float keep = 0.4f + 0.6f * u(rng);
@@ -58,8 +55,7 @@ void augmented(const objfeat::View& v, const objfeat::NetConfig& c, std::mt19937
   for (const auto& p : v.points.xyz)
     if (u(rng) < keep) pts.push_back(r * p + Eigen::Vector3f(jitter(rng), jitter(rng), jitter(rng)));
   if (pts.size() < 8) pts = v.points.xyz;
-  auto cc = objfeat::make_canonical(pts, {c.points, c.grid, rng()});
-  std::copy(cc.features.begin(), cc.features.end(), dst);
+  return objfeat::make_canonical(pts, objfeat::canonical_config(c, rng()));
 }
 
 }  // namespace
@@ -86,6 +82,10 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   nc.w2 = cfg.w2;
   nc.w3 = cfg.w3;
   nc.head = cfg.head;
+  if (cfg.frame != "rectangle" && cfg.frame != "principal")
+    throw Error("unknown frame '" + cfg.frame + "' (rectangle or principal)");
+  nc.frame = cfg.frame == "rectangle" ? objfeat::YawFrame::bounding_rectangle : objfeat::YawFrame::principal_axis;
+  nc.globals = cfg.globals ? objfeat::kShapeGlobals : 0;
   objfeat::DescriptorNet net(nc);
   // Proxy rows, one per training shape (only used by the proxy loss; they are
   // not part of the shipped weights).
@@ -109,19 +109,19 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
     for (auto& g : opt.param_groups()) static_cast<torch::optim::AdamOptions&>(g.options()).lr(lr);
 
     std::shuffle(instances.begin(), instances.end(), rng);
-    torch::Tensor x = torch::empty({B, nc.points, nc.in});
+    std::vector<objfeat::CanonicalCloud> batch(static_cast<size_t>(B));
     std::vector<int64_t> labels(B), classes(B);
     for (int p = 0; p < P; ++p) {
       const auto& pool = by_instance[instances[p]];
       for (int k = 0; k < K; ++k) {
         const objfeat::View& v = train.views[pool[rng() % pool.size()]];
-        augmented(v, nc, rng, x.data_ptr<float>() + size_t(p * K + k) * size_t(nc.points * nc.in));
+        batch[size_t(p * K + k)] = augmented(v, nc, rng);
         labels[p * K + k] = p;
         classes[p * K + k] = proxy_of[instances[p]];
       }
     }
     torch::Tensor lab = torch::tensor(labels);
-    torch::Tensor emb = net->forward(x);
+    torch::Tensor emb = objfeat::describe_clouds(net, batch, 0, batch.size());
     torch::Tensor loss;
     if (cfg.loss == "proxy") {
       torch::Tensor unit = torch::nn::functional::normalize(

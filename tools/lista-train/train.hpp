@@ -26,6 +26,11 @@ struct TrainConfig {
   // (2.5x less wall time per step under load), so training fits the time
   // budget on 2 loaded cores and inference stays well under 5 ms per object.
   int w1 = 32, w2 = 64, w3 = 128, head = 128;
+  // Yaw frame ("rectangle": minimum-perimeter footprint rectangle; "principal":
+  // principal axis, the first model's) and whether the head sees the shape
+  // globals (canonical.hpp); both are recorded in the weights file.
+  std::string frame = "rectangle";
+  bool globals = true;
   uint64_t seed = 1;
   int threads = 1;
   int eval_every = 500;

@@ -1,3 +1,4 @@
+#include <lista_objfeat/bounding_rectangle.hpp>
 #include <lista_objfeat/canonical.hpp>
 
 #include <lista/error.hpp>
@@ -12,15 +13,21 @@
 namespace lista::objfeat {
 namespace {
 
-// Yaw rotation whose +x is the major horizontal axis, sign fixed by skew.
-Eigen::Matrix3f yaw_frame(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& c) {
+Eigen::Vector2d principal_axis(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& c) {
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
   for (const auto& p : xyz) {
     Eigen::Vector2d d((p.x() - c.x()), (p.y() - c.y()));
     cov += d * d.transpose();
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
-  Eigen::Vector2d axis = eig.eigenvectors().col(1);  // largest eigenvalue last
+  return eig.eigenvectors().col(1);  // largest eigenvalue last
+}
+
+// Yaw rotation whose +x is the chosen horizontal axis, sign fixed by skew.
+Eigen::Matrix3f yaw_frame(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& c, YawFrame frame) {
+  const BoundingRectangle rect = frame == YawFrame::bounding_rectangle ? min_perimeter_rectangle(xyz) : BoundingRectangle{};
+  // A footprint with no area (a line of points) has no rectangle: fall back.
+  Eigen::Vector2d axis = rect.valid ? rect.long_axis : principal_axis(xyz, c);
   double skew = 0.0;
   for (const auto& p : xyz) {
     double t = (p.x() - c.x()) * axis.x() + (p.y() - c.y()) * axis.y();
@@ -44,7 +51,7 @@ CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const Can
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const auto& p : xyz) sum += p.cast<double>();
   out.centroid = (sum / double(xyz.size())).cast<float>();
-  out.rotation = yaw_frame(xyz, out.centroid);
+  out.rotation = yaw_frame(xyz, out.centroid, cfg.frame);
 
   std::vector<Eigen::Vector3f> local(xyz.size());
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e30f), hi = -lo;
@@ -53,6 +60,7 @@ CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const Can
     lo = lo.cwiseMin(local[i]);
     hi = hi.cwiseMax(local[i]);
   }
+  out.globals = {hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z(), -lo.z()};
   float cell = std::max((hi - lo).maxCoeff() / float(cfg.grid), 1e-4f);
 
   // One centroid per occupied voxel; keys are small non-negative ints.

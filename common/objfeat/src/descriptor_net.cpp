@@ -3,6 +3,7 @@
 
 #include <lista/error.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -12,7 +13,8 @@
 namespace lista::objfeat {
 namespace {
 
-constexpr char kMagic[8] = {'L', 'I', 'S', 'T', 'A', 'D', 'N', '1'};
+constexpr char kMagic[8] = {'L', 'I', 'S', 'T', 'A', 'D', 'N', '2'};
+constexpr char kMagicFirst[8] = {'L', 'I', 'S', 'T', 'A', 'D', 'N', '1'};
 
 void put_u32(std::string& s, uint32_t v) { s.append(reinterpret_cast<const char*>(&v), 4); }
 
@@ -38,23 +40,50 @@ DescriptorNetImpl::DescriptorNetImpl(const NetConfig& c) : config(c) {
   l1 = register_module("l1", torch::nn::Linear(c.in, c.w1));
   l2 = register_module("l2", torch::nn::Linear(c.w1, c.w2));
   l3 = register_module("l3", torch::nn::Linear(c.w2, c.w3));
-  h1 = register_module("h1", torch::nn::Linear(2 * c.w3, c.head));
+  h1 = register_module("h1", torch::nn::Linear(2 * c.w3 + c.globals, c.head));
   h2 = register_module("h2", torch::nn::Linear(c.head, c.out));
 }
 
-torch::Tensor DescriptorNetImpl::forward(const torch::Tensor& x) {
+torch::Tensor DescriptorNetImpl::forward(const torch::Tensor& x, const torch::Tensor& g) {
   auto f = torch::relu(l1(x));
   f = torch::relu(l2(f));
   f = l3(f);
-  auto pooled = torch::cat({std::get<0>(f.max(1)), f.mean(1)}, 1);
+  auto pooled = config.globals > 0 ? torch::cat({std::get<0>(f.max(1)), f.mean(1), g}, 1)
+                                   : torch::cat({std::get<0>(f.max(1)), f.mean(1)}, 1);
   auto d = h2(torch::relu(h1(pooled)));
   return torch::nn::functional::normalize(d, torch::nn::functional::NormalizeFuncOptions().dim(1).eps(1e-8));
+}
+
+CanonicalConfig canonical_config(const NetConfig& c, uint64_t seed) {
+  CanonicalConfig cc;
+  cc.points = c.points;
+  cc.grid = c.grid;
+  cc.seed = seed;
+  cc.frame = c.frame;
+  return cc;
+}
+
+torch::Tensor describe_clouds(DescriptorNet& net, const std::vector<CanonicalCloud>& clouds, size_t begin, size_t end) {
+  const NetConfig& c = net->config;
+  const long n = long(end - begin);
+  torch::Tensor x = torch::empty({n, c.points, c.in});
+  torch::Tensor g = torch::empty({n, std::max(c.globals, 1)});
+  for (size_t i = begin; i < end; ++i) {
+    const CanonicalCloud& cc = clouds[i];
+    if (cc.points != c.points || cc.features.size() != size_t(c.points) * size_t(c.in))
+      throw Error("describe_clouds: a cloud was not made with the network's canonical configuration");
+    std::copy(cc.features.begin(), cc.features.end(), x.data_ptr<float>() + (i - begin) * size_t(c.points * c.in));
+    if (c.globals > 0)
+      std::copy(cc.globals.begin(), cc.globals.end(), g.data_ptr<float>() + (i - begin) * size_t(c.globals));
+  }
+  return net->forward(x, g);
 }
 
 void save_weights(DescriptorNet& net, const std::string& path) {
   const NetConfig& c = net->config;
   std::string buf(kMagic, 8);
-  for (int v : {c.points, c.grid, c.in, c.w1, c.w2, c.w3, c.head, c.out, 0}) put_u32(buf, uint32_t(v));
+  for (int v : {c.points, c.grid, c.in, c.w1, c.w2, c.w3, c.head, c.out, int(c.frame), c.globals, 0})
+    put_u32(buf, uint32_t(v));
   auto params = net->named_parameters();
   put_u32(buf, uint32_t(params.size()));
   for (const auto& p : params) {
@@ -92,7 +121,8 @@ DescriptorNet load_weights(const std::string& path) {
   if (sha256_hex(buf) != expected)
     throw Error("model weights '" + path + "' are corrupt: SHA-256 does not match '" + path + ".sha256'");
 
-  if (buf.size() < 8 || std::memcmp(buf.data(), kMagic, 8) != 0)
+  const bool first = buf.size() >= 8 && std::memcmp(buf.data(), kMagicFirst, 8) == 0;
+  if (buf.size() < 8 || (!first && std::memcmp(buf.data(), kMagic, 8) != 0))
     throw Error("'" + path + "' is not a LiSTA descriptor weights file (bad magic)");
   Reader r{buf, 8, path};
   NetConfig c;
@@ -102,6 +132,19 @@ DescriptorNet load_weights(const std::string& path) {
     if (v == 0 || v > 65536) throw Error("model weights '" + path + "' have an invalid configuration");
     *f = int(v);
   }
+  c.frame = YawFrame::principal_axis;
+  c.globals = 0;
+  if (!first) {
+    const uint32_t frame = r.u32(), globals = r.u32();
+    if (frame > uint32_t(YawFrame::bounding_rectangle) || (globals != 0 && globals != uint32_t(kShapeGlobals)))
+      throw Error("model weights '" + path + "' have an invalid configuration (frame " + std::to_string(frame) +
+                  ", globals " + std::to_string(globals) + ")");
+    c.frame = YawFrame(frame);
+    c.globals = int(globals);
+  }
+  if (c.in != kCanonicalChannels)
+    throw Error("model weights '" + path + "' expect " + std::to_string(c.in) + " input channels, the preprocessing has " +
+                std::to_string(kCanonicalChannels));
   r.u32();  // reserved
   DescriptorNet net(c);
   auto params = net->named_parameters();

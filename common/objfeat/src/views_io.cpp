@@ -11,7 +11,11 @@
 
 namespace lista::objfeat {
 
-ViewSet read_views(const std::string& folder) {
+namespace {
+
+// Appends one folder's views; `labels` numbers shapes across folders, so one
+// shape id is one label in every folder (ids name the geometry).
+void append_views(const std::string& folder, std::map<std::string, int>& labels, ViewSet& out) {
   namespace fs = std::filesystem;
   const fs::path index_path = fs::path(folder) / "index.json";
   std::ifstream in(index_path);
@@ -23,8 +27,7 @@ ViewSet read_views(const std::string& folder) {
     throw Error(index_path.string() + ": not valid JSON: " + e.what());
   }
   if (index.value("format", "") != "lista-views/1") throw Error(index_path.string() + ": format is not 'lista-views/1'");
-  ViewSet out;
-  std::map<std::string, int> labels;
+  const size_t before = out.views.size();
   try {
     for (const auto& v : index.at("views")) {
       View view;
@@ -39,7 +42,18 @@ ViewSet read_views(const std::string& folder) {
   } catch (const nlohmann::json::exception& e) {
     throw Error(index_path.string() + ": " + e.what());
   }
-  if (out.views.empty()) throw Error(index_path.string() + ": no views");
+  if (out.views.size() == before) throw Error(index_path.string() + ": no views");
+}
+
+}  // namespace
+
+ViewSet read_views(const std::string& folder) { return read_views(std::vector<std::string>{folder}); }
+
+ViewSet read_views(const std::vector<std::string>& folders) {
+  if (folders.empty()) throw Error("no views folder given");
+  ViewSet out;
+  std::map<std::string, int> labels;
+  for (const auto& f : folders) append_views(f, labels, out);
   return out;
 }
 

@@ -1,3 +1,4 @@
+#include <lista_objfeat/bounding_rectangle.hpp>
 #include <lista_objfeat/canonical.hpp>
 #include <lista_objfeat/retrieval.hpp>
 #include <lista_objfeat/sha256.hpp>
@@ -32,6 +33,59 @@ TEST(Canonical, FixedSizeAndYawInvariant) {
   float max_diff = 0.f;
   for (size_t i = 0; i < a.features.size(); ++i) max_diff = std::max(max_diff, std::abs(a.features[i] - b.features[i]));
   EXPECT_LT(max_diff, 1e-3f);
+}
+
+// Points on the outline of a w x d box footprint turned by `yaw`; `faces`
+// picks which sides a scan sees (bit 0: +x, 1: +y, 2: -x, 3: -y), so a
+// partial view is an L or a single face.
+std::vector<Eigen::Vector3f> box_faces(float w, float d, float h, float yaw, int faces) {
+  std::vector<Eigen::Vector3f> out;
+  Eigen::Matrix3f r = Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitZ()).toRotationMatrix();
+  for (float z = 0.f; z <= h; z += 0.05f)
+    for (float t = -0.5f; t <= 0.5f; t += 0.01f) {
+      if (faces & 1) out.push_back(r * Eigen::Vector3f(w / 2, t * d, z));
+      if (faces & 2) out.push_back(r * Eigen::Vector3f(t * w, d / 2, z));
+      if (faces & 4) out.push_back(r * Eigen::Vector3f(-w / 2, t * d, z));
+      if (faces & 8) out.push_back(r * Eigen::Vector3f(t * w, -d / 2, z));
+    }
+  return out;
+}
+
+TEST(BoundingRectangle, FindsTheBoxSidesOfFullAndPartialViews) {
+  for (float yaw : {0.f, 0.4f, 1.3f, -2.5f}) {
+    const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw));
+    // Whole outline, and an L of a long and a short face: the principal axis
+    // of the L leans towards its diagonal, the rectangle does not.
+    for (int faces : {15, 3}) {
+      BoundingRectangle r = min_perimeter_rectangle(box_faces(1.2f, 0.5f, 0.8f, yaw, faces));
+      ASSERT_TRUE(r.valid);
+      EXPECT_NEAR(std::abs(r.long_axis.dot(along)), 1.0, 1e-6) << "yaw " << yaw << " faces " << faces;
+      EXPECT_NEAR(r.long_side, 1.2, 0.011);
+      EXPECT_NEAR(r.short_side, 0.5, 0.011);
+    }
+  }
+  // A single vertical line or wall seen edge-on spans no area.
+  EXPECT_FALSE(min_perimeter_rectangle({{0, 0, 0}, {1, 1, 0}, {2, 2, 1}}).valid);
+  EXPECT_FALSE(min_perimeter_rectangle({}).valid);
+}
+
+TEST(Canonical, RectangleFrameLinesUpWithFacesAndMeasuresExtents) {
+  // The L of two faces (1.2 m and 0.5 m long, 0.8 m high): in the rectangle
+  // frame the globals are the box's extents, whatever the yaw.
+  for (float yaw : {0.3f, 2.0f}) {
+    CanonicalCloud c = make_canonical(box_faces(1.2f, 0.5f, 0.8f, yaw, 3), {});
+    EXPECT_NEAR(c.globals[0], 1.2f, 0.011f);
+    EXPECT_NEAR(c.globals[1], 0.5f, 0.011f);
+    EXPECT_NEAR(c.globals[2], 0.8f, 0.051f);
+    EXPECT_GT(c.globals[3], 0.f);  // centroid above the lowest point
+    EXPECT_LT(c.globals[3], c.globals[2]);
+    // The principal-axis frame of the same L is turned off the faces, so its
+    // footprint extents are not the box's.
+    CanonicalConfig first;
+    first.frame = YawFrame::principal_axis;
+    CanonicalCloud p = make_canonical(box_faces(1.2f, 0.5f, 0.8f, yaw, 3), first);
+    EXPECT_GT(std::abs(p.globals[0] - 1.2f) + std::abs(p.globals[1] - 0.5f), 0.05f);
+  }
 }
 
 TEST(Canonical, FewPointsAreRepeatedAndEmptyIsAnError) {

@@ -33,9 +33,9 @@ class LearnedStage : public Stage {
     i.version = "1.0.0";
     i.summary = "learned yaw-invariant object descriptor (PointNet-style, libtorch)";
     i.doc =
-        "Centres each object, rotates it about z so its major horizontal axis is +x (sign by skew), "
-        "voxel-resamples it to a fixed number of points and runs a small PointNet (shared MLP, max+mean "
-        "pooling, MLP head) trained with batch-hard triplet loss on instance identity (lista-train). "
+        "Centres each object, rotates it about z so the longer side of its footprint's minimum-perimeter "
+        "rectangle is +x (sign by skew), voxel-resamples it to a fixed number of points and runs a small "
+        "PointNet (shared MLP, max+mean pooling joined by the object's extents, MLP head) trained with batch-hard triplet loss on instance identity (lista-train). "
         "Output rows are L2-normalised. Weights: the 'weights' parameter, else $LISTA_MODEL_DIR/"
         "describe-learned.bin, else the installed/build/source models/ folder; a missing or corrupt file "
         "(SHA-256 sidecar) is an error. See docs/descriptors.md.";
@@ -62,8 +62,7 @@ class LearnedStage : public Stage {
     for (int t = 0; t < threads; ++t)
       pool.emplace_back([&, t] {
         for (size_t i = size_t(t); i < n; i += size_t(threads))
-          clouds[i] = objfeat::make_canonical(objects.objects[i].points.xyz,
-                                              {cfg.points, cfg.grid, kSelectionSeed});
+          clouds[i] = objfeat::make_canonical(objects.objects[i].points.xyz, objfeat::canonical_config(cfg, kSelectionSeed));
       });
     for (auto& th : pool) th.join();
 
@@ -76,11 +75,7 @@ class LearnedStage : public Stage {
     for (size_t begin = 0; begin < n; begin += size_t(batch_)) {
       ctx.throw_if_cancelled();
       size_t end = std::min(n, begin + size_t(batch_));
-      torch::Tensor x = torch::empty({long(end - begin), cfg.points, cfg.in});
-      for (size_t i = begin; i < end; ++i)
-        std::copy(clouds[i].features.begin(), clouds[i].features.end(),
-                  x.data_ptr<float>() + (i - begin) * size_t(cfg.points * cfg.in));
-      torch::Tensor d = net_->forward(x).contiguous();
+      torch::Tensor d = objfeat::describe_clouds(net_, clouds, begin, end).contiguous();
       std::copy(d.data_ptr<float>(), d.data_ptr<float>() + d.numel(), out.values.data() + begin * size_t(cfg.out));
     }
     for (const Object& o : objects.objects) out.object_ids.push_back(o.id);

@@ -4,6 +4,7 @@
 
 #include <lista_objfeat/descriptor_net.hpp>
 #include <lista_objfeat/plugin_testing.hpp>
+#include <lista_objfeat/sha256.hpp>
 
 #include <Eigen/Geometry>
 #include <cstdlib>
@@ -95,6 +96,49 @@ TEST_F(LearnedTest, MissingCorruptOrUncheckedWeightsAreClearErrors) {
   std::ofstream(text) << "hello";
   std::ofstream(text + ".sha256") << "2cf24dba5fb0a30e26e83b2ac5b9e29e1b161e5c1fa7425e73043362938b9824  notes.bin\n";
   expect_error(text, "bad magic");
+}
+
+std::string read_all(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void write_with_checksum(const fs::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+  std::ofstream(path.string() + ".sha256") << lista::objfeat::sha256_hex(bytes) << "  " << path.filename().string() << "\n";
+}
+
+// Files of the first model ("LISTADN1": no frame and globals fields) load as
+// a principal-axis network without globals and describe exactly as the same
+// network saved in today's layout.
+TEST_F(LearnedTest, FirstModelLayoutStillLoadsAndBadOptionsAreErrors) {
+  lista::objfeat::NetConfig first;
+  first.frame = lista::objfeat::YawFrame::principal_axis;
+  first.globals = 0;
+  torch::manual_seed(4);
+  lista::objfeat::DescriptorNet net(first);
+  const fs::path current = dir_ / "current.bin";
+  lista::objfeat::save_weights(net, current.string());
+  std::string bytes = read_all(current.string());
+  const size_t options = 8 + 8 * 4;  // magic, then 8 uint32 before frame and globals
+  std::string old = bytes;
+  old[7] = '1';
+  old.erase(options, 8);
+  write_with_checksum(dir_ / "first.bin", old);
+  auto views = two_views_each(3, 9);
+  auto a = describe(*stage(current.string()), views);
+  auto b = describe(*stage((dir_ / "first.bin").string()), views);
+  EXPECT_EQ((a.values - b.values).cwiseAbs().maxCoeff(), 0.f);
+
+  std::string bad = bytes;
+  bad[options + 4] = 3;  // three globals: no such preprocessing
+  write_with_checksum(dir_ / "bad.bin", bad);
+  try {
+    stage((dir_ / "bad.bin").string());
+    ADD_FAILURE() << "a weights file with 3 globals loaded";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("invalid configuration"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(LearnedTest, DefaultWeightsFollowLISTA_MODEL_DIR) {

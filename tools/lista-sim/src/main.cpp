@@ -81,6 +81,9 @@ int main(int argc, char** argv) {
   views_cmd->add_option("--objects", views.objects, "object instances")->check(CLI::PositiveNumber);
   views_cmd->add_option("--views-per-object", views.views_per_object, "views of each instance")
       ->check(CLI::PositiveNumber);
+  views_cmd->add_option("--scans-per-view", views.scans_per_view,
+                        "sweeps merged into each view, 1 m apart along a pass by the object (as a mission map sees it)")
+      ->check(CLI::PositiveNumber);
   views_cmd->add_option("--seed", views.seed, "random seed");
   views_cmd->add_option("--threads", views.threads, "worker threads")->check(CLI::PositiveNumber);
   views_cmd->add_flag("--overwrite", views.overwrite, "replace views already in --out");

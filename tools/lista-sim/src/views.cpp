@@ -41,12 +41,30 @@ std::vector<Shape> shape_pool(const ViewsOptions& opt) {
   return pool;
 }
 
+uint64_t view_key(uint64_t seed, int inst, int v, int attempt) {
+  return hash_combine(hash_combine(seed, uint64_t(inst) + 1000003), uint64_t(v * 32 + attempt));
+}
+
+// One sweep from pose T (sensor -> object frame), appended in the object
+// frame (the object stands at the world origin).
+void scan_into(const RayScene& scene, const SensorModel& sensor, const Eigen::Isometry3d& T, uint64_t key, int threads,
+               PointSet& cloud) {
+  SweepOptions so;
+  so.key = key;
+  so.threads = threads;
+  PointSet one = sweep(scene, nullptr, sensor, T, so);
+  const Eigen::Isometry3f Tf = T.cast<float>();
+  for (auto& p : one.xyz) cloud.xyz.push_back(Tf * p);
+  cloud.intensity.insert(cloud.intensity.end(), one.intensity.begin(), one.intensity.end());
+  cloud.label.insert(cloud.label.end(), one.label.begin(), one.label.end());
+}
+
 }  // namespace
 
 ViewsStats write_views(const ViewsOptions& opt) {
   if (opt.out.empty()) throw Error("lista-sim views: --out is required");
-  if (opt.objects < 1 || opt.views_per_object < 1)
-    throw Error("lista-sim views: --objects and --views-per-object must be >= 1");
+  if (opt.objects < 1 || opt.views_per_object < 1 || opt.scans_per_view < 1)
+    throw Error("lista-sim views: --objects, --views-per-object and --scans-per-view must be >= 1");
   const fs::path root(opt.out);
   if (fs::exists(root / "index.json") || fs::exists(root / "views")) {
     if (!opt.overwrite) throw Error("lista-sim views: " + opt.out + " already holds views (pass --overwrite)");
@@ -85,15 +103,23 @@ ViewsStats write_views(const ViewsOptions& opt) {
         const double height = rng.uniform(0.4, 1.8);
         T.linear() = Eigen::AngleAxisd(rng.uniform(-M_PI, M_PI), Eigen::Vector3d::UnitZ()).toRotationMatrix();
         T.translation() = Eigen::Vector3d(dist * std::cos(az), dist * std::sin(az), height);
-        SweepOptions so;
-        so.key = hash_combine(hash_combine(opt.seed, uint64_t(inst) + 1000003), uint64_t(v * 32 + attempt));
-        so.threads = opt.threads;
-        cloud = sweep(scene, nullptr, sensor, T, so);
+        cloud = PointSet{};
+        if (opt.scans_per_view > 1) {
+          // The pass runs across the line of sight (within 30 deg), centred
+          // on the first viewpoint, so it never crosses the object.
+          const double heading = az + M_PI / 2 + rng.uniform(-M_PI / 6, M_PI / 6);
+          const Eigen::Vector3d step(std::cos(heading), std::sin(heading), 0.0);
+          for (int k = 0; k < opt.scans_per_view; ++k) {
+            Eigen::Isometry3d Tk = T;
+            Tk.translation() += (k - 0.5 * (opt.scans_per_view - 1)) * step;
+            scan_into(scene, sensor, Tk, hash_combine(view_key(opt.seed, inst, v, attempt), uint64_t(k)), opt.threads,
+                      cloud);
+          }
+        } else {
+          scan_into(scene, sensor, T, view_key(opt.seed, inst, v, attempt), opt.threads, cloud);
+        }
         if (cloud.size() >= 30) break;
       }
-      // Sensor frame -> object frame (the object stands at the world origin).
-      const Eigen::Isometry3f Tf = T.cast<float>();
-      for (auto& p : cloud.xyz) p = Tf * p;
       char name[48];
       std::snprintf(name, sizeof(name), "views/%06d_%03d.pcd", inst, v);
       io::write_scan_pcd((root / name).string(), cloud, io::PcdEncoding::binary);
@@ -105,6 +131,7 @@ ViewsStats write_views(const ViewsOptions& opt) {
                        {"viewpoint", {T.translation().x(), T.translation().y(), T.translation().z()}},
                        {"distance", T.translation().head<2>().norm()},
                        {"points", cloud.size()},
+                       {"scans", opt.scans_per_view},
                        {"split", split_of(shape.id)}});
       ++stats.views;
       stats.points += cloud.size();

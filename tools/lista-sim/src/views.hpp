@@ -14,6 +14,9 @@ struct ViewsOptions {
   std::string out;
   int objects = 100;          // object instances
   int views_per_object = 8;
+  // Sweeps merged into one view, taken 1 m apart along a straight pass by the
+  // object (as a robot walking past it builds its map). 1: one sweep.
+  int scans_per_view = 1;
   uint64_t seed = 1;
   int threads = 1;
   bool overwrite = false;

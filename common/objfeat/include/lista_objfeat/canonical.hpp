@@ -5,22 +5,33 @@
 //
 // Steps (all O(n) or O(n log n), deterministic):
 //  1. centre on the centroid;
-//  2. yaw: rotate about z so the major principal axis of the horizontal
-//     spread is +x, its sign fixed by the third moment (skew) along it;
-//     objects stand on floors, so z stays up and only yaw is removed;
+//  2. yaw: rotate about z so +x is the longer side of the footprint's
+//     minimum-perimeter bounding rectangle (or, in the first model's frame, the
+//     major principal axis of the horizontal spread), its sign fixed by the
+//     third moment (skew) along it; objects stand on floors, so z stays up
+//     and only yaw is removed;
 //  3. voxel-grid in that frame (cell = extent / grid) so dense near-sensor
 //     patches do not dominate, one centroid per occupied cell;
 //  4. pick exactly `points` cells with a seeded shuffle (repeat cells when
 //     there are fewer), in cell-key order so the result does not depend on
-//     the input order's relation to the frame.
+//     the input order's relation to the frame;
+//  5. shape globals from all points (not only the picked cells): the
+//     extents along the canonical axes and the centroid's height above the
+//     lowest point, the sizes the resampling would blur.
 // Rotating the input about z changes nothing but float rounding.
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <vector>
 
 namespace lista::objfeat {
+
+// How yaw is fixed. bounding_rectangle lines up with the faces of box-like
+// objects even in partial views; principal_axis is the first shipped model's
+// frame (weights files record which one they were trained with).
+enum class YawFrame : int { principal_axis = 0, bounding_rectangle = 1 };
 
 struct CanonicalConfig {
   int points = 256;        // fixed output size
@@ -28,15 +39,20 @@ struct CanonicalConfig {
   // Selection seed. describe.learned and lista-train evaluation use this
   // default so a descriptor is a pure function of the points.
   uint64_t seed = 0x5eed;
+  YawFrame frame = YawFrame::bounding_rectangle;
 };
 
 // Per-point input channels: x, y, z (canonical frame, metres), horizontal
 // radius, distance to the centroid.
 constexpr int kCanonicalChannels = 5;
+// Shape globals: extent along canonical x, y, z and the centroid's height
+// above the lowest point (metres).
+constexpr int kShapeGlobals = 4;
 
 struct CanonicalCloud {
   // points x kCanonicalChannels, row-major.
   std::vector<float> features;
+  std::array<float, kShapeGlobals> globals{};
   Eigen::Matrix3f rotation = Eigen::Matrix3f::Identity();  // world -> canonical (about z)
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   int points = 0;

@@ -5,13 +5,19 @@
 // Architecture: a PointNet-style shared per-point MLP over the canonical
 // cloud (canonical.hpp: yaw-canonical xyz + radius + distance), max- and
 // mean-pooled (order-invariant; max keeps salient parts, mean is stable
-// under partial views), then an MLP head to `out` dims, L2-normalised.
+// under partial views), joined by the shape globals (extents measured on all
+// points, which the resampled cells blur), then an MLP head to `out` dims,
+// L2-normalised.
 //
-// Weights file (little-endian): "LISTADN1", 9 x uint32 config
-// (points grid in w1 w2 w3 head out reserved), uint32 tensor count, then per
-// tensor uint32 name length, name, uint32 element count, float32 data.
+// Weights file (little-endian): "LISTADN2", 11 x uint32 config
+// (points grid in w1 w2 w3 head out frame globals reserved), uint32 tensor
+// count, then per tensor uint32 name length, name, uint32 element count,
+// float32 data. "LISTADN1" files (the first model: 9 x uint32, no frame and
+// globals fields) load as principal-axis frame without globals.
 // Next to it, "<file>.sha256" holds the SHA-256 (sha256sum format).
 #pragma once
+
+#include <lista_objfeat/canonical.hpp>
 
 #include <torch/torch.h>
 
@@ -22,17 +28,28 @@ namespace lista::objfeat {
 
 struct NetConfig {
   int points = 256, grid = 24;
-  int in = 5, w1 = 64, w2 = 128, w3 = 256, head = 256, out = 16;
+  int in = kCanonicalChannels, w1 = 64, w2 = 128, w3 = 256, head = 256, out = 16;
+  YawFrame frame = YawFrame::bounding_rectangle;
+  int globals = kShapeGlobals;  // 0 (first model) or kShapeGlobals
 };
 
 struct DescriptorNetImpl : torch::nn::Module {
   explicit DescriptorNetImpl(const NetConfig& config);
-  // x: [batch, points, in] -> [batch, out], unit rows.
-  torch::Tensor forward(const torch::Tensor& x);
+  // x: [batch, points, in], g: [batch, globals] (ignored when globals == 0)
+  // -> [batch, out], unit rows.
+  torch::Tensor forward(const torch::Tensor& x, const torch::Tensor& g);
   NetConfig config;
   torch::nn::Linear l1{nullptr}, l2{nullptr}, l3{nullptr}, h1{nullptr}, h2{nullptr};
 };
 TORCH_MODULE(DescriptorNet);
+
+// The preprocessing a network was trained with.
+CanonicalConfig canonical_config(const NetConfig& config, uint64_t seed = CanonicalConfig{}.seed);
+
+// Packs clouds[begin, end) (made with canonical_config) into the network's
+// inputs and runs it: [end - begin, out]. Gradients flow unless the caller
+// holds a NoGradGuard.
+torch::Tensor describe_clouds(DescriptorNet& net, const std::vector<CanonicalCloud>& clouds, size_t begin, size_t end);
 
 // Writes the weights file and its .sha256 sidecar (temp name, then rename).
 void save_weights(DescriptorNet& net, const std::string& path);

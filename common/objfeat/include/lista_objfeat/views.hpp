@@ -27,6 +27,9 @@ struct ViewSet {
 // index.json ("lista-views/1") and its PCD files; splits 'val' and 'test'
 // are held out. Throws lista::Error naming the file for anything malformed.
 ViewSet read_views(const std::string& folder);
+// Several folders as one set: a shape id has one label across all of them
+// (e.g. single-sweep and multi-sweep views of the same objects).
+ViewSet read_views(const std::vector<std::string>& folders);
 
 // `shapes` synthetic shapes (synthetic.hpp), one instance each,
 // `per_instance` partial views each, no intensity. Deterministic from seed.

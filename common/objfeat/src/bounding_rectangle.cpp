@@ -1,0 +1,68 @@
+#include <lista_objfeat/bounding_rectangle.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lista::objfeat {
+namespace {
+
+double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// Andrew's monotone chain; counter-clockwise, no collinear corners.
+std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+  p.erase(std::unique(p.begin(), p.end()), p.end());
+  if (p.size() < 3) return p;
+  std::vector<Eigen::Vector2d> h(2 * p.size());
+  size_t k = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+}  // namespace
+
+BoundingRectangle min_perimeter_rectangle(const std::vector<Eigen::Vector3f>& xyz) {
+  std::vector<Eigen::Vector2d> flat;
+  flat.reserve(xyz.size());
+  for (const auto& p : xyz) flat.emplace_back(p.x(), p.y());
+  const std::vector<Eigen::Vector2d> hull = convex_hull(std::move(flat));
+  BoundingRectangle best;
+  if (hull.size() < 3) return best;
+  double best_perimeter = INFINITY;
+  // The optimal rectangle has a side on a hull edge; hulls are small, so the
+  // O(h^2) scan over edges is cheaper than maintaining calipers.
+  for (size_t i = 0; i < hull.size(); ++i) {
+    Eigen::Vector2d u = hull[(i + 1) % hull.size()] - hull[i];
+    const double len = u.norm();
+    if (len <= 0.0) continue;
+    u /= len;
+    const Eigen::Vector2d v(-u.y(), u.x());
+    double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY;
+    for (const auto& q : hull) {
+      const double a = q.dot(u), b = q.dot(v);
+      lo_u = std::min(lo_u, a), hi_u = std::max(hi_u, a);
+      lo_v = std::min(lo_v, b), hi_v = std::max(hi_v, b);
+    }
+    const double su = hi_u - lo_u, sv = hi_v - lo_v, perimeter = su + sv;  // half of it
+    if (perimeter < best_perimeter * (1.0 - 1e-9)) {  // ties: the first edge in hull order wins
+      best_perimeter = perimeter;
+      best.valid = true;
+      best.long_axis = su >= sv ? u : v;
+      best.long_side = std::max(su, sv);
+      best.short_side = std::min(su, sv);
+    }
+  }
+  return best;
+}
+
+}  // namespace lista::objfeat

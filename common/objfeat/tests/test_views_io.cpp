@@ -1,0 +1,66 @@
+// Reading `lista-sim views` folders: labels by shape across folders, splits,
+// and one-line errors naming the file.
+#include <lista_objfeat/views.hpp>
+
+#include <lista/error.hpp>
+#include <lista_io/pcd.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// A views folder whose views are named by shape and split (3 points each).
+fs::path write_folder(const std::string& name, const std::vector<std::pair<std::string, std::string>>& views) {
+  const fs::path dir = fs::temp_directory_path() / ("lista_views_io_" + std::to_string(::getpid())) / name;
+  fs::create_directories(dir / "views");
+  std::string list;
+  for (size_t i = 0; i < views.size(); ++i) {
+    lista::PointSet p;
+    p.xyz = {{0.f, 0.f, float(i)}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}};
+    const std::string file = "views/" + std::to_string(i) + ".pcd";
+    lista::io::write_scan_pcd((dir / file).string(), p, lista::io::PcdEncoding::binary);
+    list += std::string(i ? "," : "") + "{\"file\": \"" + file + "\", \"instance\": " + std::to_string(i + 1) +
+            ", \"shape\": \"" + views[i].first + "\", \"split\": \"" + views[i].second + "\"}";
+  }
+  std::ofstream(dir / "index.json") << "{\"format\": \"lista-views/1\", \"views\": [" << list << "]}";
+  return dir;
+}
+
+TEST(ReadViews, ShapesKeepOneLabelAcrossFolders) {
+  const fs::path a = write_folder("a", {{"crate-1", "train"}, {"cart-2", "test"}});
+  const fs::path b = write_folder("b", {{"cart-2", "test"}, {"desk-3", "val"}, {"crate-1", "train"}});
+  lista::objfeat::ViewSet set = lista::objfeat::read_views(std::vector<std::string>{a.string(), b.string()});
+  ASSERT_EQ(set.views.size(), 5u);
+  EXPECT_EQ(set.views[0].label, set.views[4].label);  // crate-1 in both folders
+  EXPECT_EQ(set.views[1].label, set.views[2].label);  // cart-2
+  EXPECT_NE(set.views[3].label, set.views[0].label);
+  EXPECT_EQ(set.views[0].split, 0);
+  EXPECT_EQ(set.views[1].split, 1);
+  EXPECT_EQ(set.views[3].split, 1);  // val is held out too
+  EXPECT_EQ(lista::objfeat::read_views(a.string()).views.size(), 2u);
+  fs::remove_all(a.parent_path());
+}
+
+TEST(ReadViews, MissingOrMalformedFoldersAreErrorsNamingTheFile) {
+  const fs::path a = write_folder("c", {{"crate-1", "train"}});
+  auto expect_error = [](const std::vector<std::string>& folders, const std::string& words) {
+    try {
+      lista::objfeat::read_views(folders);
+      ADD_FAILURE() << "expected an error mentioning " << words;
+    } catch (const lista::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  expect_error({a.string(), "/nonexistent/views"}, "/nonexistent/views/index.json: not found");
+  expect_error({}, "no views folder");
+  std::ofstream(a / "index.json") << "{\"format\": \"lista-views/9\"}";
+  expect_error({a.string()}, "format is not");
+  fs::remove_all(a.parent_path());
+}
+
+}  // namespace
