@@ -10,8 +10,38 @@ double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Ve
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
 
+// Akl-Toussaint: points strictly inside the polygon of the extreme points in
+// eight directions cannot be hull corners. One O(n) pass drops nearly all
+// points of a dense object, so the O(n log n) sort sees few.
+std::vector<Eigen::Vector2d> outside_extremes(std::vector<Eigen::Vector2d> p) {
+  if (p.size() < 64) return p;
+  const double c = std::sqrt(0.5);
+  const Eigen::Vector2d dirs[8] = {{1, 0}, {c, c}, {0, 1}, {-c, c}, {-1, 0}, {-c, -c}, {0, -1}, {c, -c}};
+  Eigen::Vector2d ext[8];
+  double best[8];
+  for (int k = 0; k < 8; ++k) ext[k] = p[0], best[k] = p[0].dot(dirs[k]);
+  for (const auto& q : p)
+    for (int k = 0; k < 8; ++k)
+      if (const double v = q.dot(dirs[k]); v > best[k]) best[k] = v, ext[k] = q;
+  // Extremes in order of direction angle are counter-clockwise; coincident
+  // ones give no edge.
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> edges;
+  for (int k = 0; k < 8; ++k)
+    if (ext[k] != ext[(k + 1) % 8]) edges.emplace_back(ext[k], ext[(k + 1) % 8]);
+  if (edges.size() < 3) return p;
+  std::vector<Eigen::Vector2d> keep;
+  for (const auto& q : p) {
+    bool inside = true;
+    for (const auto& [a, b] : edges)
+      if (cross(a, b, q) <= 0) { inside = false; break; }
+    if (!inside) keep.push_back(q);
+  }
+  return keep;
+}
+
 // Andrew's monotone chain; counter-clockwise, no collinear corners.
 std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+  p = outside_extremes(std::move(p));
   std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
   p.erase(std::unique(p.begin(), p.end()), p.end());
   if (p.size() < 3) return p;

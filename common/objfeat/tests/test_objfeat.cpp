@@ -64,6 +64,24 @@ TEST(BoundingRectangle, FindsTheBoxSidesOfFullAndPartialViews) {
       EXPECT_NEAR(r.short_side, 0.5, 0.011);
     }
   }
+  // A random blob against a fine search over all orientations.
+  std::mt19937_64 rng(11);
+  std::normal_distribution<float> g(0.f, 1.f);
+  std::vector<Eigen::Vector3f> blob;
+  for (int i = 0; i < 5000; ++i) blob.emplace_back(1.5f * g(rng), 0.6f * g(rng) + 0.3f * std::abs(g(rng)), g(rng));
+  double searched = INFINITY;
+  for (double a = 0.0; a < M_PI / 2; a += 1e-4) {
+    const Eigen::Vector2d u(std::cos(a), std::sin(a)), v(-u.y(), u.x());
+    double lu = INFINITY, hu = -INFINITY, lv = INFINITY, hv = -INFINITY;
+    for (const auto& p : blob) {
+      const Eigen::Vector2d q(p.x(), p.y());
+      lu = std::min(lu, q.dot(u)), hu = std::max(hu, q.dot(u)), lv = std::min(lv, q.dot(v)), hv = std::max(hv, q.dot(v));
+    }
+    searched = std::min(searched, hu - lu + hv - lv);
+  }
+  BoundingRectangle r = min_perimeter_rectangle(blob);
+  EXPECT_LE(r.long_side + r.short_side, searched + 1e-9);
+  EXPECT_GT(r.long_side + r.short_side, searched - 1e-3);
   // A single vertical line or wall seen edge-on spans no area.
   EXPECT_FALSE(min_perimeter_rectangle({{0, 0, 0}, {1, 1, 0}, {2, 2, 1}}).valid);
   EXPECT_FALSE(min_perimeter_rectangle({}).valid);
