@@ -2,9 +2,9 @@
 # Reproduces the shipped describe.learned weights from scratch:
 #   tools/lista-train/reproduce.sh [BUILD_DIR] [OUT_FILE]
 # BUILD_DIR (default: build) must hold bin/lista-sim and bin/lista-train;
-# OUT_FILE defaults to models/describe-learned.bin (+ .sha256). The views set
-# goes to ${LISTA_VIEWS_DIR:-/tmp/lista-train-views}; $LISTA_SIM may name a
-# lista-sim built elsewhere. Everything is seeded:
+# OUT_FILE defaults to models/describe-learned.bin (+ .sha256). The views sets
+# go to ${LISTA_VIEWS_DIR:-/tmp/lista-train-views}/{single,pass}; $LISTA_SIM
+# may name a lista-sim built elsewhere. Everything is seeded:
 # the same build, seed and thread count give the same weights byte for byte.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
@@ -16,6 +16,10 @@ for exe in "$sim" "$build/bin/lista-train"; do
   [[ -x "$exe" ]] || { echo "reproduce.sh: $exe not built" >&2; exit 1; }
 done
 # 600 object instances (about 260 shapes, about 40 held out by the simulator's
-# val/test split) x 8 partial views from random viewpoints and sensors.
-"$sim" views --out "$views" --objects 600 --views-per-object 8 --seed 1 --threads 2 --overwrite
-"$build/bin/lista-train" --views "$views" --out "$out" --loss triplet --steps 5000 --eval-every 500 --seed 1 --threads 1
+# val/test split) x 8 partial views from random viewpoints and sensors, once
+# as single sweeps and once as 5 sweeps merged along a pass (what a mission
+# map holds of an object); the network trains on both as one set.
+"$sim" views --out "$views/single" --objects 600 --views-per-object 8 --seed 1 --threads 2 --overwrite
+"$sim" views --out "$views/pass" --objects 600 --views-per-object 8 --seed 1 --threads 2 --overwrite --scans-per-view 5
+"$build/bin/lista-train" --views "$views/single" "$views/pass" --out "$out" --loss triplet --steps 5000 \
+  --eval-every 1000 --seed 1 --threads 1
