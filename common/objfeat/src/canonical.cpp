@@ -1,4 +1,4 @@
-#include <lista_objfeat/bounding_rectangle.hpp>
+#include <lista_geometry/bounding_rectangle.hpp>
 #include <lista_objfeat/canonical.hpp>
 
 #include <lista/error.hpp>
@@ -12,6 +12,9 @@
 
 namespace lista::objfeat {
 namespace {
+
+using geometry::BoundingRectangle;
+using geometry::min_perimeter_rectangle;
 
 Eigen::Vector2d principal_axis(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& c) {
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();

@@ -1,4 +1,4 @@
-#include <lista_objfeat/bounding_rectangle.hpp>
+#include <lista_geometry/bounding_rectangle.hpp>
 #include <lista_objfeat/canonical.hpp>
 #include <lista_objfeat/retrieval.hpp>
 #include <lista_objfeat/sha256.hpp>
@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 using namespace lista::objfeat;
+using lista::geometry::BoundingRectangle;
+using lista::geometry::min_perimeter_rectangle;
 
 TEST(Sha256, KnownVectors) {
   EXPECT_EQ(sha256_hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");

@@ -111,7 +111,7 @@ StageInfo info() {
       "by its largest candidate value and the descriptor term by the largest descriptor distance between any "
       "two objects; minmax is the paper's (x - min) / (max - min), which stretches descriptor noise between "
       "identical objects to the full range. Candidates must lie within max_distance metres, keep their size "
-      "(height and principal horizontal extents within max(max_size_change x the larger, size_slack)), "
+      "(height and footprint-rectangle sides within max(max_size_change x the larger, size_slack)), "
       "max_descriptor_distance (if > 0), then fit as one rigid object: each surviving pair is registered "
       "(lista::objreg multi-hypothesis ICP on shape_voxel-downsampled points, the view covering fewer voxels "
       "moved onto the other) and shape fit = 0.75 x the larger + 0.25 x the smaller share of points within "
@@ -137,7 +137,7 @@ StageInfo info() {
           .one_of({"soft", "hard", "ignore"}),
       ParamSpec::real("group_penalty", 0.5, "cost added to a cross-group pair (group_mode = soft)")
           .range(0.0, 100.0),
-      ParamSpec::real("max_size_change", 0.6, "size gate, a cheap pre-filter before the shape check: largest relative change of height or principal horizontal extents of a pair (a rigid object keeps its size, but a partial view shows less of it); 0 = off")
+      ParamSpec::real("max_size_change", 0.6, "size gate, a cheap pre-filter before the shape check: largest relative change of height or footprint-rectangle sides of a pair (a rigid object keeps its size, but a partial view shows less of it); 0 = off")
           .range(0.0, 10.0),
       ParamSpec::real("size_slack", 0.15, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m"),
       ParamSpec::real("max_distance", 30.0, "farthest centroid displacement accepted as a move (room or site scale: the size gate keeps unlike objects apart)")

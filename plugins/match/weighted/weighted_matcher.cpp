@@ -36,7 +36,7 @@ void normalise(Eigen::MatrixXd& d, const BoolMatrix& mask, const std::string& ho
       d(i, j) = range > 1e-12 ? std::clamp((d(i, j) - lo) / range, 0.0, 1.0) : 0.0;
 }
 
-// Height and horizontal extents along the principal axes (larger first): what
+// Height and footprint-rectangle sides (larger first): what
 // a rigid object keeps when it moves, whatever its yaw.
 Eigen::Vector3d size_of(const Object& o) {
   const Eigen::Vector2f e = geometry::horizontal_extents(o.points.xyz);

@@ -18,7 +18,7 @@
 // Gates. A pair is a candidate only if its centroids are at most
 // `max_distance` metres apart (two unrelated changes far apart are never a
 // move), its sizes agree as one rigid object's would (height and the
-// horizontal extents along the principal axes differ by at most
+// sides of the footprint rectangle (lista::geometry) differ by at most
 // max(`max_size_change` x the larger, `size_slack`); 0 turns it off), its descriptor distance is at most `max_descriptor_distance` (if > 0)
 // and its weighted cost is at most `max_cost`. With the default max_cost =
 // alpha + beta (+ shape_weight x (1 - min_shape_fit)) every same-group pair

@@ -38,7 +38,7 @@ class CompleteStage : public Stage {
         "never into another object's points). The growth is kept only if neither growth finds more "
         "than max_leak occupied voxels just outside the region per voxel it grew into (else it is part of a wall "
         "or of furniture it touches) and both grown objects have the "
-        "shape of one rigid object (height above the floor and principal horizontal extents agree "
+        "shape of one rigid object (height above the floor and footprint-rectangle sides agree "
         "within max(shape_tolerance x the larger, shape_slack)). Then, with self_complete, every object "
         "grows the same way inside its own box grown by box_margin, down to the floor if it stands "
         "on it (the difference cannot confirm change next to the floor, so objects lose their base); "

@@ -204,7 +204,7 @@ Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, fl
   return {std::move(added), walked, leaks};
 }
 
-// Height above the floor and the horizontal extents along the principal axes
+// Height above the floor and the footprint-rectangle sides
 // (larger first) of an object grown by `extra` points of `cloud`.
 Eigen::Vector3f shape_of(const PointSet& own, const std::vector<uint32_t>& extra, const PointSet& cloud,
                          float floor, float min_z) {

@@ -22,8 +22,8 @@
 //  4. Check. Neither growth may want out of R: occupied voxels next to it
 //     but outside R, over `max_leak` per voxel it grew into, mean it is part
 //     of something bigger (a wall, the desk the object touches). And both
-//     grown objects must have the same shape as one rigid object would: height above the floor and the two horizontal extents along their
-//     principal axes agree within max(`shape_tolerance` x the larger,
+//     grown objects must have the same shape as one rigid object would: height above the floor and the two sides of their
+//     footprint rectangle (lista::geometry) agree within max(`shape_tolerance` x the larger,
 //     `shape_slack`). Otherwise both objects are kept as they were, so an
 //     unrelated pair of changes never swallows the structure between them.
 //  5. Self-completion (every object, `self_complete`): the same growth inside

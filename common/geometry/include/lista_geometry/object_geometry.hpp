@@ -3,6 +3,7 @@
 #pragma once
 
 #include <lista/objects.hpp>
+#include <lista_geometry/bounding_rectangle.hpp>
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -16,11 +17,15 @@ inline float box_gap(const Object& a, const Object& b) {
   return d.norm();
 }
 
-// Extents of the points along the principal axes of their horizontal spread,
-// larger first: the footprint of an object whatever its yaw. Zero for fewer
-// than three points.
+// Sides of the footprint's minimum-perimeter rectangle (bounding_rectangle.hpp),
+// larger first: the footprint of an object whatever its yaw, lined up with
+// the faces of a box even when a view shows only one or two of them. Points
+// that span no area fall back to the extents along the principal axes of
+// their horizontal spread. Zero for fewer than three points.
 inline Eigen::Vector2f horizontal_extents(const std::vector<Eigen::Vector3f>& pts) {
   if (pts.size() < 3) return Eigen::Vector2f::Zero();
+  if (const BoundingRectangle r = min_perimeter_rectangle(pts); r.valid)
+    return {float(r.long_side), float(r.short_side)};
   Eigen::Vector2d mean = Eigen::Vector2d::Zero();
   for (const auto& p : pts) mean += p.head<2>().cast<double>();
   mean /= double(pts.size());

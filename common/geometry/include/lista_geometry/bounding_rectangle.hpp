@@ -1,19 +1,38 @@
-#include <lista_objfeat/bounding_rectangle.hpp>
+// Minimum-perimeter bounding rectangle of points projected onto the floor
+// plane (x, y), header only, over the edges of their 2-D convex hull (an optimal rectangle
+// has a side on a hull edge). Man-made objects are mostly box-like: the
+// tightest rectangle lines up with their faces even when a scan sees only one
+// or two of them, where the principal axis of a partial view (an L of two
+// faces of unequal length) does not. Perimeter, not area: the hull of an L is
+// a right triangle, whose rectangles on a leg and on the hypotenuse have the
+// same area, but the one on the legs is always shorter around.
+#pragma once
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
-namespace lista::objfeat {
-namespace {
+namespace lista::geometry {
 
-double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+struct BoundingRectangle {
+  // Unit direction of the rectangle's longer side (the shorter side is the
+  // perpendicular). Its sign is arbitrary; callers fix it.
+  Eigen::Vector2d long_axis = Eigen::Vector2d::UnitX();
+  double long_side = 0.0, short_side = 0.0;  // metres
+  bool valid = false;  // false when the points span no area (fewer than 3 hull corners)
+};
+
+namespace detail {
+
+inline double cross(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
 
 // Akl-Toussaint: points strictly inside the polygon of the extreme points in
 // eight directions cannot be hull corners. One O(n) pass drops nearly all
 // points of a dense object, so the O(n log n) sort sees few.
-std::vector<Eigen::Vector2d> outside_extremes(std::vector<Eigen::Vector2d> p) {
+inline std::vector<Eigen::Vector2d> outside_extremes(std::vector<Eigen::Vector2d> p) {
   if (p.size() < 64) return p;
   const double c = std::sqrt(0.5);
   const Eigen::Vector2d dirs[8] = {{1, 0}, {c, c}, {0, 1}, {-c, c}, {-1, 0}, {-c, -c}, {0, -1}, {c, -c}};
@@ -40,7 +59,7 @@ std::vector<Eigen::Vector2d> outside_extremes(std::vector<Eigen::Vector2d> p) {
 }
 
 // Andrew's monotone chain; counter-clockwise, no collinear corners.
-std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
+inline std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
   p = outside_extremes(std::move(p));
   std::sort(p.begin(), p.end(), [](const auto& a, const auto& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
   p.erase(std::unique(p.begin(), p.end()), p.end());
@@ -59,13 +78,15 @@ std::vector<Eigen::Vector2d> convex_hull(std::vector<Eigen::Vector2d> p) {
   return h;
 }
 
-}  // namespace
+}  // namespace detail
 
-BoundingRectangle min_perimeter_rectangle(const std::vector<Eigen::Vector3f>& xyz) {
+// O(n log n). Deterministic; rotating the input about z rotates the result
+// (up to rounding, and up to which side is "longer" for a square).
+inline BoundingRectangle min_perimeter_rectangle(const std::vector<Eigen::Vector3f>& xyz) {
   std::vector<Eigen::Vector2d> flat;
   flat.reserve(xyz.size());
   for (const auto& p : xyz) flat.emplace_back(p.x(), p.y());
-  const std::vector<Eigen::Vector2d> hull = convex_hull(std::move(flat));
+  const std::vector<Eigen::Vector2d> hull = detail::convex_hull(std::move(flat));
   BoundingRectangle best;
   if (hull.size() < 3) return best;
   double best_perimeter = INFINITY;
@@ -95,4 +116,4 @@ BoundingRectangle min_perimeter_rectangle(const std::vector<Eigen::Vector3f>& xy
   return best;
 }
 
-}  // namespace lista::objfeat
+}  // namespace lista::geometry
