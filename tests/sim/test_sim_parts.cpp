@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 
 using namespace lista::sim;
 
@@ -49,6 +50,23 @@ TEST(Shapes, EveryClassStandsOnTheFloorWithRealisticSize) {
   EXPECT_EQ(make_shape("chair", 3).mesh.vertices, make_shape("chair", 3).mesh.vertices);
   EXPECT_NE(make_shape("table", 3).half_extent, make_shape("table", 4).half_extent);
   EXPECT_THROW(make_shape("spaceship", 0), lista::Error);
+}
+
+// Pallets come in two sizes: forty variant numbers are two shapes, each
+// named by its first variant; shapes with continuous parameters keep theirs.
+TEST(Shapes, IdenticalGeometryIsOneShape) {
+  std::vector<Shape> shapes;
+  for (uint64_t v = 0; v < 40; ++v) shapes.push_back(make_shape("pallet", v));
+  for (uint64_t v = 0; v < 10; ++v) shapes.push_back(make_shape("chair", v));
+  share_ids_of_identical_geometry(shapes);
+  std::set<std::string> pallets, chairs;
+  for (const auto& s : shapes) (s.cls == "pallet" ? pallets : chairs).insert(s.id);
+  EXPECT_EQ(pallets.size(), 2u);
+  EXPECT_EQ(chairs.size(), 10u);
+  EXPECT_EQ(shapes[0].id, "pallet#0");
+  for (const auto& s : shapes)
+    for (const auto& t : shapes)
+      if (s.id == t.id) EXPECT_EQ(s.mesh.vertices, t.mesh.vertices) << s.id;
 }
 
 TEST(Scenario, NoObjectInterpenetratesAnotherOrTheStructure) {

@@ -1,5 +1,7 @@
 #include "mesh.hpp"
 
+#include "rng.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -72,6 +74,15 @@ void TriMesh::bounds(Eigen::Vector3f& lo, Eigen::Vector3f& hi) const {
     hi = hi.cwiseMax(v);
   }
   if (vertices.empty()) lo = hi = Eigen::Vector3f::Zero();
+}
+
+uint64_t TriMesh::geometry_key() const {
+  uint64_t h = hash_combine(vertices.size(), triangles.size());
+  for (const auto& v : vertices)
+    for (int k = 0; k < 3; ++k) h = hash_combine(h, uint64_t(int64_t(std::lround(double(v[k]) * 1e4))));
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) h = hash_combine(h, uint64_t(t[k]));
+  return h;
 }
 
 }  // namespace lista::sim

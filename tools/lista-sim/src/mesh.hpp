@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <vector>
 
 namespace lista::sim {
@@ -21,6 +22,9 @@ struct TriMesh {
   // Cylinder with its axis along x (wheels), centred at `centre`.
   void add_wheel(const Eigen::Vector3f& centre, float radius, float width, int segments = 12);
   void bounds(Eigen::Vector3f& lo, Eigen::Vector3f& hi) const;
+  // A hash of the geometry (vertices rounded to 0.1 mm, triangles): equal
+  // meshes give equal keys whatever parameters built them.
+  uint64_t geometry_key() const;
 };
 
 }  // namespace lista::sim

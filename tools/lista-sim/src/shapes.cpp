@@ -241,6 +241,11 @@ Shape make_shape(const std::string& cls, uint64_t variant) {
   return s;
 }
 
+void share_ids_of_identical_geometry(std::vector<Shape>& shapes) {
+  std::map<uint64_t, std::string> first_id;
+  for (auto& s : shapes) s.id = first_id.emplace(s.mesh.geometry_key(), s.id).first->second;
+}
+
 Shape make_person(uint64_t variant) {
   Rng r(variant, 77);
   Shape s;

@@ -32,6 +32,12 @@ const std::vector<std::string>& outdoor_classes();
 // variant, same geometry). Throws lista::Error for an unknown class.
 Shape make_shape(const std::string& cls, uint64_t variant);
 
+// Gives shapes of identical geometry one id, the first's: a few classes have
+// discrete variants (pallet sizes, container lengths), and two variant
+// numbers that build the same mesh are one shape, not two look-alikes that
+// no descriptor could tell apart. Paint (reflectivity) is not geometry.
+void share_ids_of_identical_geometry(std::vector<Shape>& shapes);
+
 // A walking person (dynamic distractor).
 Shape make_person(uint64_t variant);
 

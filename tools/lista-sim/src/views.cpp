@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 
 namespace lista::sim {
 namespace fs = std::filesystem;
@@ -38,6 +39,7 @@ std::vector<Shape> shape_pool(const ViewsOptions& opt) {
   for (int k = 0; k < procedural; ++k)
     pool.push_back(make_shape(classes[size_t(k) % classes.size()], hash_combine(opt.seed, uint64_t(k)) & 0xFFFFFFFFull));
   for (const auto& s : opt.extra_shapes) pool.push_back(s);
+  share_ids_of_identical_geometry(pool);
   return pool;
 }
 
@@ -139,8 +141,9 @@ ViewsStats write_views(const ViewsOptions& opt) {
     if (opt.progress) std::fprintf(stderr, "\rlista-sim views: object %d/%d", inst + 1, opt.objects);
   }
   if (opt.progress) std::fprintf(stderr, "\n");
+  std::set<std::string> listed;
   for (size_t si = 0; si < pool.size(); ++si) {
-    if (!shape_used[si]) continue;
+    if (!shape_used[si] || !listed.insert(pool[si].id).second) continue;
     const Shape& s = pool[si];
     shapes.push_back({{"id", s.id},
                       {"class", s.cls},
