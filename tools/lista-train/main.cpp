@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
   app.add_option("--scale", cfg.scale, "proxy loss scale (inverse temperature)")->check(CLI::Range(1.0, 100.0));
   app.add_option("--margin", cfg.margin, "triplet margin")->check(CLI::Range(0.0, 2.0));
   app.add_option("--dim", cfg.dim, "descriptor dimension")->check(CLI::Range(2, 1024));
+  app.add_option("--channels", cfg.channels, "canonical channels per point: 6 (with height above the lowest point) or 5")
+      ->check(CLI::Range(kFirstModelChannels, kCanonicalChannels));
+  app.add_option("--grid", cfg.grid, "voxel cells along the object's largest extent")->check(CLI::Range(4, 256));
   app.add_option("--points", cfg.points, "resampled points per object")->check(CLI::Range(16, 4096));
   app.add_option("--frame", cfg.frame, "yaw frame: rectangle (minimum-perimeter footprint rectangle) or principal (axis)")
       ->check(CLI::IsMember({"rectangle", "principal"}));

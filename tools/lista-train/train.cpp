@@ -77,6 +77,8 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
 
   objfeat::NetConfig nc;
   nc.points = cfg.points;
+  nc.grid = cfg.grid;
+  nc.in = cfg.channels;
   nc.out = cfg.dim;
   nc.w1 = cfg.w1;
   nc.w2 = cfg.w2;

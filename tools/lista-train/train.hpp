@@ -1,6 +1,7 @@
 // Metric learning of the describe.learned network on instance identity.
 #pragma once
 
+#include <lista_objfeat/canonical.hpp>
 #include <lista_objfeat/views.hpp>
 
 #include <string>
@@ -21,6 +22,10 @@ struct TrainConfig {
   double margin = 0.3;           // triplet margin on unit descriptors
   int dim = 16;
   int points = 128;
+  int grid = 24;  // voxel cells along the largest extent (canonical.hpp)
+  // Canonical channels per point (canonical.hpp): 6 adds the height above the
+  // lowest point; 5 is the previous models' input.
+  int channels = objfeat::kCanonicalChannels;
   // Shared per-point MLP widths and head width (descriptor_net.hpp). Small on
   // purpose: about 6x less arithmetic than 256 points through 64-128-256/256
   // (2.5x less wall time per step under load), so training fits the time

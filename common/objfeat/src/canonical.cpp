@@ -99,6 +99,7 @@ CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const Can
     f[2] = p.z();
     f[3] = std::hypot(p.x(), p.y());
     f[4] = p.norm();
+    f[5] = p.z() - lo.z();
   }
   return out;
 }

@@ -70,9 +70,13 @@ torch::Tensor describe_clouds(DescriptorNet& net, const std::vector<CanonicalClo
   torch::Tensor g = torch::empty({n, std::max(c.globals, 1)});
   for (size_t i = begin; i < end; ++i) {
     const CanonicalCloud& cc = clouds[i];
-    if (cc.points != c.points || cc.features.size() != size_t(c.points) * size_t(c.in))
+    if (cc.points != c.points || cc.features.size() != size_t(c.points) * size_t(kCanonicalChannels) ||
+        c.in > kCanonicalChannels)
       throw Error("describe_clouds: a cloud was not made with the network's canonical configuration");
-    std::copy(cc.features.begin(), cc.features.end(), x.data_ptr<float>() + (i - begin) * size_t(c.points * c.in));
+    // The first c.in channels of every point.
+    float* dst = x.data_ptr<float>() + (i - begin) * size_t(c.points * c.in);
+    for (int p = 0; p < c.points; ++p)
+      std::copy_n(cc.features.begin() + ptrdiff_t(p) * kCanonicalChannels, c.in, dst + ptrdiff_t(p) * c.in);
     if (c.globals > 0)
       std::copy(cc.globals.begin(), cc.globals.end(), g.data_ptr<float>() + (i - begin) * size_t(c.globals));
   }
@@ -142,9 +146,9 @@ DescriptorNet load_weights(const std::string& path) {
     c.frame = YawFrame(frame);
     c.globals = int(globals);
   }
-  if (c.in != kCanonicalChannels)
+  if (c.in < kFirstModelChannels || c.in > kCanonicalChannels)
     throw Error("model weights '" + path + "' expect " + std::to_string(c.in) + " input channels, the preprocessing has " +
-                std::to_string(kCanonicalChannels));
+                std::to_string(kFirstModelChannels) + " to " + std::to_string(kCanonicalChannels));
   r.u32();  // reserved
   DescriptorNet net(c);
   auto params = net->named_parameters();

@@ -108,6 +108,45 @@ void write_with_checksum(const fs::path& path, const std::string& bytes) {
   std::ofstream(path.string() + ".sha256") << lista::objfeat::sha256_hex(bytes) << "  " << path.filename().string() << "\n";
 }
 
+// A network reads the first `in` canonical channels: a 6-channel network
+// whose weights on the height channel are zero describes exactly as the
+// 5-channel network with the same other weights, so 5-channel files keep
+// describing as they were trained.
+TEST_F(LearnedTest, FiveChannelWeightsSeeTheirOwnInput) {
+  lista::objfeat::NetConfig five, six;
+  five.in = lista::objfeat::kFirstModelChannels;
+  six.in = lista::objfeat::kCanonicalChannels;
+  torch::manual_seed(5);
+  lista::objfeat::DescriptorNet a(five), b(six);
+  {
+    torch::NoGradGuard no_grad;
+    auto pa = a->named_parameters(), pb = b->named_parameters();
+    for (const auto& p : pa) {
+      torch::Tensor t = pb[p.key()];
+      if (p.key() == "l1.weight") {
+        t.zero_();
+        t.narrow(1, 0, five.in).copy_(p.value());
+      } else {
+        t.copy_(p.value());
+      }
+    }
+  }
+  lista::objfeat::save_weights(a, (dir_ / "five.bin").string());
+  lista::objfeat::save_weights(b, (dir_ / "six.bin").string());
+  auto views = two_views_each(3, 11);
+  auto da = describe(*stage((dir_ / "five.bin").string()), views);
+  auto db = describe(*stage((dir_ / "six.bin").string()), views);
+  EXPECT_LT((da.values - db.values).cwiseAbs().maxCoeff(), 1e-6f);
+  // ... and the height channel is read when its weights are not zero.
+  {
+    torch::NoGradGuard no_grad;
+    b->named_parameters()["l1.weight"].narrow(1, five.in, 1).fill_(0.5);
+  }
+  lista::objfeat::save_weights(b, (dir_ / "six.bin").string());
+  auto dc = describe(*stage((dir_ / "six.bin").string()), views);
+  EXPECT_GT((da.values - dc.values).cwiseAbs().maxCoeff(), 1e-3f);
+}
+
 // Files of the first model ("LISTADN1": no frame and globals fields) load as
 // a principal-axis network without globals and describe exactly as the same
 // network saved in today's layout.
@@ -115,6 +154,7 @@ TEST_F(LearnedTest, FirstModelLayoutStillLoadsAndBadOptionsAreErrors) {
   lista::objfeat::NetConfig first;
   first.frame = lista::objfeat::YawFrame::principal_axis;
   first.globals = 0;
+  first.in = lista::objfeat::kFirstModelChannels;
   torch::manual_seed(4);
   lista::objfeat::DescriptorNet net(first);
   const fs::path current = dir_ / "current.bin";

@@ -15,6 +15,7 @@
 //  4. pick exactly `points` cells with a seeded shuffle (repeat cells when
 //     there are fewer), in cell-key order so the result does not depend on
 //     the input order's relation to the frame;
+//     (each cell: the channels below);
 //  5. shape globals from all points (not only the picked cells): the
 //     extents along the canonical axes and the centroid's height above the
 //     lowest point, the sizes the resampling would blur.
@@ -43,8 +44,13 @@ struct CanonicalConfig {
 };
 
 // Per-point input channels: x, y, z (canonical frame, metres), horizontal
-// radius, distance to the centroid.
-constexpr int kCanonicalChannels = 5;
+// radius, distance to the centroid, and height above the object's lowest
+// point. The last one does not move when a partial view shifts the centroid
+// (objects stand on floors, and the floor contact is seen from most sides).
+// A network reads the first `NetConfig::in` of them: 5-channel weights (the
+// models before the height channel) see exactly what they were trained on.
+constexpr int kCanonicalChannels = 6;
+constexpr int kFirstModelChannels = 5;
 // Shape globals: extent along canonical x, y, z and the centroid's height
 // above the lowest point (metres).
 constexpr int kShapeGlobals = 4;

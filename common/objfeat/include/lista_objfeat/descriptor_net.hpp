@@ -3,7 +3,8 @@
 // plugin and lista-train); everything else uses canonical.hpp.
 //
 // Architecture: a PointNet-style shared per-point MLP over the canonical
-// cloud (canonical.hpp: yaw-canonical xyz + radius + distance), max- and
+// cloud (canonical.hpp: yaw-canonical xyz + radius + distance, and in 6-channel
+// models the height above the lowest point), max- and
 // mean-pooled (order-invariant; max keeps salient parts, mean is stable
 // under partial views), joined by the shape globals (extents measured on all
 // points, which the resampled cells blur), then an MLP head to `out` dims,
@@ -28,6 +29,7 @@ namespace lista::objfeat {
 
 struct NetConfig {
   int points = 256, grid = 24;
+  // in: canonical channels read per point (kFirstModelChannels or kCanonicalChannels).
   int in = kCanonicalChannels, w1 = 64, w2 = 128, w3 = 256, head = 256, out = 16;
   YawFrame frame = YawFrame::bounding_rectangle;
   int globals = kShapeGlobals;  // 0 (first model) or kShapeGlobals
