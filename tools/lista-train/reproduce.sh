@@ -15,8 +15,8 @@ sim="${LISTA_SIM:-$build/bin/lista-sim}"
 for exe in "$sim" "$build/bin/lista-train"; do
   [[ -x "$exe" ]] || { echo "reproduce.sh: $exe not built" >&2; exit 1; }
 done
-# 600 object instances (about 260 shapes, about 40 held out by the simulator's
-# val/test split) x 8 partial views from random viewpoints and sensors, once
+# 600 object instances (225 shapes, 36 held out by the simulator's val/test
+# split) x 8 partial views from random viewpoints and sensors, once
 # as single sweeps and once as 5 sweeps merged along a pass (what a mission
 # map holds of an object); the network trains on both as one set.
 "$sim" views --out "$views/single" --objects 600 --views-per-object 8 --seed 1 --threads 2 --overwrite

@@ -83,6 +83,13 @@ torch::Tensor describe_clouds(DescriptorNet& net, const std::vector<CanonicalClo
   return net->forward(x, g);
 }
 
+torch::Tensor mean_of_samples(const torch::Tensor& rows, int samples) {
+  if (samples <= 1) return rows.contiguous();
+  torch::Tensor mean = rows.reshape({rows.size(0) / samples, samples, rows.size(1)}).mean(1);
+  return torch::nn::functional::normalize(mean, torch::nn::functional::NormalizeFuncOptions().dim(1).eps(1e-8))
+      .contiguous();
+}
+
 void save_weights(DescriptorNet& net, const std::string& path) {
   const NetConfig& c = net->config;
   std::string buf(kMagic, 8);

@@ -20,7 +20,7 @@ constexpr uint64_t kSelectionSeed = objfeat::CanonicalConfig{}.seed;
 
 class LearnedStage : public Stage {
  public:
-  explicit LearnedStage(const Params& p) : batch_(p.get<int>("batch")) {
+  explicit LearnedStage(const Params& p) : batch_(p.get<int>("batch")), samples_(p.get<int>("samples")) {
     std::string path = p.get<std::string>("weights");
     if (path.empty()) path = default_weights_path();
     weights_path_ = path;
@@ -44,6 +44,9 @@ class LearnedStage : public Stage {
     i.params = {
         ParamSpec::text("weights", "", "weights file (empty: the shipped model, see doc)"),
         ParamSpec::integer("batch", 64, "objects per network call").range(1, 4096),
+        ParamSpec::integer("samples", 4,
+                           "voxel-cell selections per object whose descriptors are averaged (1: one fixed selection)")
+            .range(1, 64),
     };
     return i;
   }
@@ -56,13 +59,17 @@ class LearnedStage : public Stage {
       if (o.points.empty()) throw Error("object " + std::to_string(o.id) + " has no points to describe");
 
     // Preprocessing is plain C++: spread it over the stage's threads.
-    std::vector<objfeat::CanonicalCloud> clouds(n);
+    // Object i's selections are clouds[i * S .. i * S + S - 1].
+    const size_t S = size_t(samples_);
+    std::vector<objfeat::CanonicalCloud> clouds(n * S);
     const int threads = std::max(1, std::min<int>(ctx.threads(), int(n)));
     std::vector<std::thread> pool;
     for (int t = 0; t < threads; ++t)
       pool.emplace_back([&, t] {
         for (size_t i = size_t(t); i < n; i += size_t(threads))
-          clouds[i] = objfeat::make_canonical(objects.objects[i].points.xyz, objfeat::canonical_config(cfg, kSelectionSeed));
+          for (size_t k = 0; k < S; ++k)
+            clouds[i * S + k] =
+                objfeat::make_canonical(objects.objects[i].points.xyz, objfeat::canonical_config(cfg, kSelectionSeed + k));
       });
     for (auto& th : pool) th.join();
 
@@ -75,7 +82,7 @@ class LearnedStage : public Stage {
     for (size_t begin = 0; begin < n; begin += size_t(batch_)) {
       ctx.throw_if_cancelled();
       size_t end = std::min(n, begin + size_t(batch_));
-      torch::Tensor d = objfeat::describe_clouds(net_, clouds, begin, end).contiguous();
+      torch::Tensor d = objfeat::mean_of_samples(objfeat::describe_clouds(net_, clouds, begin * S, end * S), samples_);
       std::copy(d.data_ptr<float>(), d.data_ptr<float>() + d.numel(), out.values.data() + begin * size_t(cfg.out));
     }
     for (const Object& o : objects.objects) out.object_ids.push_back(o.id);
@@ -86,7 +93,7 @@ class LearnedStage : public Stage {
   const std::string& weights_path() const { return weights_path_; }
 
  private:
-  int batch_;
+  int batch_, samples_;
   std::string weights_path_;
   objfeat::DescriptorNet net_{nullptr};
 };

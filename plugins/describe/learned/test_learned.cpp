@@ -52,6 +52,19 @@ TEST_F(LearnedTest, OneUnitRowPerObjectOnTheDescriptorsPort) {
   EXPECT_LT((one.values - d.values).cwiseAbs().maxCoeff(), 1e-5f);
 }
 
+// samples = S averages S cell selections: unit rows, the same for any thread
+// count, and S = 1 is the single fixed selection.
+TEST_F(LearnedTest, AveragedSelectionsGiveUnitRows) {
+  auto one = make_stage({{"weights", weights_}, {"samples", int64_t(1)}});
+  auto four = make_stage({{"weights", weights_}, {"samples", int64_t(4)}});
+  const auto views = two_views_each(3, 9);
+  auto a = describe(*one, views, 1), b = describe(*four, views, 1), c = describe(*four, views, 2);
+  ASSERT_EQ(b.values.rows(), 6);
+  for (long i = 0; i < b.values.rows(); ++i) EXPECT_NEAR(b.values.row(i).norm(), 1.f, 1e-4f);
+  EXPECT_LT((b.values - c.values).cwiseAbs().maxCoeff(), 1e-5f);
+  EXPECT_GT((a.values - b.values).cwiseAbs().maxCoeff(), 1e-6f);  // other selections were used
+}
+
 TEST_F(LearnedTest, YawRotationAndOffsetLeaveDescriptorUnchanged) {
   auto s = stage(weights_);
   std::mt19937_64 rng(5);

@@ -53,6 +53,10 @@ CanonicalConfig canonical_config(const NetConfig& config, uint64_t seed = Canoni
 // holds a NoGradGuard.
 torch::Tensor describe_clouds(DescriptorNet& net, const std::vector<CanonicalCloud>& clouds, size_t begin, size_t end);
 
+// Rows [n * samples, out] holding `samples` consecutive rows per object ->
+// [n, out]: each object's mean, L2-normalised (contiguous).
+torch::Tensor mean_of_samples(const torch::Tensor& rows, int samples);
+
 // Writes the weights file and its .sha256 sidecar (temp name, then rename).
 void save_weights(DescriptorNet& net, const std::string& path);
 // Verifies the checksum and layout; throws lista::Error with a one-line
