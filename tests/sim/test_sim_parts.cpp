@@ -1,6 +1,7 @@
 // The simulator's pieces on their own: footprints, placement without
 // interpenetration, change kinds, sensor geometry and the Embree ray caster.
 #include "footprint.hpp"
+#include "furniture.hpp"
 #include "layout.hpp"
 #include "presets.hpp"
 #include "raycaster.hpp"
@@ -14,7 +15,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <set>
+#include <unistd.h>
 
 using namespace lista::sim;
 
@@ -67,6 +71,59 @@ TEST(Shapes, IdenticalGeometryIsOneShape) {
   for (const auto& s : shapes)
     for (const auto& t : shapes)
       if (s.id == t.id) EXPECT_EQ(s.mesh.vertices, t.mesh.vertices) << s.id;
+}
+
+// A Sweet Home 3D catalogue as fetch-shapes.sh unpacks it: an L-shaped
+// quad-and-triangle OBJ (y up, odd units, a negative index) sized by the
+// catalogue; a door, a staircase and a broken model are left out.
+TEST(Furniture, CatalogueMeshesStandOnTheFloorAtTheirCatalogueSize) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("lista_sim_furniture_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "lib" / "desk");
+  std::ofstream(dir / "lib" / "desk" / "desk.obj") << "# y-up test mesh\nmtllib desk.mtl\n"
+                                                       "v 0 0 0\nv 200 0 0\nv 200 50 0\nv 0 50 0\n"
+                                                       "vt 0 0\nvn 0 1 0\nv 0 0 -80\n"
+                                                       "f 1/1/1 2/1/1 3/1/1 4/1/1\nf 1//1 -1//1 2//1\n";
+  std::ofstream(dir / "lib" / "broken.obj") << "v 0 0 0\nf 1 2 3\n";
+  std::ofstream(dir / "lib" / "PluginFurnitureCatalog.properties")
+      << "# catalogue\nid#1=Test#desk\nname#1=Desk\ncategory#1=Office\nmodel#1=/desk/desk.obj\n"
+         "width#1=150\ndepth#1=70\nheight#1=75\n"
+         "id#2=Test#door\nmodel#2=/desk/desk.obj\nwidth#2=90\ndepth#2=10\nheight#2=200\ndoorOrWindow#2=true\n"
+         "id#3=Test#stairs\nmodel#3=/desk/desk.obj\nwidth#3=90\ndepth#3=200\nheight#3=250\n"
+         "staircaseCutOutShape#3=M0,0 z\n"
+         "id#4=Test#broken\nmodel#4=/broken.obj\nwidth#4=50\ndepth#4=50\nheight#4=50\n";
+  const auto entries = read_catalog((dir / "lib" / "PluginFurnitureCatalog.properties").string());
+  ASSERT_EQ(entries.size(), 4u);
+  EXPECT_TRUE(entries[1].door_or_window);
+  EXPECT_TRUE(entries[2].staircase);
+  std::vector<std::string> skipped;
+  const std::vector<Shape> shapes = load_furniture(dir.string(), &skipped);
+  ASSERT_EQ(shapes.size(), 1u);
+  ASSERT_EQ(skipped.size(), 1u);
+  EXPECT_NE(skipped[0].find("broken.obj"), std::string::npos) << skipped[0];
+  const Shape& desk = shapes[0];
+  EXPECT_EQ(desk.mesh.triangles.size(), 3u);  // the quad is two triangles
+  Eigen::Vector3f lo, hi;
+  desk.mesh.bounds(lo, hi);
+  EXPECT_NEAR(hi.x() - lo.x(), 1.50f, 1e-4f);
+  EXPECT_NEAR(hi.y() - lo.y(), 0.70f, 1e-4f);
+  EXPECT_NEAR(hi.z() - lo.z(), 0.75f, 1e-4f);
+  EXPECT_NEAR(lo.z(), 0.0f, 1e-5f);
+  EXPECT_EQ(desk.source, "sweethome3d");
+  EXPECT_EQ(desk.cls, "sh3d/office");
+  // SH3D's up (y) is our z: the three vertices with OBJ y = 0 lie on the floor.
+  int on_floor = 0;
+  for (const auto& v : desk.mesh.vertices) on_floor += std::abs(v.z()) < 1e-5f;
+  EXPECT_EQ(on_floor, 3);
+  std::ofstream(dir / "bad.properties") << "width#1=wide\n";
+  try {
+    read_catalog((dir / "bad.properties").string());
+    ADD_FAILURE() << "a non-numeric width was read";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.properties:1"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_furniture((dir / "lib" / "desk").string()), lista::Error);  // no catalogue there
+  fs::remove_all(dir);
 }
 
 TEST(Scenario, NoObjectInterpenetratesAnotherOrTheStructure) {

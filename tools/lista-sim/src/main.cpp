@@ -1,6 +1,7 @@
 // lista-sim: simulated multi-mission LiDAR datasets with object-level change
 // ground truth (data contract, sect. 1 and 3), and single-object views.
 #include "dataset_writer.hpp"
+#include "furniture.hpp"
 #include "presets.hpp"
 #include "scenario.hpp"
 #include "sensor.hpp"
@@ -87,6 +88,11 @@ int main(int argc, char** argv) {
   views_cmd->add_option("--seed", views.seed, "random seed");
   views_cmd->add_option("--threads", views.threads, "worker threads")->check(CLI::PositiveNumber);
   views_cmd->add_flag("--overwrite", views.overwrite, "replace views already in --out");
+  std::string furniture;
+  views_cmd->add_option("--furniture", furniture,
+                        "also draw Sweet Home 3D furniture from this folder (tools/fetch-shapes.sh DIR unpacks it)");
+  bool no_procedural = false;
+  views_cmd->add_flag("--no-procedural", no_procedural, "draw only the --furniture shapes");
   app.require_subcommand(0, 1);
   CLI11_PARSE(app, argc, argv);
 
@@ -94,6 +100,16 @@ int main(int argc, char** argv) {
     if (views_cmd->parsed()) {
       if (views.threads <= 0) views.threads = default_threads();
       views.progress = isatty(STDERR_FILENO);
+      views.procedural = !no_procedural;
+      if (!furniture.empty()) {
+        std::vector<std::string> skipped;
+        views.extra_shapes = lista::sim::load_furniture(furniture, &skipped);
+        std::fprintf(stderr, "lista-sim views: %zu furniture shapes from %s (%zu models could not be read)\n",
+                     views.extra_shapes.size(), furniture.c_str(), skipped.size());
+        for (const auto& why : skipped) std::fprintf(stderr, "  skipped: %s\n", why.c_str());
+      }
+      if (!views.procedural && views.extra_shapes.empty())
+        throw lista::Error("lista-sim views: --no-procedural needs --furniture DIR");
       const auto stats = lista::sim::write_views(views);
       std::printf("views: %zu views of %d objects (%zu shapes), %zu points -> %s\n", stats.views, views.objects,
                   stats.shapes, stats.points, views.out.c_str());

@@ -34,12 +34,13 @@ std::vector<Shape> shape_pool(const ViewsOptions& opt) {
   for (const auto& c : outdoor_classes())
     if (std::find(classes.begin(), classes.end(), c) == classes.end()) classes.push_back(c);
   // About two instances per shape, so the same geometry is seen by several instances.
-  const int procedural = std::max(int(classes.size()), opt.objects / 2);
+  const int procedural = opt.procedural ? std::max(int(classes.size()), opt.objects / 2) : 0;
   std::vector<Shape> pool;
   for (int k = 0; k < procedural; ++k)
     pool.push_back(make_shape(classes[size_t(k) % classes.size()], hash_combine(opt.seed, uint64_t(k)) & 0xFFFFFFFFull));
   for (const auto& s : opt.extra_shapes) pool.push_back(s);
   share_ids_of_identical_geometry(pool);
+  if (pool.empty()) throw Error("lista-sim views: no shapes to draw from (give --furniture DIR or keep the procedural ones)");
   return pool;
 }
 

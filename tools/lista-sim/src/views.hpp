@@ -21,7 +21,8 @@ struct ViewsOptions {
   int threads = 1;
   bool overwrite = false;
   bool progress = false;
-  std::vector<Shape> extra_shapes;  // sweethome3d meshes, if loaded
+  bool procedural = true;            // draw from the procedural classes too
+  std::vector<Shape> extra_shapes;  // sweethome3d meshes (furniture.hpp), if loaded
 };
 
 struct ViewsStats {
