@@ -35,7 +35,7 @@ float parse_float(const std::string& text, const std::string& path, int line) {
 // Splits "key#N" into key and N; false when the key has no entry number.
 bool split_key(const std::string& key, std::string& name, int& number) {
   const size_t hash = key.rfind('#');
-  if (hash == std::string::npos || hash + 1 >= key.size()) return false;
+  if (hash == std::string::npos || hash + 1 >= key.size() || key.size() - hash > 10) return false;
   for (size_t i = hash + 1; i < key.size(); ++i)
     if (!std::isdigit(static_cast<unsigned char>(key[i]))) return false;
   name = key.substr(0, hash);
