@@ -46,7 +46,9 @@ Eigen::Matrix3f yaw_frame(const std::vector<Eigen::Vector3f>& xyz, const Eigen::
 
 }  // namespace
 
-CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& cfg) {
+std::vector<CanonicalCloud> make_canonical_samples(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& cfg,
+                                                  int samples) {
+  if (samples < 1) throw Error("canonical samples must be >= 1");
   if (xyz.empty()) throw Error("cannot describe an object with no points");
   if (cfg.points < 1 || cfg.grid < 1) throw Error("canonical points and grid must be >= 1");
 
@@ -83,25 +85,33 @@ CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const Can
   for (const auto& [k, a] : cells) centres.emplace_back(k, a.sum / float(a.n));
   std::sort(centres.begin(), centres.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
 
-  // Seeded selection of exactly cfg.points cells (cycling if too few).
-  std::vector<uint32_t> order(centres.size());
-  std::iota(order.begin(), order.end(), 0u);
-  std::mt19937_64 rng(cfg.seed);
-  std::shuffle(order.begin(), order.end(), rng);
-
+  // Seeded selections of exactly cfg.points cells (cycling if too few);
+  // selection k uses seed cfg.seed + k, everything above is shared.
   out.points = cfg.points;
-  out.features.resize(size_t(cfg.points) * kCanonicalChannels);
-  for (int i = 0; i < cfg.points; ++i) {
-    const Eigen::Vector3f& p = centres[order[size_t(i) % order.size()]].second;
-    float* f = &out.features[size_t(i) * kCanonicalChannels];
-    f[0] = p.x();
-    f[1] = p.y();
-    f[2] = p.z();
-    f[3] = std::hypot(p.x(), p.y());
-    f[4] = p.norm();
-    f[5] = p.z() - lo.z();
+  std::vector<CanonicalCloud> result(size_t(samples), out);
+  for (int k = 0; k < samples; ++k) {
+    std::vector<uint32_t> order(centres.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::mt19937_64 rng(cfg.seed + uint64_t(k));
+    std::shuffle(order.begin(), order.end(), rng);
+    std::vector<float>& features = result[size_t(k)].features;
+    features.resize(size_t(cfg.points) * kCanonicalChannels);
+    for (int i = 0; i < cfg.points; ++i) {
+      const Eigen::Vector3f& p = centres[order[size_t(i) % order.size()]].second;
+      float* f = &features[size_t(i) * kCanonicalChannels];
+      f[0] = p.x();
+      f[1] = p.y();
+      f[2] = p.z();
+      f[3] = std::hypot(p.x(), p.y());
+      f[4] = p.norm();
+      f[5] = p.z() - lo.z();
+    }
   }
-  return out;
+  return result;
+}
+
+CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& cfg) {
+  return std::move(make_canonical_samples(xyz, cfg, 1).front());
 }
 
 }  // namespace lista::objfeat

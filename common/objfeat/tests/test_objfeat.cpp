@@ -115,6 +115,25 @@ TEST(Canonical, FewPointsAreRepeatedAndEmptyIsAnError) {
   EXPECT_THROW(make_canonical(std::vector<Eigen::Vector3f>{}, CanonicalConfig{}), lista::Error);
 }
 
+// Several selections share the frame and cells: element k is exactly the
+// single cloud made with seed + k.
+TEST(Canonical, SamplesAreTheSingleCloudsOfTheirSeeds) {
+  std::vector<Eigen::Vector3f> pts = box_faces(1.2f, 0.5f, 0.8f, 0.4f, 3);
+  CanonicalConfig cfg;
+  cfg.points = 64;
+  const auto many = make_canonical_samples(pts, cfg, 3);
+  ASSERT_EQ(many.size(), 3u);
+  for (int k = 0; k < 3; ++k) {
+    CanonicalConfig one = cfg;
+    one.seed = cfg.seed + uint64_t(k);
+    const CanonicalCloud c = make_canonical(pts, one);
+    EXPECT_EQ(many[size_t(k)].features, c.features) << k;
+    EXPECT_EQ(many[size_t(k)].globals, c.globals) << k;
+  }
+  EXPECT_NE(many[0].features, many[1].features);
+  EXPECT_THROW(make_canonical_samples(pts, cfg, 0), lista::Error);
+}
+
 TEST(Retrieval, PerfectAndShuffledLabels) {
   Rows x(6, 2);
   x << 0, 0, 0.1f, 0, 5, 5, 5.1f, 5, 10, 0, 10.1f, 0;

@@ -66,10 +66,11 @@ class LearnedStage : public Stage {
     std::vector<std::thread> pool;
     for (int t = 0; t < threads; ++t)
       pool.emplace_back([&, t] {
-        for (size_t i = size_t(t); i < n; i += size_t(threads))
-          for (size_t k = 0; k < S; ++k)
-            clouds[i * S + k] =
-                objfeat::make_canonical(objects.objects[i].points.xyz, objfeat::canonical_config(cfg, kSelectionSeed + k));
+        for (size_t i = size_t(t); i < n; i += size_t(threads)) {
+          auto samples = objfeat::make_canonical_samples(objects.objects[i].points.xyz,
+                                                         objfeat::canonical_config(cfg, kSelectionSeed), samples_);
+          std::move(samples.begin(), samples.end(), clouds.begin() + ptrdiff_t(i * S));
+        }
       });
     for (auto& th : pool) th.join();
 

@@ -66,5 +66,11 @@ struct CanonicalCloud {
 
 // Throws lista::Error for an empty input or non-positive sizes.
 CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& config);
+// `samples` clouds of one object that differ only in the cell selection
+// (step 4, seeds config.seed + k); steps 1-3 and 5 are done once. Element k
+// equals make_canonical with seed config.seed + k. Throws as make_canonical,
+// and for samples < 1.
+std::vector<CanonicalCloud> make_canonical_samples(const std::vector<Eigen::Vector3f>& xyz,
+                                                  const CanonicalConfig& config, int samples);
 
 }  // namespace lista::objfeat
