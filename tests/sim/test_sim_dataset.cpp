@@ -217,6 +217,29 @@ TEST(SimDataset, ViewsModeWritesIndexAndClouds) {
   EXPECT_EQ(clouds, 12u);
 }
 
+// No shapes to draw from is an error that leaves the folder's views alone,
+// --overwrite or not; so are a furniture folder without a catalogue and one
+// without a usable model.
+TEST(SimDataset, ViewsWithoutShapesFailAndKeepOldViews) {
+  const fs::path dir = temp_root() / "views-kept";
+  ASSERT_EQ(simulate("views --objects 2 --views-per-object 1 --seed 5 --out " + dir.string()), 0);
+  const std::string index = slurp(dir / "index.json");
+  EXPECT_NE(simulate("views --objects 2 --no-procedural --overwrite --out " + dir.string()), 0);
+  EXPECT_NE(simulate("views --objects 2 --furniture " + (temp_root() / "no-such-shapes").string() +
+                     " --overwrite --out " + dir.string()),
+            0);
+  // A catalogue whose only entry is a door gives no usable shape.
+  const fs::path doors = temp_root() / "doors-only";
+  fs::create_directories(doors);
+  std::ofstream(doors / "PluginFurnitureCatalog.properties")
+      << "id#1=door\nmodel#1=/door.obj\nwidth#1=90\ndepth#1=5\nheight#1=200\ndoorOrWindow#1=true\n";
+  EXPECT_NE(simulate("views --objects 2 --no-procedural --furniture " + doors.string() + " --overwrite --out " +
+                     dir.string()),
+            0);
+  EXPECT_EQ(slurp(dir / "index.json"), index);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "views"), fs::directory_iterator{}), 2);
+}
+
 // Multi-sweep views merge sweeps along a pass: same objects and splits, more
 // of each object seen.
 TEST(SimDataset, ViewsMergeSweepsAlongAPass) {

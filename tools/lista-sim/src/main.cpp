@@ -108,8 +108,6 @@ int main(int argc, char** argv) {
                      views.extra_shapes.size(), furniture.c_str(), skipped.size());
         for (const auto& why : skipped) std::fprintf(stderr, "  skipped: %s\n", why.c_str());
       }
-      if (!views.procedural && views.extra_shapes.empty())
-        throw lista::Error("lista-sim views: --no-procedural needs --furniture DIR");
       const auto stats = lista::sim::write_views(views);
       std::printf("views: %zu views of %d objects (%zu shapes), %zu points -> %s\n", stats.views, views.objects,
                   stats.shapes, stats.points, views.out.c_str());

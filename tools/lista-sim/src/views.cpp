@@ -40,7 +40,7 @@ std::vector<Shape> shape_pool(const ViewsOptions& opt) {
     pool.push_back(make_shape(classes[size_t(k) % classes.size()], hash_combine(opt.seed, uint64_t(k)) & 0xFFFFFFFFull));
   for (const auto& s : opt.extra_shapes) pool.push_back(s);
   share_ids_of_identical_geometry(pool);
-  if (pool.empty()) throw Error("lista-sim views: no shapes to draw from (give --furniture DIR or keep the procedural ones)");
+  if (pool.empty()) throw Error("lista-sim views: no shapes to draw from (--no-procedural needs --furniture DIR with usable models)");
   return pool;
 }
 
@@ -68,6 +68,8 @@ ViewsStats write_views(const ViewsOptions& opt) {
   if (opt.out.empty()) throw Error("lista-sim views: --out is required");
   if (opt.objects < 1 || opt.views_per_object < 1 || opt.scans_per_view < 1)
     throw Error("lista-sim views: --objects, --views-per-object and --scans-per-view must be >= 1");
+  // The pool first: an unusable shape set must not cost the folder's old views.
+  const std::vector<Shape> pool = shape_pool(opt);
   const fs::path root(opt.out);
   if (fs::exists(root / "index.json") || fs::exists(root / "views")) {
     if (!opt.overwrite) throw Error("lista-sim views: " + opt.out + " already holds views (pass --overwrite)");
@@ -76,7 +78,6 @@ ViewsStats write_views(const ViewsOptions& opt) {
   }
   fs::create_directories(root / "views");
 
-  const std::vector<Shape> pool = shape_pool(opt);
   nlohmann::json index;
   index["format"] = "lista-views/1";
   index["seed"] = opt.seed;
