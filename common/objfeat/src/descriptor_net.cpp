@@ -68,10 +68,10 @@ torch::Tensor describe_clouds(DescriptorNet& net, const std::vector<CanonicalClo
   const long n = long(end - begin);
   torch::Tensor x = torch::empty({n, c.points, c.in});
   torch::Tensor g = torch::empty({n, std::max(c.globals, 1)});
+  if (c.in > kCanonicalChannels) throw Error("describe_clouds: the network reads more channels than canonical.hpp makes");
   for (size_t i = begin; i < end; ++i) {
     const CanonicalCloud& cc = clouds[i];
-    if (cc.points != c.points || cc.features.size() != size_t(c.points) * size_t(kCanonicalChannels) ||
-        c.in > kCanonicalChannels)
+    if (cc.points != c.points || cc.features.size() != size_t(c.points) * size_t(kCanonicalChannels))
       throw Error("describe_clouds: a cloud was not made with the network's canonical configuration");
     // The first c.in channels of every point.
     float* dst = x.data_ptr<float>() + (i - begin) * size_t(c.points * c.in);

@@ -14,8 +14,8 @@
 //     patches do not dominate, one centroid per occupied cell;
 //  4. pick exactly `points` cells with a seeded shuffle (repeat cells when
 //     there are fewer), in cell-key order so the result does not depend on
-//     the input order's relation to the frame;
-//     (each cell: the channels below);
+//     the input order's relation to the frame (each picked cell gives the
+//     per-point channels below);
 //  5. shape globals from all points (not only the picked cells): the
 //     extents along the canonical axes and the centroid's height above the
 //     lowest point, the sizes the resampling would blur.
