@@ -3,6 +3,7 @@
 #include "footprint.hpp"
 #include "furniture.hpp"
 #include "layout.hpp"
+#include "look_alikes.hpp"
 #include "presets.hpp"
 #include "raycaster.hpp"
 #include "scanner.hpp"
@@ -71,6 +72,53 @@ TEST(Shapes, IdenticalGeometryIsOneShape) {
   for (const auto& s : shapes)
     for (const auto& t : shapes)
       if (s.id == t.id) EXPECT_EQ(s.mesh.vertices, t.mesh.vertices) << s.id;
+}
+
+// Surfaces within a tolerance: a box against the same box grown by 5 mm on
+// every side is within 1 cm but not within 2 mm; a 4 cm bump on one face
+// is not within 3 cm; a panel 4-5 cm inside (bounds unchanged) is not
+// within 3 cm but is within 6 cm.
+TEST(LookAlikes, SurfacesWithinToleranceIsASymmetricHausdorffBound) {
+  TriMesh box, grown, bumped;
+  box.add_box({-0.5f, -0.3f, 0.0f}, {0.5f, 0.3f, 0.8f});
+  grown.add_box({-0.505f, -0.305f, -0.005f}, {0.505f, 0.305f, 0.805f});
+  EXPECT_TRUE(surfaces_within(box, grown, 0.01f));
+  EXPECT_TRUE(surfaces_within(grown, box, 0.01f));
+  EXPECT_FALSE(surfaces_within(box, grown, 0.002f));
+  bumped = box;
+  bumped.add_box({-0.05f, 0.3f, 0.3f}, {0.05f, 0.308f, 0.4f});  // 8 mm bump: within 1 cm
+  EXPECT_TRUE(surfaces_within(box, bumped, 0.01f));
+  bumped = box;
+  bumped.add_box({-0.05f, 0.3f, 0.3f}, {0.05f, 0.34f, 0.4f});  // 4 cm bump in the middle of a side
+  EXPECT_FALSE(surfaces_within(box, bumped, 0.03f));
+  EXPECT_TRUE(surfaces_within(box, bumped, 0.045f));
+  TriMesh dent = box;  // a panel 4 cm inside the box: bounds unchanged, the surface far from it
+  dent.add_box({-0.3f, -0.26f, 0.2f}, {0.3f, -0.25f, 0.6f});
+  EXPECT_FALSE(surfaces_within(box, dent, 0.03f));
+  EXPECT_TRUE(surfaces_within(box, dent, 0.06f));
+  EXPECT_FALSE(surfaces_within(box, TriMesh{}, 1.0f));
+}
+
+// Look-alikes join the first kept shape within tolerance, never a chain:
+// boxes 1.5 cm apart in height share an id, the third (3 cm from the first,
+// 1.5 cm from the second) keeps its own; tolerance 0 merges nothing.
+TEST(LookAlikes, ShapesJoinTheFirstKeptShapeWithinTolerance) {
+  auto box_shape = [](const std::string& id, float height) {
+    Shape s;
+    s.id = id;
+    s.mesh.add_box({-0.4f, -0.4f, 0.0f}, {0.4f, 0.4f, height});
+    return s;
+  };
+  std::vector<Shape> shapes = {box_shape("a", 1.0f), box_shape("b", 1.015f), box_shape("c", 1.03f),
+                               box_shape("d", 1.5f)};
+  std::vector<Shape> strict = shapes;
+  share_ids_of_look_alikes(shapes, 0.02f);
+  EXPECT_EQ(shapes[0].id, "a");
+  EXPECT_EQ(shapes[1].id, "a");
+  EXPECT_EQ(shapes[2].id, "c");
+  EXPECT_EQ(shapes[3].id, "d");
+  share_ids_of_look_alikes(strict, 0.0f);
+  for (size_t i = 0; i < strict.size(); ++i) EXPECT_EQ(strict[i].id, std::string(1, char('a' + i)));
 }
 
 // A Sweet Home 3D catalogue as fetch-shapes.sh unpacks it: an L-shaped

@@ -88,6 +88,11 @@ int main(int argc, char** argv) {
   views_cmd->add_option("--seed", views.seed, "random seed");
   views_cmd->add_option("--threads", views.threads, "worker threads")->check(CLI::PositiveNumber);
   views_cmd->add_flag("--overwrite", views.overwrite, "replace views already in --out");
+  views_cmd
+      ->add_option("--look-alike-tolerance", views.look_alike_tolerance,
+                   "shapes whose surfaces lie within this many metres of each other share one id (0: only identical "
+                   "meshes do)")
+      ->check(CLI::Range(0.0f, 1.0f));
   std::string furniture;
   views_cmd->add_option("--furniture", furniture,
                         "also draw Sweet Home 3D furniture from this folder (tools/fetch-shapes.sh DIR unpacks it)");

@@ -1,5 +1,6 @@
 #include "views.hpp"
 
+#include "look_alikes.hpp"
 #include "raycaster.hpp"
 #include "rng.hpp"
 #include "scanner.hpp"
@@ -29,7 +30,9 @@ std::string split_of(const std::string& shape_id) {
   return h < 8 ? "train" : (h == 8 ? "val" : "test");
 }
 
-std::vector<Shape> shape_pool(const ViewsOptions& opt) {
+// The shapes to draw from; `variants` receives each one's own id before
+// identical meshes and look-alikes are given one.
+std::vector<Shape> shape_pool(const ViewsOptions& opt, std::vector<std::string>& variants) {
   std::vector<std::string> classes = indoor_classes();
   for (const auto& c : outdoor_classes())
     if (std::find(classes.begin(), classes.end(), c) == classes.end()) classes.push_back(c);
@@ -39,7 +42,9 @@ std::vector<Shape> shape_pool(const ViewsOptions& opt) {
   for (int k = 0; k < procedural; ++k)
     pool.push_back(make_shape(classes[size_t(k) % classes.size()], hash_combine(opt.seed, uint64_t(k)) & 0xFFFFFFFFull));
   for (const auto& s : opt.extra_shapes) pool.push_back(s);
+  for (const auto& s : pool) variants.push_back(s.id);
   share_ids_of_identical_geometry(pool);
+  share_ids_of_look_alikes(pool, opt.look_alike_tolerance);
   if (pool.empty()) throw Error("lista-sim views: no shapes to draw from (--no-procedural needs --furniture DIR with usable models)");
   return pool;
 }
@@ -69,7 +74,8 @@ ViewsStats write_views(const ViewsOptions& opt) {
   if (opt.objects < 1 || opt.views_per_object < 1 || opt.scans_per_view < 1)
     throw Error("lista-sim views: --objects, --views-per-object and --scans-per-view must be >= 1");
   // The pool first: an unusable shape set must not cost the folder's old views.
-  const std::vector<Shape> pool = shape_pool(opt);
+  std::vector<std::string> variants;
+  const std::vector<Shape> pool = shape_pool(opt, variants);
   const fs::path root(opt.out);
   if (fs::exists(root / "index.json") || fs::exists(root / "views")) {
     if (!opt.overwrite) throw Error("lista-sim views: " + opt.out + " already holds views (pass --overwrite)");
@@ -81,6 +87,7 @@ ViewsStats write_views(const ViewsOptions& opt) {
   nlohmann::json index;
   index["format"] = "lista-views/1";
   index["seed"] = opt.seed;
+  index["look_alike_tolerance"] = opt.look_alike_tolerance;
   index["frame"] =
       "object: origin at the centre of the footprint on the floor, z up (gravity), x/y along the shape's own axes";
   nlohmann::json shapes = nlohmann::json::array(), views = nlohmann::json::array();
@@ -130,6 +137,7 @@ ViewsStats write_views(const ViewsOptions& opt) {
       views.push_back({{"file", name},
                        {"instance", inst + 1},
                        {"shape", shape.id},
+                       {"variant", variants[si]},
                        {"class", shape.cls},
                        {"sensor", sensor_name},
                        {"viewpoint", {T.translation().x(), T.translation().y(), T.translation().z()}},
