@@ -5,11 +5,13 @@
 #include <lista_io/report.hpp>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <unistd.h>
@@ -215,6 +217,34 @@ TEST(SimDataset, ViewsModeWritesIndexAndClouds) {
     ++clouds;
   }
   EXPECT_EQ(clouds, 12u);
+}
+
+// Look-alikes share one shape id by default; --look-alike-tolerance 0 keeps
+// them apart. The same views either way, each keeping the generator's own
+// id as its variant, and one variant is always one shape.
+TEST(SimDataset, ViewsGiveLookAlikesOneShapeId) {
+  const fs::path merged = temp_root() / "views-merged", strict = temp_root() / "views-strict";
+  const std::string common = "views --objects 300 --views-per-object 1 --seed 3 --out ";
+  ASSERT_EQ(simulate(common + merged.string()), 0);
+  ASSERT_EQ(simulate(common + strict.string() + " --look-alike-tolerance 0"), 0);
+  auto read = [](const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "index.json")); };
+  const nlohmann::json m = read(merged), s = read(strict);
+  EXPECT_DOUBLE_EQ(m.at("look_alike_tolerance").get<double>(), 0.02);
+  EXPECT_DOUBLE_EQ(s.at("look_alike_tolerance").get<double>(), 0.0);
+  ASSERT_EQ(m.at("views").size(), s.at("views").size());
+  std::map<std::string, std::string> shape_of_variant;
+  std::set<std::string> merged_shapes, strict_shapes;
+  for (size_t i = 0; i < m.at("views").size(); ++i) {
+    const auto &a = m["views"][i], &b = s["views"][i];
+    EXPECT_EQ(a.at("variant"), b.at("variant"));
+    EXPECT_EQ(a.at("points"), b.at("points"));
+    const auto [it, fresh] = shape_of_variant.emplace(a.at("variant"), a.at("shape"));
+    if (!fresh) EXPECT_EQ(it->second, a.at("shape").get<std::string>());
+    merged_shapes.insert(a.at("shape"));
+    strict_shapes.insert(b.at("shape"));
+  }
+  EXPECT_LT(merged_shapes.size(), strict_shapes.size()) << "300 objects hold look-alike barrels and tanks";
+  EXPECT_NE(simulate("views --objects 2 --look-alike-tolerance -1 --out " + (temp_root() / "views-neg").string()), 0);
 }
 
 // No shapes to draw from is an error that leaves the folder's views alone,

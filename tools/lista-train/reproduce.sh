@@ -15,11 +15,12 @@ sim="${LISTA_SIM:-$build/bin/lista-sim}"
 for exe in "$sim" "$build/bin/lista-train"; do
   [[ -x "$exe" ]] || { echo "reproduce.sh: $exe not built" >&2; exit 1; }
 done
-# Procedural objects: 600 instances (225 shapes, 36 held out by the
-# simulator's val/test split) x 8 partial views from random viewpoints and
+# Procedural objects: 600 instances (198 shape ids once identical meshes and
+# look-alikes within 2 cm share one, 35 held out by the simulator's val/test
+# split) x 8 partial views from random viewpoints and
 # sensors, once as single sweeps and once as 5 sweeps merged along a pass
 # (what a mission map holds of an object). Real furniture: 600 instances of
-# the Sweet Home 3D models (339 of 472 drawn, 62 held out), the same two
+# the Sweet Home 3D models (339 of 472 drawn, 338 ids, 62 held out), the same two
 # ways; tools/fetch-shapes.sh downloads Debian's sweethome3d-furniture into
 # $LISTA_SHAPES_DIR (default ~/.cache/lista/shapes) once. The network trains
 # on all four folders as one set.

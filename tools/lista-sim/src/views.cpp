@@ -44,7 +44,7 @@ std::vector<Shape> shape_pool(const ViewsOptions& opt, std::vector<std::string>&
   for (const auto& s : opt.extra_shapes) pool.push_back(s);
   for (const auto& s : pool) variants.push_back(s.id);
   share_ids_of_identical_geometry(pool);
-  share_ids_of_look_alikes(pool, opt.look_alike_tolerance);
+  share_ids_of_look_alikes(pool, static_cast<float>(opt.look_alike_tolerance));
   if (pool.empty()) throw Error("lista-sim views: no shapes to draw from (--no-procedural needs --furniture DIR with usable models)");
   return pool;
 }

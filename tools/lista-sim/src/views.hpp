@@ -26,7 +26,7 @@ struct ViewsOptions {
   // (look_alikes.hpp). 2 cm: above the simulated range noise (1-1.5 cm), so a
   // merged pair differs by less than a sweep resolves; the generator's own id
   // stays in each view's "variant".
-  float look_alike_tolerance = 0.02f;
+  double look_alike_tolerance = 0.02;
   bool procedural = true;            // draw from the procedural classes too
   std::vector<Shape> extra_shapes;  // sweethome3d meshes (furniture.hpp), if loaded
 };
