@@ -38,6 +38,7 @@ struct Row {
   int dim = 0;
   double median_ms = 0, p95_ms = 0;
   objfeat::RetrievalScores scores;
+  double variant_top1 = 0;  // top-1 with the generator's own ids (look-alikes apart)
   objfeat::Rows values;   // one descriptor row per view
 };
 
@@ -65,7 +66,8 @@ ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed) {
   return set;
 }
 
-Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std::vector<int>& labels) {
+Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std::vector<int>& labels,
+               const std::vector<int>& variants) {
   auto stage = s.factory(Params::defaults(s.info.params));
   Row row;
   row.plugin = s.info.name;
@@ -91,6 +93,7 @@ Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std:
   row.median_ms = percentile(ms, 0.5);
   row.p95_ms = percentile(ms, 0.95);
   row.scores = objfeat::score_retrieval(values, labels, 1);
+  row.variant_top1 = labels == variants ? row.scores.top1 : objfeat::score_retrieval(values, variants, 1).top1;
   row.values = values;
   return row;
 }
@@ -124,26 +127,34 @@ int main(int argc, char** argv) {
     if (all_splits || views_dir.empty()) test = all;
     else objfeat::split_by_shape(all, 0.2, seed, train, test);
     if (max_views > 0 && int(test.views.size()) > max_views) test.views.resize(size_t(max_views));
-    std::vector<int> labels;
-    std::map<int, int> per_label;
-    for (const auto& v : test.views) { labels.push_back(v.label); ++per_label[v.label]; }
+    std::vector<int> labels, variants;
+    std::map<int, int> per_label, per_variant;
+    for (const auto& v : test.views) {
+      labels.push_back(v.label);
+      variants.push_back(v.variant);
+      ++per_label[v.label];
+      ++per_variant[v.variant];
+    }
     ObjectSet objects = posed_objects(test, seed);
     std::fprintf(stderr, "%zu objects (views) of %zu shapes\n", objects.objects.size(), per_label.size());
 
     std::vector<Row> rows;
-    for (const auto& name : plugins) rows.push_back(run_plugin(bench::load_stage(plugin_dir, name), objects, labels));
+    for (const auto& name : plugins)
+      rows.push_back(run_plugin(bench::load_stage(plugin_dir, name), objects, labels, variants));
 
-    std::printf("objects: %zu views of %zu shapes, random yaw + offset per view (seed %llu)\n\n",
-                objects.objects.size(), per_label.size(), (unsigned long long)seed);
-    std::printf("| plugin | dim | median ms/object | p95 ms/object | top-1 | mAP | purity |\n");
-    std::printf("|---|---:|---:|---:|---:|---:|---:|\n");
+    std::printf("objects: %zu views of %zu shapes (%zu variants before look-alikes were merged), random yaw + "
+                "offset per view (seed %llu)\n\n",
+                objects.objects.size(), per_label.size(), per_variant.size(), (unsigned long long)seed);
+    std::printf("| plugin | dim | median ms/object | p95 ms/object | top-1 | mAP | purity | top-1, variants |\n");
+    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
     nlohmann::json j = nlohmann::json::array();
     for (const auto& r : rows) {
-      std::printf("| %s | %d | %.2f | %.2f | %.3f | %.3f | %.3f |\n", r.plugin.c_str(), r.dim, r.median_ms, r.p95_ms,
-                  r.scores.top1, r.scores.map, r.scores.purity);
+      std::printf("| %s | %d | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f |\n", r.plugin.c_str(), r.dim, r.median_ms,
+                  r.p95_ms, r.scores.top1, r.scores.map, r.scores.purity, r.variant_top1);
       j.push_back({{"plugin", r.plugin}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
                    {"top1", r.scores.top1}, {"map", r.scores.map}, {"purity", r.scores.purity},
-                   {"objects", objects.objects.size()}, {"shapes", per_label.size()}});
+                   {"top1_variants", r.variant_top1}, {"objects", objects.objects.size()},
+                   {"shapes", per_label.size()}, {"variants", per_variant.size()}});
     }
     // Top-1 by view size (points in the view).
     const std::vector<std::pair<size_t, size_t>> bins = {{0, 64}, {65, 299}, {300, 1499}, {1500, SIZE_MAX}};
@@ -172,7 +183,14 @@ int main(int argc, char** argv) {
       for (auto& e : j)
         if (e["plugin"] == r.plugin) e["top1_by_view_size"] = by_size;
     }
-    if (!json_out.empty()) std::ofstream(json_out) << j.dump(1) << "\n";
+    if (!json_out.empty()) {
+      {
+        std::ofstream out(json_out + ".tmp");
+        out << j.dump(1) << "\n";
+        if (!out) throw Error("cannot write " + json_out + ".tmp");
+      }
+      std::filesystem::rename(json_out + ".tmp", json_out);
+    }
     if (!rows_dir.empty()) {
       std::filesystem::create_directories(rows_dir);
       for (const auto& r : rows) {

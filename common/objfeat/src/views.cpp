@@ -14,7 +14,7 @@ ViewSet synthetic_views(int shapes, int per_instance, uint64_t seed) {
     Shape shape = random_shape(rng);
     for (int v = 0; v < per_instance; ++v) {
       View view;
-      view.label = view.instance = s;
+      view.label = view.variant = view.instance = s;
       view.points.xyz = render_view(shape, 0.f, {0.f, 0.f}, rng);
       view.points.scan.assign(view.points.size(), 0);
       view.points.index.resize(view.points.size());

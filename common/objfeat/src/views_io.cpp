@@ -14,8 +14,10 @@ namespace lista::objfeat {
 namespace {
 
 // Appends one folder's views; `labels` numbers shapes across folders, so one
-// shape id is one label in every folder (ids name the geometry).
-void append_views(const std::string& folder, std::map<std::string, int>& labels, ViewSet& out) {
+// shape id is one label in every folder (ids name the geometry); `variants`
+// numbers the generator's own ids the same way.
+void append_views(const std::string& folder, std::map<std::string, int>& labels, std::map<std::string, int>& variants,
+                  ViewSet& out) {
   namespace fs = std::filesystem;
   const fs::path index_path = fs::path(folder) / "index.json";
   std::ifstream in(index_path);
@@ -31,7 +33,9 @@ void append_views(const std::string& folder, std::map<std::string, int>& labels,
   try {
     for (const auto& v : index.at("views")) {
       View view;
-      view.label = labels.emplace(v.at("shape").get<std::string>(), int(labels.size())).first->second;
+      const std::string shape = v.at("shape").get<std::string>();
+      view.label = labels.emplace(shape, int(labels.size())).first->second;
+      view.variant = variants.emplace(v.value("variant", shape), int(variants.size())).first->second;
       view.instance = v.at("instance").get<int>();
       view.split = v.value("split", "train") == "train" ? 0 : 1;
       view.points = io::read_scan((fs::path(folder) / v.at("file").get<std::string>()).string()).points;
@@ -52,8 +56,8 @@ ViewSet read_views(const std::string& folder) { return read_views(std::vector<st
 ViewSet read_views(const std::vector<std::string>& folders) {
   if (folders.empty()) throw Error("no views folder given");
   ViewSet out;
-  std::map<std::string, int> labels;
-  for (const auto& f : folders) append_views(f, labels, out);
+  std::map<std::string, int> labels, variants;
+  for (const auto& f : folders) append_views(f, labels, variants, out);
   return out;
 }
 

@@ -14,8 +14,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+struct ViewEntry {
+  std::string shape, split, variant;  // variant: written only when not empty
+};
+
 // A views folder whose views are named by shape and split (3 points each).
-fs::path write_folder(const std::string& name, const std::vector<std::pair<std::string, std::string>>& views) {
+fs::path write_folder(const std::string& name, const std::vector<ViewEntry>& views) {
   const fs::path dir = fs::temp_directory_path() / ("lista_views_io_" + std::to_string(::getpid())) / name;
   fs::create_directories(dir / "views");
   std::string list;
@@ -25,7 +29,8 @@ fs::path write_folder(const std::string& name, const std::vector<std::pair<std::
     const std::string file = "views/" + std::to_string(i) + ".pcd";
     lista::io::write_scan_pcd((dir / file).string(), p, lista::io::PcdEncoding::binary);
     list += std::string(i ? "," : "") + "{\"file\": \"" + file + "\", \"instance\": " + std::to_string(i + 1) +
-            ", \"shape\": \"" + views[i].first + "\", \"split\": \"" + views[i].second + "\"}";
+            ", \"shape\": \"" + views[i].shape + "\", \"split\": \"" + views[i].split + "\"" +
+            (views[i].variant.empty() ? "" : ", \"variant\": \"" + views[i].variant + "\"") + "}";
   }
   std::ofstream(dir / "index.json") << "{\"format\": \"lista-views/1\", \"views\": [" << list << "]}";
   return dir;
@@ -43,6 +48,23 @@ TEST(ReadViews, ShapesKeepOneLabelAcrossFolders) {
   EXPECT_EQ(set.views[1].split, 1);
   EXPECT_EQ(set.views[3].split, 1);  // val is held out too
   EXPECT_EQ(lista::objfeat::read_views(a.string()).views.size(), 2u);
+  fs::remove_all(a.parent_path());
+}
+
+// Look-alike variants share a label but keep their own variant number; views
+// without a variant (older folders) count as their shape's own.
+TEST(ReadViews, VariantsNumberTheGeneratorsOwnIds) {
+  const fs::path a = write_folder("v", {{"barrel-1", "test", "barrel-1"},
+                                        {"barrel-1", "test", "barrel-4"},
+                                        {"barrel-1", "test", "barrel-4"},
+                                        {"crate-2", "test"}});
+  const lista::objfeat::ViewSet set = lista::objfeat::read_views(a.string());
+  ASSERT_EQ(set.views.size(), 4u);
+  EXPECT_EQ(set.views[0].label, set.views[1].label);
+  EXPECT_NE(set.views[0].variant, set.views[1].variant);
+  EXPECT_EQ(set.views[1].variant, set.views[2].variant);
+  EXPECT_NE(set.views[3].variant, set.views[0].variant);
+  EXPECT_NE(set.views[3].variant, set.views[1].variant);
   fs::remove_all(a.parent_path());
 }
 

@@ -15,6 +15,8 @@ namespace lista::objfeat {
 
 struct View {
   int label = 0;    // identity for metric learning and retrieval (the shape)
+  int variant = 0;  // the generator's own shape before look-alikes were merged
+                    // (index.json "variant"; equals the shape where absent)
   int instance = 0; // object instance in the data set
   int split = -1;   // -1: unassigned, 0: training, 1: held out (given by the data set)
   PointSet points;  // object frame

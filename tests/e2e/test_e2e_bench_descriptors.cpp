@@ -1,0 +1,48 @@
+// lista-bench-descriptors as a user runs it: on a small `lista-sim views`
+// folder it describes every held-out view, writes the table and a JSON file
+// whose numbers are scores, and it refuses a folder that is not there.
+#include "e2e_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+
+using nlohmann::json;
+
+TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
+  e2e::TempDir dir("bench_descriptors");
+  const std::string views = (dir.path() / "views").string(), out = (dir.path() / "esf.json").string();
+  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 120 --views-per-object 3 --seed 2 --out " +
+                            views + " 2>&1");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  const auto bench = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
+                              " --plugins describe.esf --json " + out + " 2>&1");
+  ASSERT_EQ(bench.status, 0) << bench.output;
+  EXPECT_NE(bench.output.find("| describe.esf | 640 |"), std::string::npos) << bench.output;
+
+  size_t held_out = 0;
+  const json index = json::parse(e2e::read_file(views + "/index.json"));
+  for (const auto& v : index.at("views"))
+    held_out += v.at("split").get<std::string>() != "train" && v.at("points").get<int>() > 0;
+  const json rows = json::parse(e2e::read_file(out));
+  ASSERT_EQ(rows.size(), 1u);
+  const json& r = rows[0];
+  EXPECT_EQ(r.at("plugin"), "describe.esf");
+  EXPECT_EQ(r.at("objects").get<size_t>(), held_out);
+  EXPECT_GE(r.at("variants").get<int>(), r.at("shapes").get<int>());
+  for (const char* key : {"top1", "map", "purity", "top1_variants"}) {
+    EXPECT_GT(r.at(key).get<double>(), 0.0) << key;  // ESF tells some shapes apart
+    EXPECT_LE(r.at(key).get<double>(), 1.0) << key;
+  }
+  EXPECT_GT(r.at("median_ms").get<double>(), 0.0);
+  EXPECT_GE(r.at("p95_ms").get<double>(), r.at("median_ms").get<double>());
+  EXPECT_FALSE(std::filesystem::exists(out + ".tmp"));
+}
+
+TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
+  const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views /nonexistent/views 2>&1");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("/nonexistent/views/index.json: not found"), std::string::npos) << r.output;
+}
