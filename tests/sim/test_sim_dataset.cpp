@@ -220,8 +220,8 @@ TEST(SimDataset, ViewsModeWritesIndexAndClouds) {
 }
 
 // Look-alikes share one shape id by default; --look-alike-tolerance 0 keeps
-// them apart. The same views either way, each keeping the generator's own
-// id as its variant, and one variant is always one shape.
+// them apart (then shape == variant). The same views either way, each
+// keeping its distinct mesh's id as variant, and one variant is one shape.
 TEST(SimDataset, ViewsGiveLookAlikesOneShapeId) {
   const fs::path merged = temp_root() / "views-merged", strict = temp_root() / "views-strict";
   const std::string common = "views --objects 300 --views-per-object 1 --seed 3 --out ";
@@ -238,6 +238,7 @@ TEST(SimDataset, ViewsGiveLookAlikesOneShapeId) {
     const auto &a = m["views"][i], &b = s["views"][i];
     EXPECT_EQ(a.at("variant"), b.at("variant"));
     EXPECT_EQ(a.at("points"), b.at("points"));
+    EXPECT_EQ(b.at("shape"), b.at("variant"));  // tolerance 0: every distinct mesh its own id
     const auto [it, fresh] = shape_of_variant.emplace(a.at("variant"), a.at("shape"));
     if (!fresh) EXPECT_EQ(it->second, a.at("shape").get<std::string>());
     merged_shapes.insert(a.at("shape"));

@@ -30,8 +30,8 @@ std::string split_of(const std::string& shape_id) {
   return h < 8 ? "train" : (h == 8 ? "val" : "test");
 }
 
-// The shapes to draw from; `variants` receives each one's own id before
-// identical meshes and look-alikes are given one.
+// The shapes to draw from; `variants` receives each one's id once identical
+// meshes share one, before look-alikes do (one variant = one distinct mesh).
 std::vector<Shape> shape_pool(const ViewsOptions& opt, std::vector<std::string>& variants) {
   std::vector<std::string> classes = indoor_classes();
   for (const auto& c : outdoor_classes())
@@ -42,8 +42,8 @@ std::vector<Shape> shape_pool(const ViewsOptions& opt, std::vector<std::string>&
   for (int k = 0; k < procedural; ++k)
     pool.push_back(make_shape(classes[size_t(k) % classes.size()], hash_combine(opt.seed, uint64_t(k)) & 0xFFFFFFFFull));
   for (const auto& s : opt.extra_shapes) pool.push_back(s);
-  for (const auto& s : pool) variants.push_back(s.id);
   share_ids_of_identical_geometry(pool);
+  for (const auto& s : pool) variants.push_back(s.id);
   share_ids_of_look_alikes(pool, static_cast<float>(opt.look_alike_tolerance));
   if (pool.empty()) throw Error("lista-sim views: no shapes to draw from (--no-procedural needs --furniture DIR with usable models)");
   return pool;

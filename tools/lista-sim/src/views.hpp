@@ -24,7 +24,7 @@ struct ViewsOptions {
   // Shapes whose surfaces lie within this distance (metres, symmetric
   // Hausdorff) share one id, the label descriptors are scored and trained on
   // (look_alikes.hpp). 2 cm: above the simulated range noise (1-1.5 cm), so a
-  // merged pair differs by less than a sweep resolves; the generator's own id
+  // merged pair differs by less than a sweep resolves; the distinct mesh's id
   // stays in each view's "variant".
   double look_alike_tolerance = 0.02;
   bool procedural = true;            // draw from the procedural classes too
