@@ -82,6 +82,20 @@ std::string first_line(const std::string& what) {
   return s;
 }
 
+// toml11 3.7 reports a syntax error's column as 1; its message draws a
+// caret under the real one ("   |       ^--- here"). Column of the first
+// caret, else `fallback`.
+int caret_column(const std::string& what, int fallback) {
+  std::istringstream lines(what);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t bar = line.find(" | "), caret = line.find('^');
+    if (bar == std::string::npos || caret == std::string::npos || caret < bar + 3) continue;
+    if (line.find_first_not_of(' ', bar + 3) != caret) continue;
+    return int(caret - (bar + 3)) + 1;
+  }
+  return fallback;
+}
+
 void parse_settings(const toml::value& table, PipelineSpec& spec, Diagnostics& d) {
   const std::string& file = spec.file;
   for (const auto& [key, v] : table.as_table()) {
@@ -198,7 +212,7 @@ PipelineSpec parse_stream(std::istream& in, const std::string& file, Diagnostics
   } catch (const toml::syntax_error& e) {
     const auto& loc = e.location();
     throw Error("TOML syntax error: " + first_line(e.what()))
-        .at({file, static_cast<int>(loc.line()), static_cast<int>(loc.column())});
+        .at({file, static_cast<int>(loc.line()), caret_column(e.what(), static_cast<int>(loc.column()))});
   } catch (const toml::exception& e) {
     const auto& loc = e.location();
     throw Error("invalid TOML: " + first_line(e.what()))
