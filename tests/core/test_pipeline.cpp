@@ -154,6 +154,15 @@ TEST(Pipeline, AllErrorsAreCollected) {
   EXPECT_EQ(errors[2].where.line, 6);
 }
 
+// toml11 keeps tables in a hash map; messages still follow the file.
+TEST(Pipeline, ErrorsComeInFileOrder) {
+  const auto errors = errors_of("[pipeline]\nzz = 1\naa = 2\nthreads = \"x\"\nmm = 3\n"
+                                "[stages.b]\nplugin = \"nope.b\"\n[stages.a]\nplugin = \"nope.a\"\n");
+  ASSERT_EQ(errors.size(), 6u);
+  for (size_t i = 1; i < errors.size(); ++i)
+    EXPECT_LT(errors[i - 1].where.line, errors[i].where.line) << errors[i - 1].message << " / " << errors[i].message;
+}
+
 TEST(Pipeline, SyntaxErrorHasLineAndColumn) {
   Diagnostics d;
   try {

@@ -4,9 +4,11 @@
 
 #include <toml.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <regex>
 #include <sstream>
+#include <tuple>
 
 namespace lista::core {
 
@@ -82,6 +84,18 @@ std::string first_line(const std::string& what) {
   return s;
 }
 
+// A table's entries in the order the file has them (toml11 keeps a hash
+// map), so diagnostics come out line by line.
+std::vector<std::pair<const std::string*, const toml::value*>> in_file_order(const toml::value& table) {
+  std::vector<std::pair<const std::string*, const toml::value*>> out;
+  for (const auto& [key, v] : table.as_table()) out.emplace_back(&key, &v);
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    const auto la = a.second->location(), lb = b.second->location();
+    return std::make_tuple(la.line(), la.column(), *a.first) < std::make_tuple(lb.line(), lb.column(), *b.first);
+  });
+  return out;
+}
+
 // toml11 3.7 reports a syntax error's column as 1; its message draws a
 // caret under the real one ("   |       ^--- here"). Column of the first
 // caret, else `fallback`.
@@ -98,7 +112,9 @@ int caret_column(const std::string& what, int fallback) {
 
 void parse_settings(const toml::value& table, PipelineSpec& spec, Diagnostics& d) {
   const std::string& file = spec.file;
-  for (const auto& [key, v] : table.as_table()) {
+  for (const auto& [key_ptr, v_ptr] : in_file_order(table)) {
+    const std::string& key = *key_ptr;
+    const toml::value& v = *v_ptr;
     const SourceLocation at = where(v, file);
     auto need = [&](bool ok, const char* type) {
       if (!ok) d.error(at, "", "[pipeline] " + key + " must be " + type + ", got " + toml_type_name(v));
@@ -132,7 +148,9 @@ void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& 
   s.id = id;
   s.where = where(table, file);
   if (!valid_id(id)) d.error(s.where, id, "stage id '" + id + "' must be letters, digits, '_' or '-' (no dots)");
-  for (const auto& [key, v] : table.as_table()) {
+  for (const auto& [key_ptr, v_ptr] : in_file_order(table)) {
+    const std::string& key = *key_ptr;
+    const toml::value& v = *v_ptr;
     const SourceLocation at = where(v, file);
     if (key == "plugin") {
       if (!v.is_string()) d.error(at, id, std::string("plugin must be a string, got ") + toml_type_name(v));
@@ -142,7 +160,9 @@ void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& 
         d.error(at, id, "inputs must be a table such as inputs = { missions = \"read.missions\" }");
         continue;
       }
-      for (const auto& [port, ref] : v.as_table()) {
+      for (const auto& [port_ptr, ref_ptr] : in_file_order(v)) {
+        const std::string& port = *port_ptr;
+        const toml::value& ref = *ref_ptr;
         const SourceLocation ref_at = where(ref, file);
         if (!ref.is_string()) {
           d.error(ref_at, id, "input '" + port + "' must be a string \"<stage>.<port>\"");
@@ -179,7 +199,9 @@ void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& 
 PipelineSpec from_toml(const toml::value& root, const std::string& file, Diagnostics& d) {
   PipelineSpec spec;
   spec.file = file;
-  for (const auto& [key, v] : root.as_table()) {
+  for (const auto& [key_ptr, v_ptr] : in_file_order(root)) {
+    const std::string& key = *key_ptr;
+    const toml::value& v = *v_ptr;
     const SourceLocation at = where(v, file);
     if (key == "pipeline") {
       if (!v.is_table()) d.error(at, "", "[pipeline] must be a table");
@@ -189,7 +211,9 @@ PipelineSpec from_toml(const toml::value& root, const std::string& file, Diagnos
         d.error(at, "", "stages must be tables [stages.<id>]");
         continue;
       }
-      for (const auto& [id, table] : v.as_table()) {
+      for (const auto& [id_ptr, table_ptr] : in_file_order(v)) {
+        const std::string& id = *id_ptr;
+        const toml::value& table = *table_ptr;
         if (!table.is_table()) d.error(where(table, file), id, "stages." + id + " must be a table [stages." + id + "]");
         else parse_stage(id, table, spec, d);
       }
