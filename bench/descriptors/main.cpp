@@ -12,6 +12,7 @@
 
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>
+#include <lista_core/pipeline.hpp>
 #include <lista_objfeat/retrieval.hpp>
 #include <lista_objfeat/views.hpp>
 
@@ -66,9 +67,40 @@ ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed) {
   return set;
 }
 
+// `--set describe.learned.samples=8`: one parameter of one plugin.
+struct Setting {
+  std::string text, plugin, param;
+  core::Override parsed;  // its value, parsed as the pipeline's --set parses it
+};
+
+Setting parse_setting(const std::string& text) {
+  const size_t eq = text.find('='), dot = text.substr(0, eq).rfind('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot == 0)
+    throw Error("--set '" + text + "' is not of the form <plugin>.<param>=<value> (e.g. describe.learned.samples=8)");
+  Setting s{text, text.substr(0, dot), text.substr(dot + 1, eq - dot - 1), core::parse_override("x.y=" + text.substr(eq + 1))};
+  return s;
+}
+
+// The plugin's defaults with the settings that name it; a setting for an
+// undeclared parameter or with a value the declaration refuses is an error.
+Params params_of(const StageInfo& info, const std::vector<Setting>& settings) {
+  Params params = Params::defaults(info.params);
+  for (const auto& s : settings) {
+    if (s.plugin != info.name) continue;
+    const ParamSpec* spec = info.param(s.param);
+    if (!spec) throw Error("--set " + s.text + ": " + info.name + " has no parameter '" + s.param + "'");
+    if (!s.parsed.value) throw Error("--set " + s.text + ": " + s.parsed.problem);
+    ParamValue v = *s.parsed.value;
+    if (std::string why = spec->check(v); !why.empty()) throw Error("--set " + s.text + ": '" + s.param + "' " + why);
+    if (spec->type == ParamType::real && v.index() == 1) v = double(std::get<int64_t>(v));
+    params.set(s.param, std::move(v));
+  }
+  return params;
+}
+
 Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std::vector<int>& labels,
-               const std::vector<int>& variants) {
-  auto stage = s.factory(Params::defaults(s.info.params));
+               const std::vector<int>& variants, const Params& params) {
+  auto stage = s.factory(params);
   Row row;
   row.plugin = s.info.name;
   objfeat::Rows values;
@@ -104,6 +136,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Compare describe.* plugins: time per object, top-1, mAP, cluster purity"};
   std::string views_dir, plugin_dir = LISTA_PLUGIN_DIR, json_out, rows_dir;
   std::vector<std::string> plugins = {"describe.learned", "describe.esf", "describe.rift", "describe.shot"};
+  std::vector<std::string> set_texts;
   int synthetic = 0, max_views = 0;
   bool all_splits = false;
   uint64_t seed = 7;
@@ -113,6 +146,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-views", max_views, "use at most this many views (first ones), 0 = all");
   app.add_option("--plugins", plugins, "stages to compare")->delimiter(',');
   app.add_option("--plugin-dir", plugin_dir, "folder of the plugin libraries");
+  app.add_option("--set", set_texts, "<plugin>.<param>=<value>: a parameter other than the default (repeatable)");
   app.add_option("--seed", seed, "seed of the random poses");
   app.add_option("--json", json_out, "also write the results as JSON");
   app.add_option("--rows", rows_dir,
@@ -120,6 +154,12 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   try {
+    std::vector<Setting> settings;
+    for (const auto& t : set_texts) {
+      settings.push_back(parse_setting(t));
+      if (std::find(plugins.begin(), plugins.end(), settings.back().plugin) == plugins.end())
+        throw Error("--set " + t + ": '" + settings.back().plugin + "' is not among the plugins compared");
+    }
     objfeat::ViewSet all, train, test;
     if (!views_dir.empty()) all = objfeat::read_views(views_dir);
     else if (synthetic > 0) all = objfeat::synthetic_views(synthetic, 4, seed);
@@ -139,12 +179,21 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%zu objects (views) of %zu shapes\n", objects.objects.size(), per_label.size());
 
     std::vector<Row> rows;
-    for (const auto& name : plugins)
-      rows.push_back(run_plugin(bench::load_stage(plugin_dir, name), objects, labels, variants));
+    // Every plugin loaded and every setting checked before the first one runs.
+    std::vector<std::pair<bench::LoadedStage, Params>> stages;
+    for (const auto& name : plugins) {
+      bench::LoadedStage stage = bench::load_stage(plugin_dir, name);
+      Params params = params_of(stage.info, settings);
+      stages.emplace_back(std::move(stage), std::move(params));
+    }
+    for (const auto& [stage, params] : stages)
+      rows.push_back(run_plugin(stage, objects, labels, variants, params));
 
-    std::printf("objects: %zu views of %zu shapes (%zu variants before look-alikes were merged), random yaw + "
+    std::printf("objects: %zu views of %zu shapes (%zu distinct meshes), random yaw + "
                 "offset per view (seed %llu)\n\n",
                 objects.objects.size(), per_label.size(), per_variant.size(), (unsigned long long)seed);
+    for (const auto& st : settings) std::printf("--set %s\n", st.text.c_str());
+    if (!settings.empty()) std::printf("\n");
     std::printf("| plugin | dim | median ms/object | p95 ms/object | top-1 | mAP | purity | top-1, variants |\n");
     std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
     nlohmann::json j = nlohmann::json::array();
@@ -155,6 +204,8 @@ int main(int argc, char** argv) {
                    {"top1", r.scores.top1}, {"map", r.scores.map}, {"purity", r.scores.purity},
                    {"top1_variants", r.variant_top1}, {"objects", objects.objects.size()},
                    {"shapes", per_label.size()}, {"variants", per_variant.size()}});
+      for (const auto& st : settings)
+        if (st.plugin == r.plugin) j.back()["set"].push_back(st.text);
     }
     // Top-1 by view size (points in the view).
     const std::vector<std::pair<size_t, size_t>> bins = {{0, 64}, {65, 299}, {300, 1499}, {1500, SIZE_MAX}};

@@ -18,7 +18,7 @@ TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
                             views + " 2>&1");
   ASSERT_EQ(sim.status, 0) << sim.output;
   const auto bench = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
-                              " --plugins describe.esf --json " + out + " 2>&1");
+                              " --plugins describe.esf,describe.shot --set describe.shot.voxel=0.05 --json " + out + " 2>&1");
   ASSERT_EQ(bench.status, 0) << bench.output;
   EXPECT_NE(bench.output.find("| describe.esf | 640 |"), std::string::npos) << bench.output;
 
@@ -27,7 +27,7 @@ TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
   for (const auto& v : index.at("views"))
     held_out += v.at("split").get<std::string>() != "train" && v.at("points").get<int>() > 0;
   const json rows = json::parse(e2e::read_file(out));
-  ASSERT_EQ(rows.size(), 1u);
+  ASSERT_EQ(rows.size(), 2u);
   const json& r = rows[0];
   EXPECT_EQ(r.at("plugin"), "describe.esf");
   EXPECT_EQ(r.at("objects").get<size_t>(), held_out);
@@ -39,6 +39,22 @@ TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
   EXPECT_GT(r.at("median_ms").get<double>(), 0.0);
   EXPECT_GE(r.at("p95_ms").get<double>(), r.at("median_ms").get<double>());
   EXPECT_FALSE(std::filesystem::exists(out + ".tmp"));
+  EXPECT_FALSE(r.contains("set")) << "the setting names describe.shot only";
+  ASSERT_TRUE(rows[1].contains("set")) << rows[1].dump();
+  EXPECT_EQ(rows[1].at("set"), json::array({"describe.shot.voxel=0.05"}));
+
+  // A parameter the plugin does not declare, a value out of range or of the
+  // wrong type, a plugin not compared, a malformed setting: an error before
+  // any plugin runs, and no JSON.
+  for (const std::string& bad : {"describe.esf.nope=1", "describe.shot.voxel=5", "describe.shot.voxel=dense",
+                                 "describe.learned.samples=2", "esf=3"}) {
+    const std::string json_bad = (dir.path() / "bad.json").string();
+    const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
+                            " --plugins describe.esf,describe.shot --json " + json_bad + " --set " + bad + " 2>&1");
+    EXPECT_NE(r.status, 0) << bad;
+    EXPECT_NE(r.output.find("--set"), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(json_bad)) << bad;
+  }
 }
 
 TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
