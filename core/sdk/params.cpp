@@ -93,12 +93,8 @@ std::string ParamSpec::check(const ParamValue& v) const {
     return std::string("must be ") + to_string(type) + ", got " + to_string(got) + " " + to_string(v);
   auto in_range = [&](double x) -> std::string {
     if (!std::isfinite(x) && (min || max)) return "must be finite, got " + number(x);
-    if ((min && x < *min) || (max && x > *max)) {
-      std::string r = min && max ? "in [" + number(*min) + ", " + number(*max) + "]"
-                      : min      ? ">= " + number(*min)
-                                 : "<= " + number(*max);
-      return "must be " + r + ", got " + to_string(v);
-    }
+    if ((min && x < *min) || (max && x > *max))
+      return "must be " + std::string(min && max ? "in " : "") + range_text() + ", got " + to_string(v);
     return {};
   };
   if (got == ParamType::integer) return in_range(double(std::get<int64_t>(v)));
@@ -118,6 +114,18 @@ std::string ParamSpec::check(const ParamValue& v) const {
   if (got == ParamType::text_list)
     for (const auto& s : std::get<std::vector<std::string>>(v))
       if (auto e = allowed(s); !e.empty()) return e;
+  return {};
+}
+
+std::string ParamSpec::range_text() const {
+  // An integer parameter's bounds read as integers, so the message matches what may be written.
+  auto bound = [&](double x) {
+    return type == ParamType::integer && std::isfinite(x) && x == std::floor(x) ? std::to_string(int64_t(x))
+                                                                              : number(x);
+  };
+  if (min && max) return "[" + bound(*min) + ", " + bound(*max) + "]";
+  if (min) return ">= " + bound(*min);
+  if (max) return "<= " + bound(*max);
   return {};
 }
 

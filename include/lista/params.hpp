@@ -48,6 +48,10 @@ struct ParamSpec {
   // Empty if `v` is acceptable, else what is wrong ("must be in [0, 1], got 3").
   // An integer is accepted where a real is declared (converted).
   std::string check(const ParamValue& v) const;
+
+  // The bounds as written in TOML for this type ("[1, 64]" for an integer,
+  // "[0.0, 1.0]" for a float, ">= 0.5"); empty if unbounded.
+  std::string range_text() const;
 };
 
 // The resolved parameters of one stage instance: every declared parameter has

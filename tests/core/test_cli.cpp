@@ -122,6 +122,7 @@ TEST(Cli, ListAndDescribePlugins) {
   const auto text = lista_run("--describe test.source");
   EXPECT_EQ(text.code, 0);
   EXPECT_NE(text.out.find("scale : float = 1.0 m  range [0.001, 1000.0]"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("missions : int = 2  range [1, 100]"), std::string::npos) << text.out;
   const auto json = lista_run("--describe test.source --json");
   EXPECT_EQ(json.code, 0);
   EXPECT_NE(json.out.find("\"choices\": [\n        \"fast\",\n        \"exact\"\n      ]"), std::string::npos) << json.out;

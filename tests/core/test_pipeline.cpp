@@ -92,7 +92,8 @@ TEST(Pipeline, WrongParameterType) {
 
 TEST(Pipeline, OutOfRangeAndChoices) {
   expect_one_error(source + "\nscale = 5000.0\n", 4, "[0.001, 1000");
-  expect_one_error(source + "missions = 0\n", 3, "must be in");
+  // An integer's bounds read as integers, as they would be written.
+  expect_one_error(source + "missions = 0\n", 3, "must be in [1, 100], got 0");
   expect_one_error(source + "weights = [1.0, -2.0]\n", 3, ">= 0");
   expect_one_error(source + "mode = \"slow\"\n", 3, "must be one of");
 }

@@ -31,14 +31,6 @@ json ports_json(const std::vector<lista::PortSpec>& ports, bool inputs) {
   return out;
 }
 
-std::string range_text(const lista::ParamSpec& p) {
-  auto num = [](double x) { return lista::to_string(lista::ParamValue(x)); };
-  if (p.min && p.max) return "[" + num(*p.min) + ", " + num(*p.max) + "]";
-  if (p.min) return ">= " + num(*p.min);
-  if (p.max) return "<= " + num(*p.max);
-  return "";
-}
-
 json diagnostic_json(const lista::core::Diagnostic& d) {
   return json{{"file", d.where.file}, {"line", d.where.line}, {"column", d.where.column},
               {"stage", d.stage}, {"message", d.message}};
@@ -82,7 +74,7 @@ std::string describe_text(const lista::core::RegisteredStage& stage) {
   for (const auto& p : info.params) {
     os << "  " << p.name << " : " << lista::to_string(p.type) << " = " << lista::to_string(p.default_value);
     if (!p.unit_.empty()) os << " " << p.unit_;
-    if (auto r = range_text(p); !r.empty()) os << "  range " << r;
+    if (auto r = p.range_text(); !r.empty()) os << "  range " << r;
     if (!p.choices.empty()) {
       os << "  one of";
       for (const auto& c : p.choices) os << " " << c;
