@@ -194,16 +194,40 @@ TEST(MatchWeighted, WeightedGateAndGroups) {
   g.confidence = {1, 1};
   g.group_confidence = {1, 1};
   g.count = 2;
-  // Soft: the cross-group penalty pushes the only pair over the default gate.
-  EXPECT_EQ(run_stage(s, {}, &g).find(a)->status, ChangeStatus::removed);
-  // Without the penalty it is the only candidate and is taken.
-  EXPECT_EQ(run_stage(s, {{"group_penalty", 0.0}}, &g).find(a)->status, ChangeStatus::moved);
+  // Soft: a group never vetoes a pair the gates accept; the only candidate
+  // is taken across groups, whatever the penalty, and costs the penalty more.
+  const Matches soft = run_stage(s, {}, &g);
+  EXPECT_EQ(soft.find(a)->status, ChangeStatus::moved);
+  const Matches no_penalty = run_stage(s, {{"group_penalty", 0.0}}, &g);
+  EXPECT_EQ(no_penalty.find(a)->status, ChangeStatus::moved);
+  EXPECT_NEAR(soft.find(a)->cost - no_penalty.find(a)->cost, 0.5, 1e-9);
+  // The gate still judges the pair itself: a tight max_cost refuses it.
+  EXPECT_EQ(run_stage(s, {{"max_cost", 0.01}}, &g).find(a)->status, ChangeStatus::removed);
   // Hard forbids it whatever the penalty; ignore drops groups.
   EXPECT_EQ(run_stage(s, {{"group_mode", std::string("hard")}, {"group_penalty", 0.0}}, &g).find(a)->status,
             ChangeStatus::removed);
   EXPECT_EQ(run_stage(s, {{"group_mode", std::string("ignore")}}, &g).find(a)->status, ChangeStatus::moved);
   // Descriptor gate in descriptor units: chair vs table are sqrt(2) apart.
   EXPECT_EQ(run_stage(s, {{"max_descriptor_distance", 1.0}}).find(a)->status, ChangeStatus::removed);
+}
+
+TEST(MatchWeighted, SoftGroupsDecideBetweenRivals) {
+  // Two look-alike candidates: the nearer one is in another group.
+  Scene s;
+  s.objects.missions = {"A", "B"};
+  const int a = s.add(0, {0, 0, 0}, chair);
+  const int near_other_group = s.add(1, {1, 0, 0}, chair);
+  const int far_same_group = s.add(1, {2, 0, 0}, chair);
+  Groups g;
+  g.object_ids = {a, near_other_group, far_same_group};
+  g.group = {0, 1, 0};
+  g.confidence = {1, 1, 1};
+  g.group_confidence = {1, 1};
+  g.count = 2;
+  EXPECT_EQ(run_stage(s, {}, &g).find(a)->match, far_same_group);
+  EXPECT_EQ(run_stage(s, {{"group_mode", std::string("ignore")}}, &g).find(a)->match, near_other_group);
+  // The loser is left unpaired: an addition.
+  EXPECT_EQ(run_stage(s, {}, &g).find(near_other_group)->status, ChangeStatus::added);
 }
 
 TEST(MatchWeighted, HistoryAcrossThreeMissions) {

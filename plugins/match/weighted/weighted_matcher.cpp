@@ -19,6 +19,7 @@ using BoolMatrix = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
 
 struct PairCosts {
   Eigen::MatrixXd physical, descriptor, shape, weighted;
+  Eigen::MatrixXd cross;  // the group penalty part of `weighted`
   BoolMatrix allowed;
 };
 
@@ -71,7 +72,7 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
   pc.physical.resize(n, m);
   pc.descriptor.resize(n, m);
   pc.allowed.setConstant(n, m, true);
-  Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(n, m);
+  pc.cross = Eigen::MatrixXd::Zero(n, m);
   std::vector<Eigen::Vector3d> size_a, size_b;
   if (cfg.max_size_change > 0.0) {
     for (const Object* o : a) size_a.push_back(size_of(*o));
@@ -95,7 +96,7 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
         const int ga = groups->group_of(a[i]->id), gb = groups->group_of(b[j]->id);
         const bool same = ga >= 0 && ga == gb;
         if (!same && cfg.group_mode == "hard") ok = false;
-        if (!same) cross(i, j) = cfg.group_penalty;
+        if (!same) pc.cross(i, j) = cfg.group_penalty;
       }
       pc.allowed(i, j) = ok;
     }
@@ -127,7 +128,7 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
   Eigen::MatrixXd p = pc.physical, d = pc.descriptor;
   normalise(p, pc.allowed, cfg.normalization);
   normalise(d, pc.allowed, cfg.normalization, desc_scale);
-  pc.weighted = cfg.alpha * p + cfg.beta * d + cfg.shape_weight * pc.shape + cross;
+  pc.weighted = cfg.alpha * p + cfg.beta * d + cfg.shape_weight * pc.shape + pc.cross;
   return pc;
 }
 
@@ -185,12 +186,17 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
     }
     if (a.empty() || b.empty()) continue;
     PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale, fit);
+    // The gate judges a pair without its group penalty: in soft mode a group
+    // only decides between rival partners and never vetoes a pair the gates
+    // accept (k-means may split one object's full and partial views).
     for (int i = 0; i < pc.allowed.rows(); ++i)
       for (int j = 0; j < pc.allowed.cols(); ++j)
-        if (pc.weighted(i, j) > max_cost) pc.allowed(i, j) = false;
+        if (pc.weighted(i, j) - pc.cross(i, j) > max_cost) pc.allowed(i, j) = false;
     // A pair is used only if it costs less than leaving both alone; leaving
-    // costs just above the gate so that a pair exactly at the gate still counts.
-    const double leave = max_cost * (1.0 + 1e-9) + 1e-12;
+    // costs just above the gate plus the penalty, so that an accepted pair,
+    // even across groups and exactly at the gate, still counts.
+    const double penalty = cfg.group_mode == "soft" ? std::max(0.0, cfg.group_penalty) : 0.0;
+    const double leave = (max_cost + penalty) * (1.0 + 1e-9) + 1e-12;
     const std::vector<int> assigned = assign_with_gate(pc.weighted, pc.allowed, leave);
     std::vector<int> col_owner(b.size(), -1);
     for (size_t i = 0; i < a.size(); ++i)
