@@ -18,13 +18,14 @@
 int main(int argc, char** argv) {
   CLI::App app{"lista-eval: score a LiSTA run against ground truth (data contract, section 3)"};
   std::string dataset, run, truth_out;
-  bool json = false;
+  bool json = false, objects = false;
   int threads = int(std::max(1u, std::thread::hardware_concurrency()));
   app.add_option("--dataset", dataset, "dataset folder with ground_truth.json")->required();
   auto* run_opt = app.add_option("--run", run, "run output folder (report.json, changes/)");
   auto* truth_opt = app.add_option("--truth", truth_out, "write the perfect run from ground truth into this folder");
   run_opt->excludes(truth_opt);
-  app.add_flag("--json", json, "print the scores as JSON");
+  app.add_flag("--json", json, "print the scores as JSON (per-object verdicts included)");
+  app.add_flag("--objects", objects, "also list every truly changed object: its report, status, match and verdict");
   app.add_option("-j,--threads", threads, "threads for reading the dataset")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   if (run.empty() && truth_out.empty()) {
@@ -44,7 +45,7 @@ int main(int argc, char** argv) {
     const lista::io::Report report = lista::io::read_report(report_path);
     const lista::eval::Truth truth = lista::eval::load_truth(dataset, report.missions, threads);
     const lista::eval::Score score = lista::eval::score_run(truth, run);
-    std::cout << (json ? lista::eval::format_json(score) : lista::eval::format_table(score));
+    std::cout << (json ? lista::eval::format_json(score) : lista::eval::format_table(score, objects));
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "lista-eval: error: " << e.what() << "\n";

@@ -20,7 +20,7 @@ nlohmann::ordered_json jnum(double v) { return std::isnan(v) ? nlohmann::ordered
 
 }  // namespace
 
-std::string format_table(const Score& s) {
+std::string format_table(const Score& s, bool objects) {
   std::string out;
   char line[256];
   const PointScore& p = s.points;
@@ -42,6 +42,21 @@ std::string format_table(const Score& s) {
     out += line;
   }
   out += "  (t_err_m, r_err_deg: medians over correctly matched moved objects)\n";
+  if (objects) {
+    out += "per truly changed object (report -1: none paired; match: the report's / the right one)\n";
+    std::snprintf(line, sizeof line, "  %-12s %6s %-16s %-8s %7s %6s %5s %-8s %13s  %s\n", "mission", "truth",
+                  "class", "status", "points", "report", "iou", "reported", "match", "verdict");
+    out += line;
+    for (const auto& v : s.verdicts) {
+      const std::string match = v.truth_status == "moved"
+          ? std::to_string(v.report_match) + " / " + std::to_string(v.expected_match) : "-";
+      std::snprintf(line, sizeof line, "  %-12s %6u %-16.16s %-8s %7zu %6d %5s %-8s %13s  %s\n", v.mission.c_str(),
+                    v.truth_id, v.class_name.c_str(), v.truth_status.c_str(), v.truth_points, v.report_id,
+                    v.report_id >= 0 ? num(v.iou, "%.2f").c_str() : "-",
+                    v.report_id >= 0 ? v.report_status.c_str() : "-", match.c_str(), v.verdict.c_str());
+      out += line;
+    }
+  }
   if (!s.alignment.empty()) {
     out += "alignment (ATE RMSE of sensor positions, first mission's frame)\n";
     for (const auto& a : s.alignment) {
@@ -78,6 +93,20 @@ std::string format_json(const Score& s) {
                        {"rotation_error_deg", {{"median", jnum(median(o.rotation_error_deg))},
                                                {"mean", jnum(mean(o.rotation_error_deg))}}}});
   j["objects"] = objects;
+  json verdicts = json::array();
+  for (const auto& v : s.verdicts)
+    verdicts.push_back({{"mission", v.mission},
+                        {"truth_id", v.truth_id},
+                        {"class", v.class_name},
+                        {"truth_status", v.truth_status},
+                        {"truth_points", v.truth_points},
+                        {"report_id", v.report_id},
+                        {"iou", v.iou},
+                        {"report_status", v.report_status},
+                        {"report_match", v.report_match},
+                        {"expected_match", v.expected_match},
+                        {"verdict", v.verdict}});
+  j["object_verdicts"] = verdicts;
   json align = json::array();
   for (const auto& a : s.alignment)
     align.push_back({{"mission", a.mission}, {"scans", a.scans}, {"ate_rmse_m", jnum(a.ate_rmse_m)}});

@@ -7,7 +7,8 @@
 
 namespace lista::eval {
 
-std::string format_table(const Score& s);
+// `objects`: add one line per truly changed object and mission (ObjectVerdict).
+std::string format_table(const Score& s, bool objects = false);
 std::string format_json(const Score& s);
 
 }  // namespace lista::eval

@@ -88,6 +88,62 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? kUndefined : std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
 }
 
+namespace {
+
+std::vector<ObjectVerdict> verdicts(const Truth& truth, const std::map<std::pair<size_t, uint32_t>, int>& report_of,
+                                    const std::map<std::pair<size_t, uint32_t>, double>& pair_iou,
+                                    const std::map<int, uint32_t>& truth_of,
+                                    const std::map<int, const io::ReportObject*>& by_id) {
+  std::vector<ObjectVerdict> out;
+  const size_t nm = truth.labels.size();
+  for (size_t k = 0; k < nm; ++k) {
+    const std::string& m = truth.labels[k].name;
+    for (const auto& [id, st] : truth.status) {
+      auto it = st.find(m);
+      auto pts = truth.labels[k].points_per_label.find(id);
+      if (it == st.end() || pts == truth.labels[k].points_per_label.end()) continue;
+      ObjectVerdict v;
+      v.mission = m;
+      v.truth_id = id;
+      if (const io::TruthObject* o = truth.object(id)) v.class_name = o->class_name;
+      v.truth_status = it->second;
+      v.truth_points = pts->second;
+      if (auto r = report_of.find({k, id}); r != report_of.end()) {
+        v.report_id = r->second;
+        v.iou = pair_iou.at({k, id});
+        const io::ReportObject& rep = *by_id.at(r->second);
+        v.report_status = rep.status;
+        v.report_match = rep.match;
+      }
+      // The same object's report in another compared mission (the next one
+      // first, as a report's match names), if paired.
+      bool seen_elsewhere = false;
+      std::vector<size_t> others;
+      for (size_t j = k + 1; j < nm; ++j) others.push_back(j);
+      for (size_t j = k; j-- > 0;) others.push_back(j);
+      for (size_t j : others) {
+        if (!st.count(truth.labels[j].name) || !truth.labels[j].points_per_label.count(id)) continue;
+        seen_elsewhere = true;
+        if (auto r = report_of.find({j, id}); r != report_of.end() && v.expected_match < 0) v.expected_match = r->second;
+      }
+      auto names_same_object = [&](int match) {
+        auto t = truth_of.find(match);
+        return t != truth_of.end() && t->second == id && by_id.at(match)->mission != m;
+      };
+      const bool moved = v.truth_status == "moved" && seen_elsewhere;
+      if (v.report_id < 0) v.verdict = "missed";
+      else if (v.report_status != v.truth_status) v.verdict = "status";
+      else if (moved && v.expected_match < 0) v.verdict = "partner missed";
+      else if (moved && !names_same_object(v.report_match)) v.verdict = "match";
+      else v.verdict = "ok";
+      out.push_back(std::move(v));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 Score score_run(const Truth& truth, const std::string& run_dir) {
   const std::string report_path = (std::filesystem::path(run_dir) / "report.json").string();
   if (!std::filesystem::exists(report_path)) throw Error(report_path + ": missing");
@@ -122,6 +178,7 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
   std::map<std::pair<size_t, uint32_t>, int> report_of;  // (mission, true id) -> reported id
   std::map<int, uint32_t> truth_of;                      // reported id -> true id
   std::map<int, const io::ReportObject*> by_id;
+  std::map<std::pair<size_t, uint32_t>, double> pair_iou;
   for (const auto& o : report.objects) by_id[o.id] = &o;
   for (size_t k = 0; k < nm; ++k) {
     const std::string& m = truth.labels[k].name;
@@ -151,6 +208,7 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
       if (truth_of.count(c.rep) || report_of.count({k, c.id})) continue;
       truth_of[c.rep] = c.id;
       report_of[{k, c.id}] = c.rep;
+      pair_iou[{k, c.id}] = c.iou;
       ++os.paired;
       if (by_id[c.rep]->status == truth.status.at(c.id).at(m)) ++os.status_correct;
     }
@@ -193,6 +251,8 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
       os.rotation_error_deg.push_back(rot);
     }
   }
+  score.verdicts = verdicts(truth, report_of, pair_iou, truth_of, by_id);
+
   ObjectScore all;
   all.mission = "all";
   for (const auto& os : score.objects) {

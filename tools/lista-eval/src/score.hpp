@@ -36,6 +36,26 @@ struct ObjectScore {
   double match_accuracy() const;
 };
 
+// What became of one truly changed object in one mission: which report it
+// was paired with and whether status and match are right. For finding out
+// why a run scores as it does (lista-eval --objects).
+struct ObjectVerdict {
+  std::string mission;
+  uint32_t truth_id = 0;
+  std::string class_name;
+  std::string truth_status;  // moved / removed / added
+  size_t truth_points = 0;   // the object's points in this mission
+  int report_id = -1;        // -1: no report paired (IoU <= 0.5)
+  double iou = 0.0;          // of the pair; 0 if none
+  std::string report_status;
+  int expected_match = -1;  // moved: the report paired with the object in the other mission (-1: none)
+  int report_match = -1;
+  // "ok", "missed" (no report paired), "status" (wrong status), "match"
+  // (moved, its match names another report), "partner missed" (moved, the
+  // other view was not paired with any report).
+  std::string verdict;
+};
+
 struct AlignmentScore {
   std::string mission;
   size_t scans = 0;
@@ -47,6 +67,7 @@ struct Score {
   PointScore points;
   std::vector<ObjectScore> objects;  // per mission, then the totals ("all")
   std::vector<AlignmentScore> alignment;  // missions with poses_gt.txt, then "all"
+  std::vector<ObjectVerdict> verdicts;    // per mission, by true id
 };
 
 // Reads <run>/report.json and <run>/changes/<mission>.pcd; throws lista::Error

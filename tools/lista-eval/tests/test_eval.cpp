@@ -1,6 +1,7 @@
 // lista-eval on a hand-made two-mission dataset: perfect run, empty run, a
 // hand-computed run, and runs that break the contract.
 #include "perfect_run.hpp"
+#include "print.hpp"
 #include "score.hpp"
 
 #include <gtest/gtest.h>
@@ -236,6 +237,47 @@ TEST(Eval, HandComputedCase) {
   EXPECT_NEAR(eval::median(all.translation_error_m), 0.05, 1e-9);
   EXPECT_NEAR(eval::mean(all.rotation_error_deg), 5.0, 1e-9);
   EXPECT_NEAR(eval::median(all.rotation_error_deg), 5.0, 1e-9);
+  // Per object: A's 2 and 4 and B's 4 right; B's 3 only at IoU 0.5, missed.
+  ASSERT_EQ(s.verdicts.size(), 4u);
+  const std::vector<std::tuple<std::string, uint32_t, int, std::string>> want{
+      {"A", 2, 0, "ok"}, {"A", 4, 1, "ok"}, {"B", 3, -1, "missed"}, {"B", 4, 2, "ok"}};
+  for (size_t k = 0; k < want.size(); ++k) {
+    const auto& [m, id, rep, verdict] = want[k];
+    EXPECT_EQ(s.verdicts[k].mission, m);
+    EXPECT_EQ(s.verdicts[k].truth_id, id);
+    EXPECT_EQ(s.verdicts[k].report_id, rep);
+    EXPECT_EQ(s.verdicts[k].verdict, verdict);
+  }
+  EXPECT_EQ(s.verdicts[1].class_name, "cart");
+  EXPECT_EQ(s.verdicts[1].truth_points, 4u);
+  EXPECT_DOUBLE_EQ(s.verdicts[1].iou, 0.8);
+  EXPECT_EQ(s.verdicts[1].expected_match, 2);
+  const std::string table = eval::format_table(s, true);
+  EXPECT_NE(table.find("missed"), std::string::npos);
+  EXPECT_EQ(eval::format_table(s).find("missed"), std::string::npos);
+  EXPECT_NE(eval::format_json(s).find("\"object_verdicts\""), std::string::npos);
+}
+
+TEST(Eval, VerdictsNameWrongStatusAndWrongMatch) {
+  const fs::path run = run_dir("verdicts");
+  io::Report r = empty_report();
+  // Removed obj2 called moved; moved obj4 matched in both missions to the
+  // wrong report (3 is the static obj1, 0 is obj2).
+  const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
+  r.objects = {robj(0, "A", "moved", 3, I), robj(1, "A", "moved", 3, I), robj(2, "B", "moved", 0, I),
+               robj(3, "B", "moved", 1, I)};
+  io::write_report((run / "report.json").string(), r);
+  write_changes(run, "A", rows(range(15, 18, 0), range(19, 22, 1)));
+  write_changes(run, "B", rows(range(18, 21, 2), range(10, 13, 3)));
+  const eval::Score s = eval::score_run(truth(), run.string());
+  ASSERT_EQ(s.verdicts.size(), 4u);
+  EXPECT_EQ(s.verdicts[0].verdict, "status");  // A obj2
+  EXPECT_EQ(s.verdicts[1].verdict, "match");   // A obj4 -> 3
+  EXPECT_EQ(s.verdicts[1].report_match, 3);
+  EXPECT_EQ(s.verdicts[1].expected_match, 2);
+  EXPECT_EQ(s.verdicts[2].verdict, "missed");  // B obj3: no report
+  EXPECT_EQ(s.verdicts[3].verdict, "match");   // B obj4 -> 0
+  EXPECT_EQ(s.objects.back().match_accuracy(), 0.0);
 }
 
 TEST(Eval, ContractBreaksGiveOneLineErrorsAndNonZeroExit) {
