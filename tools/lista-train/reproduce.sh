@@ -33,4 +33,4 @@ sh "$root/tools/fetch-shapes.sh" "$shapes" >&2
 "$sim" views --out "$views/furniture-pass" --objects 600 --views-per-object 8 --seed 1 --threads 2 --overwrite \
   --furniture "$shapes" --no-procedural --scans-per-view 5
 "$build/bin/lista-train" --views "$views/single" "$views/pass" "$views/furniture-single" "$views/furniture-pass" \
-  --out "$out" --loss triplet --steps 8000 --eval-every 1000 --seed 1 --threads 1
+  --out "$out" --loss triplet --steps 16000 --eval-every 2000 --seed 1 --threads 1
