@@ -44,16 +44,20 @@ std::string format_table(const Score& s, bool objects) {
   out += "  (t_err_m, r_err_deg: medians over correctly matched moved objects)\n";
   if (objects) {
     out += "per truly changed object (report -1: none paired; match: the report's / the right one)\n";
-    std::snprintf(line, sizeof line, "  %-12s %6s %-16s %-8s %7s %6s %5s %-8s %13s  %s\n", "mission", "truth",
-                  "class", "status", "points", "report", "iou", "reported", "match", "verdict");
+    std::snprintf(line, sizeof line, "  %-12s %6s %-16s %-8s %7s %6s %5s %-8s %13s %8s %9s  %s\n", "mission",
+                  "truth", "class", "status", "points", "report", "iou", "reported", "match", "t_err_m", "r_err_deg",
+                  "verdict");
     out += line;
     for (const auto& v : s.verdicts) {
       const std::string match = v.truth_status == "moved"
           ? std::to_string(v.report_match) + " / " + std::to_string(v.expected_match) : "-";
-      std::snprintf(line, sizeof line, "  %-12s %6u %-16.16s %-8s %7zu %6d %5s %-8s %13s  %s\n", v.mission.c_str(),
-                    v.truth_id, v.class_name.c_str(), v.truth_status.c_str(), v.truth_points, v.report_id,
-                    v.report_id >= 0 ? num(v.iou, "%.2f").c_str() : "-",
-                    v.report_id >= 0 ? v.report_status.c_str() : "-", match.c_str(), v.verdict.c_str());
+      std::snprintf(line, sizeof line, "  %-12s %6u %-16.16s %-8s %7zu %6d %5s %-8s %13s %8s %9s  %s\n",
+                    v.mission.c_str(), v.truth_id, v.class_name.c_str(), v.truth_status.c_str(), v.truth_points,
+                    v.report_id, v.report_id >= 0 ? num(v.iou, "%.2f").c_str() : "-",
+                    v.report_id >= 0 ? v.report_status.c_str() : "-", match.c_str(),
+                    std::isnan(v.translation_error_m) ? "-" : num(v.translation_error_m, "%.3f").c_str(),
+                    std::isnan(v.rotation_error_deg) ? "-" : num(v.rotation_error_deg, "%.1f").c_str(),
+                    v.verdict.c_str());
       out += line;
     }
   }
@@ -105,6 +109,8 @@ std::string format_json(const Score& s) {
                         {"report_status", v.report_status},
                         {"report_match", v.report_match},
                         {"expected_match", v.expected_match},
+                        {"translation_error_m", jnum(v.translation_error_m)},
+                        {"rotation_error_deg", jnum(v.rotation_error_deg)},
                         {"verdict", v.verdict}});
   j["object_verdicts"] = verdicts;
   json align = json::array();

@@ -179,6 +179,7 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
   std::map<int, uint32_t> truth_of;                      // reported id -> true id
   std::map<int, const io::ReportObject*> by_id;
   std::map<std::pair<size_t, uint32_t>, double> pair_iou;
+  std::map<std::pair<size_t, uint32_t>, std::pair<double, double>> motion_error;  // (t m, r deg)
   for (const auto& o : report.objects) by_id[o.id] = &o;
   for (size_t k = 0; k < nm; ++k) {
     const std::string& m = truth.labels[k].name;
@@ -249,9 +250,13 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
       // Translation error at the object's centroid, so it does not grow with the distance to the origin.
       os.translation_error_m.push_back((rep_t * r.centroid - truth_t * r.centroid).norm());
       os.rotation_error_deg.push_back(rot);
+      motion_error[{k, id}] = {os.translation_error_m.back(), rot};
     }
   }
   score.verdicts = verdicts(truth, report_of, pair_iou, truth_of, by_id);
+  for (ObjectVerdict& v : score.verdicts)
+    if (auto e = motion_error.find({truth.mission_index(v.mission), v.truth_id}); e != motion_error.end())
+      std::tie(v.translation_error_m, v.rotation_error_deg) = e->second;
 
   ObjectScore all;
   all.mission = "all";

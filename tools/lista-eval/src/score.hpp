@@ -50,6 +50,8 @@ struct ObjectVerdict {
   std::string report_status;
   int expected_match = -1;  // moved: the report paired with the object in the other mission (-1: none)
   int report_match = -1;
+  // Of a correctly matched move with a transform: its errors, else NaN.
+  double translation_error_m = kUndefined, rotation_error_deg = kUndefined;
   // "ok", "missed" (no report paired), "status" (wrong status), "match"
   // (moved, its match names another report), "partner missed" (moved, the
   // other view was not paired with any report).

@@ -252,6 +252,8 @@ TEST(Eval, HandComputedCase) {
   EXPECT_EQ(s.verdicts[1].truth_points, 4u);
   EXPECT_DOUBLE_EQ(s.verdicts[1].iou, 0.8);
   EXPECT_EQ(s.verdicts[1].expected_match, 2);
+  EXPECT_NEAR(s.verdicts[3].rotation_error_deg, 10.0, 1e-9);  // B's obj4: report 2, the 10 degree turn
+  EXPECT_TRUE(std::isnan(s.verdicts[0].rotation_error_deg));  // removed: no motion
   const std::string table = eval::format_table(s, true);
   EXPECT_NE(table.find("missed"), std::string::npos);
   EXPECT_EQ(eval::format_table(s).find("missed"), std::string::npos);
@@ -275,6 +277,7 @@ TEST(Eval, VerdictsNameWrongStatusAndWrongMatch) {
   EXPECT_EQ(s.verdicts[1].verdict, "match");   // A obj4 -> 3
   EXPECT_EQ(s.verdicts[1].report_match, 3);
   EXPECT_EQ(s.verdicts[1].expected_match, 2);
+  EXPECT_TRUE(std::isnan(s.verdicts[1].rotation_error_deg));  // wrong match: no motion error
   EXPECT_EQ(s.verdicts[2].verdict, "missed");  // B obj3: no report
   EXPECT_EQ(s.verdicts[3].verdict, "match");   // B obj4 -> 0
   EXPECT_EQ(s.objects.back().match_accuracy(), 0.0);
