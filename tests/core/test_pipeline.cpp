@@ -147,6 +147,22 @@ TEST(Pipeline, PipelineSettingsAreChecked) {
   expect_one_error("[stages.\"a.b\"]\nplugin = \"test.source\"\n", 1, "no dots");
 }
 
+TEST(Pipeline, UnknownKeysPointAtTheKeyWrongValuesAtTheValue) {
+  auto only = [](const std::string& toml) {
+    const auto errors = errors_of(toml);
+    EXPECT_EQ(errors.size(), 1u);
+    return errors.empty() ? Diagnostic{} : errors[0];
+  };
+  EXPECT_EQ(only("[pipeline]\n  nmae = \"x\"\n" + source).where.column, 3);
+  const Diagnostic unknown = only(source + "cout   = 5\n");
+  EXPECT_EQ(unknown.where.line, 3);
+  EXPECT_EQ(unknown.where.column, 1);
+  EXPECT_EQ(only(source + "\"cout\" = 5\n").where.column, 1);  // a quoted key: at its quote
+  const Diagnostic wrong = only(source + "missions = 0\n");
+  EXPECT_EQ(wrong.where.line, 3);
+  EXPECT_EQ(wrong.where.column, 12);
+}
+
 TEST(Pipeline, AllErrorsAreCollected) {
   const auto errors = errors_of(source + "cuont = 1\nscale = -1.0\n[stages.x]\nplugin = \"nope.nope\"\n");
   ASSERT_EQ(errors.size(), 3u);

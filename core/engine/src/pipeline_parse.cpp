@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <fstream>
 #include <regex>
+#include <cctype>
 #include <sstream>
 #include <tuple>
 
@@ -20,6 +21,26 @@ SourceLocation where(const toml::value& v, const std::string& file) {
   s.file = file;
   s.line = static_cast<int>(loc.line());
   s.column = static_cast<int>(loc.column());
+  return s;
+}
+
+// The key of a `key = value` line: toml11 3.7 keeps no location for keys,
+// so search the value's line for the key before the value. Falls back to
+// the value's column (dotted or unusual keys).
+SourceLocation key_where(const toml::value& v, const std::string& key, const std::string& file) {
+  SourceLocation s = where(v, file);
+  const std::string line = v.location().line_str();
+  const size_t limit = std::min(line.size(), static_cast<size_t>(std::max(0, s.column - 1)));
+  auto is_key_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; };
+  for (size_t pos = line.rfind(key, limit); pos != std::string::npos && !key.empty();
+       pos = pos == 0 ? std::string::npos : line.rfind(key, pos - 1)) {
+    const size_t end = pos + key.size();
+    if (end > limit || (pos > 0 && is_key_char(line[pos - 1])) || (end < line.size() && is_key_char(line[end])))
+      continue;
+    const bool quoted = pos > 0 && (line[pos - 1] == '"' || line[pos - 1] == '\'');
+    s.column = static_cast<int>(pos) + (quoted ? 0 : 1);
+    return s;
+  }
   return s;
 }
 
@@ -137,7 +158,8 @@ void parse_settings(const toml::value& table, PipelineSpec& spec, Diagnostics& d
         else spec.threads = static_cast<int>(v.as_integer());
       }
     } else {
-      d.error(at, "", "unknown key '" + key + "' in [pipeline] (known: name, seed, threads, dataset, output)");
+      d.error(key_where(v, key, file), "",
+              "unknown key '" + key + "' in [pipeline] (known: name, seed, threads, dataset, output)");
     }
   }
 }
@@ -182,6 +204,7 @@ void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& 
       RawParam p;
       p.name = key;
       p.where = at;
+      p.key_where = key_where(v, key, file);
       p.value = to_param(v, p.problem);
       s.params.push_back(std::move(p));
     }

@@ -37,10 +37,10 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
                       Diagnostics& d) {
   Params params = Params::defaults(info.params);
   auto apply = [&](const std::string& name, const std::optional<ParamValue>& value, const std::string& problem,
-                   const SourceLocation& at, const std::string& origin) {
+                   const SourceLocation& at, const SourceLocation& key_at, const std::string& origin) {
     const ParamSpec* spec = info.param(name);
     if (!spec) {
-      d.error(at, s.id, origin + "unknown parameter '" + name + "' for " + info.name +
+      d.error(key_at, s.id, origin + "unknown parameter '" + name + "' for " + info.name +
                             did_you_mean(name, param_names(info)) + "; known: " + list_or_none(param_names(info)));
       return;
     }
@@ -64,9 +64,9 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
     if (spec->type == ParamType::real && v.index() == 1) v = double(std::get<int64_t>(v));
     params.set(name, std::move(v), true, at);
   };
-  for (const auto& p : s.params) apply(p.name, p.value, p.problem, p.where, "");
+  for (const auto& p : s.params) apply(p.name, p.value, p.problem, p.where, p.key_where, "");
   for (const Override* o : overrides)
-    apply(o->param, o->value, o->problem, s.where, "--set " + o->text + ": ");
+    apply(o->param, o->value, o->problem, s.where, s.where, "--set " + o->text + ": ");
   return params;
 }
 

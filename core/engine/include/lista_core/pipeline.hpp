@@ -26,7 +26,8 @@ struct RawParam {
   std::string name;
   std::optional<ParamValue> value;  // empty if the TOML value has no parameter type
   std::string problem;              // why `value` is empty
-  SourceLocation where;
+  SourceLocation where;      // the value (type and range errors)
+  SourceLocation key_where;  // the key (unknown-parameter errors)
 };
 
 struct StageSpec {
