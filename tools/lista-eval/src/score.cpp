@@ -126,15 +126,14 @@ std::vector<ObjectVerdict> verdicts(const Truth& truth, const std::map<std::pair
         seen_elsewhere = true;
         if (auto r = report_of.find({j, id}); r != report_of.end() && v.expected_match < 0) v.expected_match = r->second;
       }
-      auto names_same_object = [&](int match) {
-        auto t = truth_of.find(match);
-        return t != truth_of.end() && t->second == id && by_id.at(match)->mission != m;
-      };
-      const bool moved = v.truth_status == "moved" && seen_elsewhere;
+      const auto t = truth_of.find(v.report_match);
+      v.match_right = v.report_id >= 0 && t != truth_of.end() && t->second == id &&
+                      by_id.at(v.report_match)->mission != m;
+      v.moved_elsewhere = v.truth_status == "moved" && seen_elsewhere;
       if (v.report_id < 0) v.verdict = "missed";
       else if (v.report_status != v.truth_status) v.verdict = "status";
-      else if (moved && v.expected_match < 0) v.verdict = "partner missed";
-      else if (moved && !names_same_object(v.report_match)) v.verdict = "match";
+      else if (v.moved_elsewhere && v.expected_match < 0) v.verdict = "partner missed";
+      else if (v.moved_elsewhere && !v.match_right) v.verdict = "match";
       else v.verdict = "ok";
       out.push_back(std::move(v));
     }
@@ -179,7 +178,6 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
   std::map<int, uint32_t> truth_of;                      // reported id -> true id
   std::map<int, const io::ReportObject*> by_id;
   std::map<std::pair<size_t, uint32_t>, double> pair_iou;
-  std::map<std::pair<size_t, uint32_t>, std::pair<double, double>> motion_error;  // (t m, r deg)
   for (const auto& o : report.objects) by_id[o.id] = &o;
   for (size_t k = 0; k < nm; ++k) {
     const std::string& m = truth.labels[k].name;
@@ -222,41 +220,28 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     const std::string& m = truth.labels[k].name;
     return iso(report.alignment.at(m)) * iso(truth.gt.mission_to_world.at(m)).inverse();
   };
-  for (size_t k = 0; k < nm; ++k) {
-    const std::string& m = truth.labels[k].name;
-    ObjectScore& os = score.objects[k];
-    for (const auto& [id, st] : truth.status) {
-      auto it = st.find(m);
-      if (it == st.end() || it->second != "moved" || !truth.labels[k].points_per_label.count(id)) continue;
-      bool seen_elsewhere = false;
-      for (size_t j = 0; j < nm; ++j)
-        if (j != k && truth.labels[j].points_per_label.count(id) && st.count(truth.labels[j].name)) seen_elsewhere = true;
-      if (!seen_elsewhere) continue;
-      ++os.moved;
-      auto rep = report_of.find({k, id});
-      if (rep == report_of.end()) continue;
-      const io::ReportObject& r = *by_id.at(rep->second);
-      if (r.match < 0 || !by_id.count(r.match) || !truth_of.count(r.match) || truth_of.at(r.match) != id) continue;
-      const io::ReportObject& partner = *by_id.at(r.match);
-      if (partner.mission == m) continue;
-      ++os.moved_matched;
-      if (!r.transform) continue;
-      const size_t j = truth.mission_index(partner.mission);
-      const io::TruthObject* obj = truth.object(id);
-      const Eigen::Isometry3d truth_t = world_to_common(j) * iso(*obj->poses.at(partner.mission)) *
-                                        iso(*obj->poses.at(m)).inverse() * world_to_common(k).inverse();
-      const Eigen::Isometry3d rep_t = iso(*r.transform);
-      const double rot = Eigen::AngleAxisd(rep_t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI;
-      // Translation error at the object's centroid, so it does not grow with the distance to the origin.
-      os.translation_error_m.push_back((rep_t * r.centroid - truth_t * r.centroid).norm());
-      os.rotation_error_deg.push_back(rot);
-      motion_error[{k, id}] = {os.translation_error_m.back(), rot};
-    }
-  }
   score.verdicts = verdicts(truth, report_of, pair_iou, truth_of, by_id);
-  for (ObjectVerdict& v : score.verdicts)
-    if (auto e = motion_error.find({truth.mission_index(v.mission), v.truth_id}); e != motion_error.end())
-      std::tie(v.translation_error_m, v.rotation_error_deg) = e->second;
+  for (ObjectVerdict& v : score.verdicts) {
+    if (!v.moved_elsewhere) continue;
+    const size_t k = truth.mission_index(v.mission);
+    ObjectScore& os = score.objects[k];
+    ++os.moved;
+    if (!v.match_right) continue;
+    ++os.moved_matched;
+    const io::ReportObject& r = *by_id.at(v.report_id);
+    if (!r.transform) continue;
+    const io::ReportObject& partner = *by_id.at(r.match);
+    const size_t j = truth.mission_index(partner.mission);
+    const io::TruthObject* obj = truth.object(v.truth_id);
+    const Eigen::Isometry3d truth_t = world_to_common(j) * iso(*obj->poses.at(partner.mission)) *
+                                      iso(*obj->poses.at(v.mission)).inverse() * world_to_common(k).inverse();
+    const Eigen::Isometry3d rep_t = iso(*r.transform);
+    v.rotation_error_deg = Eigen::AngleAxisd(rep_t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI;
+    // Translation error at the object's centroid, so it does not grow with the distance to the origin.
+    v.translation_error_m = (rep_t * r.centroid - truth_t * r.centroid).norm();
+    os.translation_error_m.push_back(v.translation_error_m);
+    os.rotation_error_deg.push_back(v.rotation_error_deg);
+  }
 
   ObjectScore all;
   all.mission = "all";

@@ -50,6 +50,8 @@ struct ObjectVerdict {
   std::string report_status;
   int expected_match = -1;  // moved: the report paired with the object in the other mission (-1: none)
   int report_match = -1;
+  bool moved_elsewhere = false;  // truly moved and seen in another compared mission: counts in match accuracy
+  bool match_right = false;      // the report's match is the same object's report in another mission
   // Of a correctly matched move with a transform: its errors, else NaN.
   double translation_error_m = kUndefined, rotation_error_deg = kUndefined;
   // "ok", "missed" (no report paired), "status" (wrong status), "match"
