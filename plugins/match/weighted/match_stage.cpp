@@ -107,9 +107,9 @@ StageInfo info() {
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
       "alpha * norm(centroid distance) + beta * norm(descriptor L2 distance) + shape_weight * (1 - shape fit) "
-      "(+ group_penalty across groups when group_mode = soft: the penalty only decides between rival partners, "
-      "it does not count against max_cost, so a group never vetoes a pair the gates accept; hard does). normalization = max divides the physical term "
-      "by its largest candidate value and the descriptor term by the largest descriptor distance between any "
+      "(+ group_penalty across groups when group_mode = soft: the penalty only decides between rival "
+      "partners, it does not count against max_cost, so a group never vetoes a pair the gates accept; hard "
+      "does). normalization = max divides the physical term by its largest candidate value and the descriptor term by the largest descriptor distance between any "
       "two objects; minmax is the paper's (x - min) / (max - min), which stretches descriptor noise between "
       "identical objects to the full range. Candidates must lie within max_distance metres, keep their size "
       "(height and footprint-rectangle sides within max(max_size_change x the larger, size_slack)), "
@@ -136,7 +136,8 @@ StageInfo info() {
       ParamSpec::text("normalization", "max", "how each distance is scaled to [0,1]").one_of({"max", "minmax"}),
       ParamSpec::text("group_mode", "soft", "how descriptor groups constrain pairs")
           .one_of({"soft", "hard", "ignore"}),
-      ParamSpec::real("group_penalty", 0.5, "cost added to a cross-group pair (group_mode = soft); prefers same-group partners, never vetoes")
+      ParamSpec::real("group_penalty", 0.5,
+                      "cost added to a cross-group pair (group_mode = soft); prefers same-group partners, never vetoes")
           .range(0.0, 100.0),
       ParamSpec::real("max_size_change", 0.6, "size gate, a cheap pre-filter before the shape check: largest relative change of height or footprint-rectangle sides of a pair (a rigid object keeps its size, but a partial view shows less of it); 0 = off")
           .range(0.0, 10.0),
