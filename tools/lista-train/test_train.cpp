@@ -78,6 +78,32 @@ TEST(ListaTrain, SameSeedSameWeightsAndTrainingHelps) {
   fs::remove_all(dir);
 }
 
+// The averaged weights are what is saved: deterministic, not the last step's
+// weights, and still trained.
+TEST(ListaTrain, WeightAverageIsSavedDeterministicallyAndLearns) {
+  const fs::path dir = fs::temp_directory_path() / ("lista_train_ema_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  lista::objfeat::ViewSet all = lista::objfeat::synthetic_views(16, 4, 2), train, test;
+  lista::objfeat::split_by_shape(all, 0.25, 2, train, test);
+  const std::string plain = (dir / "plain.bin").string(), a = (dir / "a.bin").string(), b = (dir / "b.bin").string();
+  auto averaged = [&](const std::string& out, int steps) {
+    auto cfg = tiny(out, steps);
+    cfg.globals = false;
+    cfg.ema = 0.9;
+    return lista::train::train_descriptor(train, train, cfg);
+  };
+  auto cfg = tiny(plain, 150);
+  cfg.globals = false;
+  lista::train::train_descriptor(train, train, cfg);
+  auto trained = averaged(a, 150);
+  averaged(b, 150);
+  EXPECT_EQ(read_all(a), read_all(b));
+  EXPECT_NE(read_all(a), read_all(plain));
+  auto untrained = averaged(b, 1);
+  EXPECT_GT(trained.test_map, untrained.test_map + 0.05) << trained.test_map << " vs " << untrained.test_map;
+  fs::remove_all(dir);
+}
+
 }  // namespace
 
 TEST(ListaTrain, OutputFolderIsMadeAndAnUnwritableOutIsAnErrorBeforeTraining) {

@@ -43,6 +43,12 @@ objfeat::Rows describe_all(objfeat::DescriptorNet& net, const objfeat::ViewSet& 
   return out;
 }
 
+void copy_weights(objfeat::DescriptorNet& from, objfeat::DescriptorNet& to) {
+  torch::NoGradGuard no_grad;
+  auto src = from->parameters(), dst = to->parameters();
+  for (size_t i = 0; i < src.size(); ++i) dst[i].copy_(src[i]);
+}
+
 // A training sample: a random yaw, a random subset of points and a random
 // voxel selection, so the network learns what survives partial observation.
 objfeat::CanonicalCloud augmented(const objfeat::View& v, const objfeat::NetConfig& c, std::mt19937_64& rng) {
@@ -89,6 +95,9 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   nc.frame = cfg.frame == "rectangle" ? objfeat::YawFrame::bounding_rectangle : objfeat::YawFrame::principal_axis;
   nc.globals = cfg.globals ? objfeat::kShapeGlobals : 0;
   objfeat::DescriptorNet net(nc);
+  // The weight average starts as a copy of the initial weights.
+  objfeat::DescriptorNet average(nc);
+  copy_weights(net, average);
   // Proxy rows, one per training shape (only used by the proxy loss; they are
   // not part of the shipped weights).
   std::map<int, int64_t> proxy_of;
@@ -139,6 +148,13 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
     opt.zero_grad();
     loss.backward();
     opt.step();
+    if (cfg.ema > 0.0) {
+      // Warm-up so the first steps' random weights fade quickly.
+      const double decay = std::min(cfg.ema, (1.0 + step) / (10.0 + step));
+      torch::NoGradGuard no_grad;
+      auto src = net->parameters(), dst = average->parameters();
+      for (size_t i = 0; i < src.size(); ++i) dst[i].mul_(decay).add_(src[i].detach(), 1.0 - decay);
+    }
     running = 0.98 * running + 0.02 * loss.item<double>();
 
     if (step % cfg.eval_every == 0 || step == cfg.steps) {
@@ -147,7 +163,7 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
       if (!test.views.empty()) {
         std::vector<int> tl;
         for (const auto& v : test.views) tl.push_back(v.label);
-        auto s = objfeat::score_retrieval(describe_all(net, test), tl, cfg.seed);
+        auto s = objfeat::score_retrieval(describe_all(cfg.ema > 0.0 ? average : net, test), tl, cfg.seed);
         result.test_top1 = s.top1;
         result.test_map = s.map;
         char buf[128];
@@ -157,6 +173,7 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
       std::fprintf(stderr, "step %5d  loss %.4f  lr %.2e  %.0fs%s\n", step, running, lr, secs, eval.c_str());
     }
   }
+  if (cfg.ema > 0.0) copy_weights(average, net);
   net->eval();
   save_weights(net, cfg.out);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

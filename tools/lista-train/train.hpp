@@ -36,6 +36,10 @@ struct TrainConfig {
   // globals (canonical.hpp); both are recorded in the weights file.
   std::string frame = "rectangle";
   bool globals = true;
+  // Exponential moving average of the weights (Polyak averaging); 0 = off.
+  // The averaged weights are the ones evaluated and saved: they sit in the
+  // middle of the noisy last steps' region, which varies less between seeds.
+  double ema = 0.0;
   uint64_t seed = 1;
   int threads = 1;
   int eval_every = 500;
