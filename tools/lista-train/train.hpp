@@ -37,8 +37,8 @@ struct TrainConfig {
   std::string frame = "rectangle";
   bool globals = true;
   // Exponential moving average of the weights (Polyak averaging); 0 = off.
-  // The averaged weights are the ones evaluated and saved: they sit in the
-  // middle of the noisy last steps' region, which varies less between seeds.
+  // The averaged weights are the ones evaluated and saved: they sit nearer
+  // the middle of the region the last, noisy steps wander in.
   double ema = 0.0;
   uint64_t seed = 1;
   int threads = 1;
