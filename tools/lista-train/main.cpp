@@ -43,6 +43,8 @@ int main(int argc, char** argv) {
       ->delimiter(',')->expected(4)->check(CLI::Range(4, 2048));
   app.add_option("--ema", cfg.ema, "decay of the weights' moving average that is evaluated and saved (0: off)")
       ->check(CLI::Range(0.0, 0.99999));
+  app.add_flag("--balance-sources", cfg.balance_sources,
+               "give every shape source (procedural, furniture, ...) an equal share of each batch");
   app.add_option("--seed", cfg.seed, "seed (same seed, same weights)");
   app.add_option("--threads", cfg.threads, "torch threads")->check(CLI::Range(1, 256));
   app.add_option("--eval-every", cfg.eval_every, "steps between held-out evaluations")->check(CLI::Range(1, 1000000));

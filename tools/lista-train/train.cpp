@@ -6,6 +6,7 @@
 // pairs are genuinely ambiguous) yet still ranks held-out shapes best; the
 // proxy loss learns steadily but generalised less (docs/bench/descriptors.md).
 #include "train.hpp"
+#include "shape_sampler.hpp"
 
 #include <lista_objfeat/canonical.hpp>
 #include <lista_objfeat/descriptor_net.hpp>
@@ -72,14 +73,8 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   torch::set_num_threads(cfg.threads);
   std::mt19937_64 rng(cfg.seed);
 
-  std::map<int, std::vector<int>> by_instance;
-  for (size_t i = 0; i < train.views.size(); ++i) by_instance[train.views[i].label].push_back(int(i));
-  std::vector<int> instances;
-  for (const auto& [id, v] : by_instance)
-    if (v.size() >= 2) instances.push_back(id);
-  if (int(instances.size()) < cfg.instances_per_batch)
-    throw Error("training needs at least " + std::to_string(cfg.instances_per_batch) +
-                " shapes with two or more views, got " + std::to_string(instances.size()));
+  ShapeSampler sampler(train, cfg.instances_per_batch, cfg.balance_sources);
+  const std::vector<int> instances = sampler.shapes();
 
   objfeat::NetConfig nc;
   nc.points = cfg.points;
@@ -119,16 +114,16 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
     double lr = cfg.lr * (0.05 + 0.95 * 0.5 * (1.0 + std::cos(M_PI * step / cfg.steps)));
     for (auto& g : opt.param_groups()) static_cast<torch::optim::AdamOptions&>(g.options()).lr(lr);
 
-    std::shuffle(instances.begin(), instances.end(), rng);
+    const std::vector<int> shapes = sampler.draw(rng);
     std::vector<objfeat::CanonicalCloud> batch(static_cast<size_t>(B));
     std::vector<int64_t> labels(B), classes(B);
     for (int p = 0; p < P; ++p) {
-      const auto& pool = by_instance[instances[p]];
+      const auto& pool = sampler.views_of(shapes[size_t(p)]);
       for (int k = 0; k < K; ++k) {
         const objfeat::View& v = train.views[pool[rng() % pool.size()]];
         batch[size_t(p * K + k)] = augmented(v, nc, rng);
         labels[p * K + k] = p;
-        classes[p * K + k] = proxy_of[instances[p]];
+        classes[p * K + k] = proxy_of[shapes[size_t(p)]];
       }
     }
     torch::Tensor lab = torch::tensor(labels);

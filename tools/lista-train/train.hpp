@@ -40,6 +40,9 @@ struct TrainConfig {
   // The averaged weights are the ones evaluated and saved: they sit nearer
   // the middle of the region the last, noisy steps wander in.
   double ema = 0.0;
+  // Every shape source gets an equal share of each batch (shape_sampler.hpp);
+  // off: shapes are drawn uniformly, whatever their source.
+  bool balance_sources = false;
   uint64_t seed = 1;
   int threads = 1;
   int eval_every = 500;

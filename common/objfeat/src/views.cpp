@@ -9,6 +9,7 @@ namespace lista::objfeat {
 
 ViewSet synthetic_views(int shapes, int per_instance, uint64_t seed) {
   ViewSet out;
+  out.sources = {"synthetic"};
   std::mt19937_64 rng(seed);
   for (int s = 0; s < shapes; ++s) {
     Shape shape = random_shape(rng);
@@ -26,6 +27,7 @@ ViewSet synthetic_views(int shapes, int per_instance, uint64_t seed) {
 }
 
 void split_by_shape(const ViewSet& all, double holdout, uint64_t seed, ViewSet& train, ViewSet& test) {
+  train.sources = test.sources = all.sources;
   if (!all.views.empty() && all.views.front().split >= 0) {
     for (const auto& v : all.views) (v.split == 1 ? test : train).views.push_back(v);
     return;

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -18,6 +19,12 @@ namespace {
 // numbers the generator's own ids the same way.
 void append_views(const std::string& folder, std::map<std::string, int>& labels, std::map<std::string, int>& variants,
                   ViewSet& out) {
+  auto source_index = [&out](const std::string& name) {
+    auto it = std::find(out.sources.begin(), out.sources.end(), name);
+    if (it != out.sources.end()) return int(it - out.sources.begin());
+    out.sources.push_back(name);
+    return int(out.sources.size()) - 1;
+  };
   namespace fs = std::filesystem;
   const fs::path index_path = fs::path(folder) / "index.json";
   std::ifstream in(index_path);
@@ -31,6 +38,10 @@ void append_views(const std::string& folder, std::map<std::string, int>& labels,
   if (index.value("format", "") != "lista-views/1") throw Error(index_path.string() + ": format is not 'lista-views/1'");
   const size_t before = out.views.size();
   try {
+    std::map<std::string, int> source_of;  // shape id -> source index
+    if (index.contains("shapes"))
+      for (const auto& s : index.at("shapes"))
+        source_of[s.at("id").get<std::string>()] = source_index(s.value("source", "unknown"));
     for (const auto& v : index.at("views")) {
       View view;
       const std::string shape = v.at("shape").get<std::string>();
@@ -38,6 +49,8 @@ void append_views(const std::string& folder, std::map<std::string, int>& labels,
       view.variant = variants.emplace(v.value("variant", shape), int(variants.size())).first->second;
       view.instance = v.at("instance").get<int>();
       view.split = v.value("split", "train") == "train" ? 0 : 1;
+      auto src = source_of.find(shape);
+      view.source = src != source_of.end() ? src->second : source_index("unknown");
       view.points = io::read_scan((fs::path(folder) / v.at("file").get<std::string>()).string()).points;
       if (view.points.empty()) continue;
       view.points.label.clear();  // ground truth must not reach a descriptor

@@ -18,8 +18,9 @@ struct ViewEntry {
   std::string shape, split, variant;  // variant: written only when not empty
 };
 
-// A views folder whose views are named by shape and split (3 points each).
-fs::path write_folder(const std::string& name, const std::vector<ViewEntry>& views) {
+// A views folder whose views are named by shape and split (3 points each);
+// `shapes` is written as the index's "shapes" array when not empty.
+fs::path write_folder(const std::string& name, const std::vector<ViewEntry>& views, const std::string& shapes = "") {
   const fs::path dir = fs::temp_directory_path() / ("lista_views_io_" + std::to_string(::getpid())) / name;
   fs::create_directories(dir / "views");
   std::string list;
@@ -32,7 +33,9 @@ fs::path write_folder(const std::string& name, const std::vector<ViewEntry>& vie
             ", \"shape\": \"" + views[i].shape + "\", \"split\": \"" + views[i].split + "\"" +
             (views[i].variant.empty() ? "" : ", \"variant\": \"" + views[i].variant + "\"") + "}";
   }
-  std::ofstream(dir / "index.json") << "{\"format\": \"lista-views/1\", \"views\": [" << list << "]}";
+  std::ofstream(dir / "index.json") << "{\"format\": \"lista-views/1\", "
+                                    << (shapes.empty() ? "" : "\"shapes\": [" + shapes + "], ") << "\"views\": ["
+                                    << list << "]}";
   return dir;
 }
 
@@ -65,6 +68,28 @@ TEST(ReadViews, VariantsNumberTheGeneratorsOwnIds) {
   EXPECT_EQ(set.views[1].variant, set.views[2].variant);
   EXPECT_NE(set.views[3].variant, set.views[0].variant);
   EXPECT_NE(set.views[3].variant, set.views[1].variant);
+  fs::remove_all(a.parent_path());
+}
+
+// Sources come from the shapes list, numbered across folders; shapes without
+// one (or folders without a list) are "unknown".
+TEST(ReadViews, SourcesComeFromTheShapesList) {
+  const fs::path a = write_folder("s1", {{"chair-1", "train"}, {"sh3d/bed", "train"}},
+                                  R"({"id": "chair-1", "source": "procedural"}, {"id": "sh3d/bed", "source": "sweethome3d"})");
+  const fs::path b = write_folder("s2", {{"sh3d/desk", "train"}, {"crate-2", "train"}},
+                                  R"({"id": "sh3d/desk", "source": "sweethome3d"}, {"id": "crate-2"})");
+  const fs::path c = write_folder("s3", {{"cart-3", "train"}});
+  const lista::objfeat::ViewSet set = lista::objfeat::read_views(std::vector<std::string>{a.string(), b.string(), c.string()});
+  ASSERT_EQ(set.views.size(), 5u);
+  ASSERT_EQ(set.sources, (std::vector<std::string>{"procedural", "sweethome3d", "unknown"}));
+  EXPECT_EQ(set.views[0].source, 0);
+  EXPECT_EQ(set.views[1].source, 1);
+  EXPECT_EQ(set.views[2].source, 1);
+  EXPECT_EQ(set.views[3].source, 2);
+  EXPECT_EQ(set.views[4].source, 2);
+  lista::objfeat::ViewSet train, test;
+  lista::objfeat::split_by_shape(set, 0.0, 1, train, test);
+  EXPECT_EQ(train.sources, set.sources);
   fs::remove_all(a.parent_path());
 }
 

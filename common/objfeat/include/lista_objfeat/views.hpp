@@ -19,11 +19,16 @@ struct View {
                     // (index.json "variant"; equals the shape where absent)
   int instance = 0; // object instance in the data set
   int split = -1;   // -1: unassigned, 0: training, 1: held out (given by the data set)
+  int source = 0;   // index into ViewSet::sources: where the shape came from
   PointSet points;  // object frame
 };
 
 struct ViewSet {
   std::vector<View> views;
+  // Shape sources (index.json shapes[].source, e.g. "procedural",
+  // "sweethome3d"; "unknown" where a shape has none), numbered in order of
+  // first appearance.
+  std::vector<std::string> sources;
 };
 
 // index.json ("lista-views/1") and its PCD files; splits 'val' and 'test'
