@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <memory>
 
 using namespace lista::core;
 using lista_test::bad_dir;
@@ -37,6 +38,16 @@ TEST(Loader, LoadsTheTestLibraryAndItsDeclarations) {
   // Loading the same file again is harmless.
   load_plugin_library(r, lista_test::good_library());
   EXPECT_GE(r.size(), 7u);
+}
+
+// A registry knows what it holds itself: a new registry that happens to get
+// the address of a destroyed one still gets every stage.
+TEST(Loader, EveryNewRegistryGetsTheStages) {
+  for (int i = 0; i < 3; ++i) {
+    auto r = std::make_unique<Registry>();
+    load_plugin_library(*r, lista_test::good_library());
+    EXPECT_NE(r->find("test.source"), nullptr) << "registry " << i;
+  }
 }
 
 TEST(Loader, UndefinedSymbolNamesFileAndSymbol) {

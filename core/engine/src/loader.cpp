@@ -45,11 +45,7 @@ void load_plugin_library(Registry& registry, const std::string& path) {
   std::error_code ec;
   fs::path canonical = fs::weakly_canonical(path, ec);
   const std::string key = ec ? path : canonical.string();
-  static std::set<std::pair<const Registry*, std::string>> loaded_into;
-  {
-    std::lock_guard<std::mutex> lock(libraries_mutex());
-    if (loaded_into.count({&registry, key})) return;
-  }
+  if (registry.has_library(key)) return;
   if (!fs::exists(path)) throw Error(path + ": plugin library not found");
 
   boost::dll::shared_library lib;
@@ -106,7 +102,7 @@ void load_plugin_library(Registry& registry, const std::string& path) {
 
   std::lock_guard<std::mutex> lock(libraries_mutex());
   kept_libraries().push_back(std::move(lib));
-  loaded_into.insert({&registry, key});
+  registry.mark_library_loaded(key);
 }
 
 std::string core_library_dir() {

@@ -6,6 +6,7 @@
 #include <lista/plugin.hpp>
 
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,11 @@ class Registry : public Registrar {
   // The library whose register_stages is running (for error messages and records).
   void set_current_library(std::string path) { current_library_ = std::move(path); }
 
+  // Libraries whose stages this registry holds (canonical paths), so that
+  // loading one twice into the same registry adds nothing the second time.
+  void mark_library_loaded(const std::string& path) { libraries_.insert(path); }
+  bool has_library(const std::string& path) const { return libraries_.count(path) != 0; }
+
   const RegisteredStage* find(const std::string& name) const;
   std::vector<std::string> names() const;  // sorted
   size_t size() const { return stages_.size(); }
@@ -34,6 +40,7 @@ class Registry : public Registrar {
  private:
   std::map<std::string, RegisteredStage> stages_;
   std::string current_library_;
+  std::set<std::string> libraries_;
 };
 
 }  // namespace lista::core
