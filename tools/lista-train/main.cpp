@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"rectangle", "principal"}));
   bool no_globals = false;
   app.add_flag("--no-globals", no_globals, "do not give the head the object's extents (the first model's layout)");
+  app.add_option("--globals", cfg.globals,
+                 "shape globals the head reads: 9 (all, canonical.hpp), 4 (extents and centroid height) or 0")
+      ->check(CLI::IsMember({0, kExtentGlobals, kShapeGlobals}));
   std::vector<int> widths;
   app.add_option("--widths", widths, "per-point MLP widths and head width: w1,w2,w3,head")
       ->delimiter(',')->expected(4)->check(CLI::Range(4, 2048));
@@ -50,7 +53,7 @@ int main(int argc, char** argv) {
   app.add_option("--eval-every", cfg.eval_every, "steps between held-out evaluations")->check(CLI::Range(1, 1000000));
   app.add_option("--out", cfg.out, "weights file to write (a .sha256 sidecar is written next to it)");
   CLI11_PARSE(app, argc, argv);
-  cfg.globals = !no_globals;
+  if (no_globals) cfg.globals = 0;
   if (!widths.empty()) { cfg.w1 = widths[0]; cfg.w2 = widths[1]; cfg.w3 = widths[2]; cfg.head = widths[3]; }
 
   try {

@@ -44,4 +44,4 @@ make_views furniture-single 1 --furniture "$shapes" --no-procedural
 for seed in 5 7 9 11; do make_views "single-$seed" "$seed"; done
 make_views furniture-single-5 5 --furniture "$shapes" --no-procedural
 "$build/bin/lista-train" --views "${folders[@]}" \
-  --out "$out" --loss triplet --margin 0.5 --ema 0.999 --steps 16000 --eval-every 2000 --seed 1 --threads 1
+  --out "$out" --globals 4 --loss triplet --margin 0.5 --ema 0.999 --steps 16000 --eval-every 2000 --seed 1 --threads 1

@@ -64,7 +64,7 @@ TEST(ListaTrain, SameSeedSameWeightsAndTrainingHelps) {
   // untrained), the learned part is all there is.
   auto per_point = [&](int steps) {
     auto cfg = tiny(c, steps);
-    cfg.globals = false;
+    cfg.globals = 0;
     return lista::train::train_descriptor(train, train, cfg);
   };
   auto trained = per_point(150), untrained = per_point(1);
@@ -88,12 +88,12 @@ TEST(ListaTrain, WeightAverageIsSavedDeterministicallyAndLearns) {
   const std::string plain = (dir / "plain.bin").string(), a = (dir / "a.bin").string(), b = (dir / "b.bin").string();
   auto averaged = [&](const std::string& out, int steps) {
     auto cfg = tiny(out, steps);
-    cfg.globals = false;
+    cfg.globals = 0;
     cfg.ema = 0.9;
     return lista::train::train_descriptor(train, train, cfg);
   };
   auto cfg = tiny(plain, 150);
-  cfg.globals = false;
+  cfg.globals = 0;
   lista::train::train_descriptor(train, train, cfg);
   auto trained = averaged(a, 150);
   averaged(b, 150);

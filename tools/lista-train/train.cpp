@@ -88,7 +88,10 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   if (cfg.frame != "rectangle" && cfg.frame != "principal")
     throw Error("unknown frame '" + cfg.frame + "' (rectangle or principal)");
   nc.frame = cfg.frame == "rectangle" ? objfeat::YawFrame::bounding_rectangle : objfeat::YawFrame::principal_axis;
-  nc.globals = cfg.globals ? objfeat::kShapeGlobals : 0;
+  if (cfg.globals != 0 && cfg.globals != objfeat::kExtentGlobals && cfg.globals != objfeat::kShapeGlobals)
+    throw Error("globals must be 0, " + std::to_string(objfeat::kExtentGlobals) + " or " +
+                std::to_string(objfeat::kShapeGlobals));
+  nc.globals = cfg.globals;
   objfeat::DescriptorNet net(nc);
   // The weight average starts as a copy of the initial weights.
   objfeat::DescriptorNet average(nc);

@@ -32,10 +32,11 @@ struct TrainConfig {
   // budget on 2 loaded cores and inference stays well under 5 ms per object.
   int w1 = 32, w2 = 64, w3 = 128, head = 128;
   // Yaw frame ("rectangle": minimum-perimeter footprint rectangle; "principal":
-  // principal axis, the first model's) and whether the head sees the shape
-  // globals (canonical.hpp); both are recorded in the weights file.
+  // principal axis, the first model's) and how many shape globals the head
+  // sees (canonical.hpp); both are recorded in the weights file.
   std::string frame = "rectangle";
-  bool globals = true;
+  // Shape globals the head reads: 0, objfeat::kExtentGlobals or kShapeGlobals.
+  int globals = objfeat::kShapeGlobals;
   // Exponential moving average of the weights (Polyak averaging); 0 = off.
   // The averaged weights are the ones evaluated and saved: they sit nearer
   // the middle of the region the last, noisy steps wander in.

@@ -44,6 +44,42 @@ Eigen::Matrix3f yaw_frame(const std::vector<Eigen::Vector3f>& xyz, const Eigen::
   return r;
 }
 
+// Algebraic (Kasa) circle fit to the cells' x/y: radius and RMS residual,
+// radius capped at `cap` (a flat or straight footprint fits a huge circle).
+std::pair<float, float> footprint_circle(const std::vector<Eigen::Vector3f>& cells, float cap) {
+  if (cells.size() < 3) return {cap, 0.f};
+  // x^2 + y^2 + D x + E y + F = 0 in least squares: normal equations.
+  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const auto& p : cells) {
+    const Eigen::Vector3d row(p.x(), p.y(), 1.0);
+    a += row * row.transpose();
+    b -= row * (double(p.x()) * p.x() + double(p.y()) * p.y());
+  }
+  const Eigen::Vector3d sol = a.ldlt().solve(b);
+  const Eigen::Vector2d centre(-sol.x() / 2, -sol.y() / 2);
+  const double r2 = centre.squaredNorm() - sol.z();
+  if (!std::isfinite(r2) || r2 <= 0.0 || std::sqrt(r2) > cap) return {cap, 0.f};
+  const double r = std::sqrt(r2);
+  double sq = 0.0;
+  for (const auto& p : cells) {
+    const double d = (Eigen::Vector2d(p.x(), p.y()) - centre).norm() - r;
+    sq += d * d;
+  }
+  return {float(r), float(std::min(std::sqrt(sq / double(cells.size())), double(cap)))};
+}
+
+// q-th to (1-q)-th quantile spread of the cells along one axis.
+float spread(const std::vector<Eigen::Vector3f>& cells, int axis, double q) {
+  std::vector<float> v(cells.size());
+  for (size_t i = 0; i < cells.size(); ++i) v[i] = cells[i][axis];
+  const size_t lo = size_t(q * double(v.size() - 1) + 0.5), hi = v.size() - 1 - lo;
+  std::nth_element(v.begin(), v.begin() + ptrdiff_t(lo), v.end());
+  const float low = v[lo];
+  std::nth_element(v.begin(), v.begin() + ptrdiff_t(hi), v.end());
+  return v[hi] - low;
+}
+
 }  // namespace
 
 std::vector<CanonicalCloud> make_canonical_samples(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& cfg,
@@ -65,7 +101,6 @@ std::vector<CanonicalCloud> make_canonical_samples(const std::vector<Eigen::Vect
     lo = lo.cwiseMin(local[i]);
     hi = hi.cwiseMax(local[i]);
   }
-  out.globals = {hi.x() - lo.x(), hi.y() - lo.y(), hi.z() - lo.z(), -lo.z()};
   float cell = std::max((hi - lo).maxCoeff() / float(cfg.grid), 1e-4f);
 
   // One centroid per occupied voxel; keys are small non-negative ints.
@@ -84,6 +119,13 @@ std::vector<CanonicalCloud> make_canonical_samples(const std::vector<Eigen::Vect
   centres.reserve(cells.size());
   for (const auto& [k, a] : cells) centres.emplace_back(k, a.sum / float(a.n));
   std::sort(centres.begin(), centres.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+
+  std::vector<Eigen::Vector3f> cell_points(centres.size());
+  for (size_t i = 0; i < centres.size(); ++i) cell_points[i] = centres[i].second;
+  const Eigen::Vector3f extent = hi - lo;
+  const auto [radius, residual] = footprint_circle(cell_points, 2.f * std::max(extent.x(), extent.y()));
+  out.globals = {extent.x(), extent.y(), extent.z(), -lo.z(), radius, residual,
+                 spread(cell_points, 0, 0.02), spread(cell_points, 1, 0.02), spread(cell_points, 2, 0.02)};
 
   // Seeded selections of exactly cfg.points cells (cycling if too few);
   // selection k uses seed cfg.seed + k, everything above is shared.

@@ -78,7 +78,7 @@ torch::Tensor describe_clouds(DescriptorNet& net, const std::vector<CanonicalClo
     for (int p = 0; p < c.points; ++p)
       std::copy_n(cc.features.begin() + ptrdiff_t(p) * kCanonicalChannels, c.in, dst + ptrdiff_t(p) * c.in);
     if (c.globals > 0)
-      std::copy(cc.globals.begin(), cc.globals.end(), g.data_ptr<float>() + (i - begin) * size_t(c.globals));
+      std::copy_n(cc.globals.begin(), c.globals, g.data_ptr<float>() + (i - begin) * size_t(c.globals));
   }
   return net->forward(x, g);
 }
@@ -147,7 +147,8 @@ DescriptorNet load_weights(const std::string& path) {
   c.globals = 0;
   if (!first) {
     const uint32_t frame = r.u32(), globals = r.u32();
-    if (frame > uint32_t(YawFrame::bounding_rectangle) || (globals != 0 && globals != uint32_t(kShapeGlobals)))
+    if (frame > uint32_t(YawFrame::bounding_rectangle) || (globals != 0 && globals != uint32_t(kExtentGlobals) &&
+                                                                  globals != uint32_t(kShapeGlobals)))
       throw Error("model weights '" + path + "' have an invalid configuration (frame " + std::to_string(frame) +
                   ", globals " + std::to_string(globals) + ")");
     c.frame = YawFrame(frame);

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <random>
 
 using namespace lista::objfeat;
 using lista::geometry::BoundingRectangle;
@@ -106,6 +107,50 @@ TEST(Canonical, RectangleFrameLinesUpWithFacesAndMeasuresExtents) {
     CanonicalCloud p = make_canonical(box_faces(1.2f, 0.5f, 0.8f, yaw, 3), first);
     EXPECT_GT(std::abs(p.globals[0] - 1.2f) + std::abs(p.globals[1] - 0.5f), 0.05f);
   }
+}
+
+// The half of a barrel a sensor sees (radius 0.3 m, 0.9 m high, 1 cm noise):
+// the fitted footprint circle gives its radius, although the extent across
+// the line of sight is only a diameter and along it only a radius.
+TEST(Canonical, FootprintCircleMeasuresARoundObjectFromOneSide) {
+  std::mt19937_64 rng(11);
+  std::normal_distribution<float> noise(0.f, 0.01f);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  std::vector<Eigen::Vector3f> half;
+  for (int i = 0; i < 3000; ++i) {
+    const float a = 3.1416f * u(rng), z = 0.9f * u(rng);
+    half.emplace_back(0.3f * std::cos(a) + noise(rng), 0.3f * std::sin(a) + noise(rng), z);
+  }
+  for (float yaw : {0.f, 1.3f}) {
+    const Eigen::Matrix3f r = Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitZ()).toRotationMatrix();
+    std::vector<Eigen::Vector3f> turned;
+    for (const auto& p : half) turned.push_back(r * p);
+    const CanonicalCloud c = make_canonical(turned, {});
+    EXPECT_NEAR(c.globals[4], 0.3f, 0.015f) << "yaw " << yaw;
+    EXPECT_LT(c.globals[5], 0.02f);  // the residual is about the noise
+  }
+  // An L of two flat faces fits a circle badly: a residual far above the
+  // barrel's, a radius no larger than the cap (twice the horizontal extent).
+  const CanonicalCloud box = make_canonical(box_faces(1.2f, 0.5f, 0.8f, 0.4f, 3), {});
+  EXPECT_GT(box.globals[5], 0.05f);
+  EXPECT_LE(box.globals[4], 2.f * 1.2f + 0.03f);
+  // A single flat face fits no circle at all: the radius is the cap.
+  const CanonicalCloud face = make_canonical(box_faces(1.2f, 0.5f, 0.8f, 0.4f, 1), {});
+  EXPECT_NEAR(face.globals[4], 2.f * std::max(face.globals[0], face.globals[1]), 1e-4f);
+}
+
+// One stray point stretches max - min, not the cells' percentile spreads.
+TEST(Canonical, RobustSpreadsIgnoreAStrayPoint) {
+  auto faces = box_faces(1.2f, 0.5f, 0.8f, 0.f, 3);
+  const CanonicalCloud clean = make_canonical(faces, {});
+  faces.emplace_back(0.f, 0.f, 2.0f);  // 1.2 m above the top
+  const CanonicalCloud stray = make_canonical(faces, {});
+  EXPECT_GT(stray.globals[2], clean.globals[2] + 1.f);
+  for (int g = 6; g < 9; ++g) {
+    EXPECT_NEAR(stray.globals[size_t(g)], clean.globals[size_t(g)], 0.1f) << "global " << g;
+    EXPECT_GT(clean.globals[size_t(g)], 0.f);
+  }
+  EXPECT_NEAR(clean.globals[8], 0.8f, 0.1f);
 }
 
 TEST(Canonical, FewPointsAreRepeatedAndEmptyIsAnError) {

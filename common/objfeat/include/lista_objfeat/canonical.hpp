@@ -16,9 +16,9 @@
 //     there are fewer), in cell-key order so the result does not depend on
 //     the input order's relation to the frame (each picked cell gives the
 //     per-point channels below);
-//  5. shape globals from all points (not only the picked cells): the
-//     extents along the canonical axes and the centroid's height above the
-//     lowest point, the sizes the resampling would blur.
+//  5. shape globals (kShapeGlobals): extents, the centroid's height above
+//     the lowest point, the footprint's fitted circle and robust spreads,
+//     the sizes the resampling would blur.
 // Rotating the input about z changes nothing but float rounding.
 #pragma once
 
@@ -51,9 +51,20 @@ struct CanonicalConfig {
 // models before the height channel) see exactly what they were trained on.
 constexpr int kCanonicalChannels = 6;
 constexpr int kFirstModelChannels = 5;
-// Shape globals: extent along canonical x, y, z and the centroid's height
-// above the lowest point (metres).
-constexpr int kShapeGlobals = 4;
+// Shape globals (metres), all computed; a network reads the first
+// `NetConfig::globals` of them:
+//  0-3: extent along canonical x, y, z (all points) and the centroid's height
+//       above the lowest point (the 4 globals of earlier models);
+//  4-5: radius of the circle fitted to the footprint (algebraic least
+//       squares on the voxel cells' x/y; capped at twice the horizontal
+//       extent, so a flat face reads as "very large") and the fit's RMS
+//       residual: the curvature of round objects, which the resampled cells
+//       blur and a partial view's extents under-state;
+//  6-8: 2nd-98th percentile spread of the voxel cells along canonical x, y,
+//       z: sizes that a few noisy or stray points do not stretch, and that
+//       do not grow with the point count as max - min does.
+constexpr int kExtentGlobals = 4;
+constexpr int kShapeGlobals = 9;
 
 struct CanonicalCloud {
   // points x kCanonicalChannels, row-major.

@@ -32,7 +32,9 @@ struct NetConfig {
   // in: canonical channels read per point (kFirstModelChannels or kCanonicalChannels).
   int in = kCanonicalChannels, w1 = 64, w2 = 128, w3 = 256, head = 256, out = 16;
   YawFrame frame = YawFrame::bounding_rectangle;
-  int globals = kShapeGlobals;  // 0 (first model) or kShapeGlobals
+  // Shape globals the head reads (canonical.hpp): 0 (first model),
+  // kExtentGlobals (extents and centroid height) or kShapeGlobals (all).
+  int globals = kShapeGlobals;
 };
 
 struct DescriptorNetImpl : torch::nn::Module {
