@@ -4,7 +4,7 @@
 # BUILD_DIR (default: build) must hold bin/lista-sim and bin/lista-train;
 # OUT_FILE defaults to models/describe-learned.bin (+ .sha256). The views sets
 # go to ${LISTA_VIEWS_DIR:-/tmp/lista-train-views}/{single,pass,furniture-single,
-# furniture-pass,single-5,pass-5,...} (14 folders, about 3 GB); $LISTA_SIM may
+# furniture-pass,single-5,pass-5,...} (18 folders, about 4 GB); $LISTA_SIM may
 # name a lista-sim built elsewhere. Everything is seeded:
 # the same build, seed and thread count give the same weights byte for byte.
 set -euo pipefail
@@ -16,7 +16,7 @@ sim="${LISTA_SIM:-$build/bin/lista-sim}"
 for exe in "$sim" "$build/bin/lista-train"; do
   [[ -x "$exe" ]] || { echo "reproduce.sh: $exe not built" >&2; exit 1; }
 done
-# Procedural objects, five seeds (1, 5, 7, 9, 11): per seed 600 instances
+# Procedural objects, seven seeds (1, 5, 7, 9, 11, 15, 17): per seed 600 instances
 # (about 195 shape ids once identical meshes and look-alikes within 2 cm share
 # one; about 35 held out by the simulator's val/test split) x 8 partial views
 # from random viewpoints and sensors, once as single sweeps and once as 5
@@ -27,8 +27,10 @@ done
 # every seed), the same two ways; tools/fetch-shapes.sh downloads Debian's
 # sweethome3d-furniture into $LISTA_SHAPES_DIR (default
 # ~/.cache/lista/shapes) once. The network trains on all folders as one set.
-# Why five procedural seeds: held-out accuracy grew with the number of
+# Why seven procedural seeds: held-out accuracy grew with the number of
 # training shapes, not with steps or width (docs/bench/descriptors.md).
+# The head reads all nine shape globals (canonical.hpp); models before
+# 2026-11-25 (evening) were trained with --globals 4.
 shapes="${LISTA_SHAPES_DIR:-$HOME/.cache/lista/shapes}"
 sh "$root/tools/fetch-shapes.sh" "$shapes" >&2
 folders=()
@@ -43,5 +45,9 @@ make_views single 1
 make_views furniture-single 1 --furniture "$shapes" --no-procedural
 for seed in 5 7 9 11; do make_views "single-$seed" "$seed"; done
 make_views furniture-single-5 5 --furniture "$shapes" --no-procedural
+# Seeds 15 and 17 came last. The folder order numbers the shapes, and the
+# numbering decides which shapes each batch draws: a new order is a new
+# training run, not a reproduction.
+for seed in 15 17; do make_views "single-$seed" "$seed"; done
 "$build/bin/lista-train" --views "${folders[@]}" \
-  --out "$out" --globals 4 --loss triplet --margin 0.5 --ema 0.999 --steps 16000 --eval-every 2000 --seed 1 --threads 1
+  --out "$out" --globals 9 --loss triplet --margin 0.5 --ema 0.999 --steps 16000 --eval-every 2000 --seed 1 --threads 1

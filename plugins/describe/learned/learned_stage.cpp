@@ -35,7 +35,7 @@ class LearnedStage : public Stage {
     i.doc =
         "Centres each object, rotates it about z so the longer side of its footprint's minimum-perimeter "
         "rectangle is +x (sign by skew), voxel-resamples it to a fixed number of points and runs a small "
-        "PointNet (shared MLP, max+mean pooling joined by the object's extents, MLP head) trained with batch-hard triplet loss on instance identity (lista-train). "
+        "PointNet (shared MLP, max+mean pooling joined by the object's shape globals: extents, footprint circle, robust spreads; MLP head) trained with batch-hard triplet loss on instance identity (lista-train). "
         "Output rows are L2-normalised. Weights: the 'weights' parameter, else $LISTA_MODEL_DIR/"
         "describe-learned.bin, else the installed/build/source models/ folder; a missing or corrupt file "
         "(SHA-256 sidecar) is an error. See docs/descriptors.md.";

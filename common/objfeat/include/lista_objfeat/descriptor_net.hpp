@@ -6,8 +6,8 @@
 // cloud (canonical.hpp: yaw-canonical xyz + radius + distance, and in 6-channel
 // models the height above the lowest point), max- and
 // mean-pooled (order-invariant; max keeps salient parts, mean is stable
-// under partial views), joined by the shape globals (extents measured on all
-// points, which the resampled cells blur), then an MLP head to `out` dims,
+// under partial views), joined by the shape globals (canonical.hpp: sizes
+// that the resampled cells blur), then an MLP head to `out` dims,
 // L2-normalised.
 //
 // Weights file (little-endian): "LISTADN2", 11 x uint32 config
