@@ -104,6 +104,35 @@ TEST(ListaTrain, WeightAverageIsSavedDeterministicallyAndLearns) {
   fs::remove_all(dir);
 }
 
+// Weights of the earlier four-global layout still train, load and read only
+// the first four globals; anything else is refused before training.
+TEST(ListaTrain, FourGlobalWeightsReadTheFirstFour) {
+  const fs::path dir = fs::temp_directory_path() / ("lista_train_g4_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  lista::objfeat::ViewSet all = lista::objfeat::synthetic_views(16, 4, 2), train, test;
+  lista::objfeat::split_by_shape(all, 0.25, 2, train, test);
+  const std::string out = (dir / "g4.bin").string();
+  auto cfg = tiny(out, 20);
+  cfg.globals = lista::objfeat::kExtentGlobals;
+  lista::train::train_descriptor(train, test, cfg);
+  lista::objfeat::DescriptorNet net = lista::objfeat::load_weights(out);
+  ASSERT_EQ(net->config.globals, lista::objfeat::kExtentGlobals);
+  net->eval();
+  torch::NoGradGuard no_grad;
+  std::vector<lista::objfeat::CanonicalCloud> clouds = {
+      lista::objfeat::make_canonical(train.views.front().points.xyz, lista::objfeat::canonical_config(net->config))};
+  clouds.push_back(clouds.front());
+  for (int g = lista::objfeat::kExtentGlobals; g < lista::objfeat::kShapeGlobals; ++g) clouds.back().globals[size_t(g)] += 5.f;
+  clouds.push_back(clouds.front());
+  clouds.back().globals[0] += 5.f;
+  const torch::Tensor rows = lista::objfeat::describe_clouds(net, clouds, 0, clouds.size());
+  EXPECT_TRUE(torch::equal(rows[0], rows[1]));   // globals 4-8 are not read
+  EXPECT_FALSE(torch::equal(rows[0], rows[2]));  // global 0 is
+  cfg.globals = 5;
+  EXPECT_THROW(lista::train::train_descriptor(train, test, cfg), lista::Error);
+  fs::remove_all(dir);
+}
+
 }  // namespace
 
 TEST(ListaTrain, OutputFolderIsMadeAndAnUnwritableOutIsAnErrorBeforeTraining) {
