@@ -31,8 +31,8 @@ std::vector<int> ShapeSampler::shapes() const {
 
 std::vector<int> ShapeSampler::draw(std::mt19937_64& rng) {
   if (!balance_) {
-    // Uniform: the draw the weights shipped before balancing were trained
-    // with (a full shuffle, the first per_batch), kept so they reproduce.
+    // Uniform over shapes: a full shuffle, then the first per_batch (the
+    // draw every shipped model was trained with; changing it changes them).
     auto& pool = by_source_.front();
     std::shuffle(pool.begin(), pool.end(), rng);
     return {pool.begin(), pool.begin() + per_batch_};
