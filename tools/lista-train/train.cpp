@@ -88,7 +88,7 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   if (cfg.frame != "rectangle" && cfg.frame != "principal")
     throw Error("unknown frame '" + cfg.frame + "' (rectangle or principal)");
   nc.frame = cfg.frame == "rectangle" ? objfeat::YawFrame::bounding_rectangle : objfeat::YawFrame::principal_axis;
-  if (cfg.globals != 0 && cfg.globals != objfeat::kExtentGlobals && cfg.globals != objfeat::kShapeGlobals)
+  if (!objfeat::valid_global_count(cfg.globals))
     throw Error("globals must be 0, " + std::to_string(objfeat::kExtentGlobals) + " or " +
                 std::to_string(objfeat::kShapeGlobals));
   nc.globals = cfg.globals;

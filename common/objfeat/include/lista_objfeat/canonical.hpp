@@ -65,6 +65,9 @@ constexpr int kFirstModelChannels = 5;
 //       do not grow with the point count as max - min does.
 constexpr int kExtentGlobals = 4;
 constexpr int kShapeGlobals = 9;
+// The counts a network may read: none (the first model), the four extent
+// globals (models before 2026-11-25 evening) or all.
+constexpr bool valid_global_count(int n) { return n == 0 || n == kExtentGlobals || n == kShapeGlobals; }
 
 struct CanonicalCloud {
   // points x kCanonicalChannels, row-major.
