@@ -42,14 +42,28 @@ lista::train::TrainConfig tiny(const std::string& out, int steps) {
   return c;
 }
 
-TEST(ListaTrain, SameSeedSameWeightsAndTrainingHelps) {
-  const fs::path dir = fs::temp_directory_path() / ("lista_train_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  lista::objfeat::ViewSet all = lista::objfeat::synthetic_views(16, 4, 2), train, test;
-  lista::objfeat::split_by_shape(all, 0.25, 2, train, test);
+// 16 synthetic shapes x 4 views, 4 shapes held out, and a fresh temp
+// folder for weights files (removed with the fixture).
+class ListaTrainTiny : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("lista_train_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+           std::to_string(::getpid()));
+    fs::create_directories(dir);
+    lista::objfeat::split_by_shape(lista::objfeat::synthetic_views(16, 4, 2), 0.25, 2, train, test);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  std::string file(const std::string& name) const { return (dir / name).string(); }
+
+  fs::path dir;
+  lista::objfeat::ViewSet train, test;
+};
+
+TEST_F(ListaTrainTiny, SameSeedSameWeightsAndTrainingHelps) {
   ASSERT_EQ(test.views.size(), 16u);  // 4 of 16 shapes held out, 4 views each
 
-  const std::string a = (dir / "a.bin").string(), b = (dir / "b.bin").string(), c = (dir / "c.bin").string();
+  const std::string a = file("a.bin"), b = file("b.bin"), c = file("c.bin");
   lista::train::train_descriptor(train, test, tiny(a, 30));
   lista::train::train_descriptor(train, test, tiny(b, 30));
   EXPECT_EQ(read_all(a), read_all(b));
@@ -75,17 +89,12 @@ TEST(ListaTrain, SameSeedSameWeightsAndTrainingHelps) {
   auto with_globals_untrained = lista::train::train_descriptor(train, train, tiny(c, 1));
   EXPECT_GT(with_globals.test_map, with_globals_untrained.test_map);
   EXPECT_THROW(lista::train::train_descriptor(test, test, tiny(c, 1)), lista::Error);  // 4 shapes < 8 per batch
-  fs::remove_all(dir);
 }
 
 // The averaged weights are what is saved: deterministic, not the last step's
 // weights, and still trained.
-TEST(ListaTrain, WeightAverageIsSavedDeterministicallyAndLearns) {
-  const fs::path dir = fs::temp_directory_path() / ("lista_train_ema_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  lista::objfeat::ViewSet all = lista::objfeat::synthetic_views(16, 4, 2), train, test;
-  lista::objfeat::split_by_shape(all, 0.25, 2, train, test);
-  const std::string plain = (dir / "plain.bin").string(), a = (dir / "a.bin").string(), b = (dir / "b.bin").string();
+TEST_F(ListaTrainTiny, WeightAverageIsSavedDeterministicallyAndLearns) {
+  const std::string plain = file("plain.bin"), a = file("a.bin"), b = file("b.bin");
   auto averaged = [&](const std::string& out, int steps) {
     auto cfg = tiny(out, steps);
     cfg.globals = 0;
@@ -101,17 +110,12 @@ TEST(ListaTrain, WeightAverageIsSavedDeterministicallyAndLearns) {
   EXPECT_NE(read_all(a), read_all(plain));
   auto untrained = averaged(b, 1);
   EXPECT_GT(trained.test_map, untrained.test_map + 0.05) << trained.test_map << " vs " << untrained.test_map;
-  fs::remove_all(dir);
 }
 
 // Weights of the earlier four-global layout still train, load and read only
 // the first four globals; anything else is refused before training.
-TEST(ListaTrain, FourGlobalWeightsReadTheFirstFour) {
-  const fs::path dir = fs::temp_directory_path() / ("lista_train_g4_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  lista::objfeat::ViewSet all = lista::objfeat::synthetic_views(16, 4, 2), train, test;
-  lista::objfeat::split_by_shape(all, 0.25, 2, train, test);
-  const std::string out = (dir / "g4.bin").string();
+TEST_F(ListaTrainTiny, FourGlobalWeightsReadTheFirstFour) {
+  const std::string out = file("g4.bin");
   auto cfg = tiny(out, 20);
   cfg.globals = lista::objfeat::kExtentGlobals;
   lista::train::train_descriptor(train, test, cfg);
@@ -130,7 +134,6 @@ TEST(ListaTrain, FourGlobalWeightsReadTheFirstFour) {
   EXPECT_FALSE(torch::equal(rows[0], rows[2]));  // global 0 is
   cfg.globals = 5;
   EXPECT_THROW(lista::train::train_descriptor(train, test, cfg), lista::Error);
-  fs::remove_all(dir);
 }
 
 }  // namespace
