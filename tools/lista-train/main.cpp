@@ -48,6 +48,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.99999));
   app.add_flag("--balance-sources", cfg.balance_sources,
                "give every shape source (procedural, furniture, ...) an equal share of each batch");
+  app.add_option("--lookalike-group", cfg.lookalike_group,
+                 "fill batches with groups of this many shapes of nearly one size (1: uniform draw)")
+      ->check(CLI::Range(1, 64))->excludes("--balance-sources");
   app.add_option("--seed", cfg.seed, "seed (same seed, same weights)");
   app.add_option("--threads", cfg.threads, "torch threads")->check(CLI::Range(1, 256));
   app.add_option("--eval-every", cfg.eval_every, "steps between held-out evaluations")->check(CLI::Range(1, 1000000));

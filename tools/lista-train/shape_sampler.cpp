@@ -1,8 +1,12 @@
 #include "shape_sampler.hpp"
 
+#include <lista_objfeat/canonical.hpp>
+
 #include <lista/error.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <set>
 #include <string>
 
 namespace lista::train {
@@ -23,6 +27,59 @@ ShapeSampler::ShapeSampler(const objfeat::ViewSet& train, int per_batch, bool ba
   for (auto& [source, shapes] : grouped) by_source_.push_back(std::move(shapes));
 }
 
+ShapeSampler::ShapeSampler(const objfeat::ViewSet& train, int per_batch, int group,
+                           const std::vector<Eigen::Vector3f>& sizes)
+    : ShapeSampler(train, per_batch, false) {
+  if (group < 1) throw Error("look-alike groups need at least one shape, got " + std::to_string(group));
+  if (sizes.size() != train.views.size())
+    throw Error("look-alike sizes: " + std::to_string(sizes.size()) + " rows for " +
+                std::to_string(train.views.size()) + " views");
+  group_ = group;
+  if (group_ == 1) return;
+  // Per shape, the median log size over its views (a partial view under-states
+  // some extent; the median over viewpoints is the shape's usual look).
+  std::vector<int> ids = shapes();
+  std::vector<Eigen::Vector3f> typical;
+  for (int id : ids) {
+    Eigen::Vector3f m;
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<float> v;
+      for (int view : views_.at(id)) v.push_back(std::log(std::max(sizes[size_t(view)](axis), 0.01f)));
+      std::nth_element(v.begin(), v.begin() + ptrdiff_t(v.size() / 2), v.end());
+      m(axis) = v[v.size() / 2];
+    }
+    typical.push_back(m);
+  }
+  const size_t take = std::min<size_t>(kLookalikeCandidates, ids.size() - 1);
+  for (size_t a = 0; a < ids.size(); ++a) {
+    std::vector<std::pair<float, int>> by_distance;
+    for (size_t b = 0; b < ids.size(); ++b)
+      if (b != a) by_distance.emplace_back((typical[a] - typical[b]).cwiseAbs().sum(), ids[b]);
+    std::partial_sort(by_distance.begin(), by_distance.begin() + ptrdiff_t(take), by_distance.end());
+    auto& near = lookalikes_[ids[a]];
+    for (size_t k = 0; k < take; ++k) near.push_back(by_distance[k].second);
+  }
+}
+
+std::vector<int> ShapeSampler::draw_groups(std::mt19937_64& rng) {
+  auto& pool = by_source_.front();
+  std::shuffle(pool.begin(), pool.end(), rng);
+  std::vector<int> out;
+  std::set<int> taken;
+  for (size_t a = 0; a < pool.size() && int(out.size()) < per_batch_; ++a) {
+    if (!taken.insert(pool[a]).second) continue;
+    out.push_back(pool[a]);
+    std::vector<int> near = lookalikes_.at(pool[a]);
+    std::shuffle(near.begin(), near.end(), rng);
+    int added = 1;
+    for (int shape : near) {
+      if (added == group_ || int(out.size()) == per_batch_) break;
+      if (taken.insert(shape).second) { out.push_back(shape); ++added; }
+    }
+  }
+  return out;
+}
+
 std::vector<int> ShapeSampler::shapes() const {
   std::vector<int> out;
   for (const auto& [shape, v] : views_) out.push_back(shape);
@@ -30,6 +87,7 @@ std::vector<int> ShapeSampler::shapes() const {
 }
 
 std::vector<int> ShapeSampler::draw(std::mt19937_64& rng) {
+  if (group_ > 1) return draw_groups(rng);
   if (!balance_) {
     // Uniform over shapes: a full shuffle, then the first per_batch (the
     // draw every shipped model was trained with; changing it changes them).
@@ -66,6 +124,18 @@ std::vector<int> ShapeSampler::draw(std::mt19937_64& rng) {
       std::swap(pool[size_t(k)], pool[pick(rng)]);
       out.push_back(pool[size_t(k)]);
     }
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3f> view_sizes(const objfeat::ViewSet& set) {
+  objfeat::CanonicalConfig config;
+  config.points = 16;  // the globals do not depend on the point count
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(set.views.size());
+  for (const auto& v : set.views) {
+    const auto c = objfeat::make_canonical(v.points.xyz, config);
+    out.emplace_back(c.globals[6], c.globals[7], c.globals[8]);
   }
   return out;
 }

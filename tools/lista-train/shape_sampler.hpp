@@ -1,10 +1,15 @@
 // Which training shapes a batch holds. Uniform over shapes by default; with
 // balanced sources every source (procedural, furniture, ...) gets an equal
 // share of each batch, so adding shapes of one source does not crowd out
-// another's (ViewSet::sources).
+// another's (ViewSet::sources). With look-alike groups a batch is made of
+// groups: a random shape and shapes of nearly its size, so batch-hard mining
+// meets the near look-alikes (same class, a few cm apart) that uniform
+// batches of a thousand shapes almost never hold together.
 #pragma once
 
 #include <lista_objfeat/views.hpp>
+
+#include <Eigen/Core>
 
 #include <map>
 #include <random>
@@ -17,6 +22,14 @@ class ShapeSampler {
   // Shapes (labels) with at least two views; throws lista::Error when fewer
   // than `per_batch` of them exist.
   ShapeSampler(const objfeat::ViewSet& train, int per_batch, bool balance_sources);
+  // Look-alike groups of `group` shapes (1: off, the uniform draw): each
+  // group is a random anchor shape plus group - 1 shapes drawn from the
+  // anchor's kLookalikeCandidates nearest by `sizes` (one row per view of
+  // `train`, e.g. view_sizes(); compared in log space, per shape the
+  // median over its views). Throws lista::Error for group < 1, with
+  // balanced sources, or when sizes has the wrong row count.
+  ShapeSampler(const objfeat::ViewSet& train, int per_batch, int group, const std::vector<Eigen::Vector3f>& sizes);
+  static constexpr int kLookalikeCandidates = 8;
   // `per_batch` distinct shapes. Balanced: the sources share the slots
   // evenly (the remainder to randomly chosen sources); a source with too
   // few shapes leaves its slots to the others.
@@ -25,12 +38,22 @@ class ShapeSampler {
   const std::vector<int>& views_of(int shape) const { return views_.at(shape); }
   // Ids of the shapes that batches may hold (sorted; label order).
   std::vector<int> shapes() const;
+  // The look-alike candidates of a shape, nearest first (empty when off).
+  const std::vector<int>& lookalikes_of(int shape) const { return lookalikes_.at(shape); }
 
  private:
   int per_batch_;
   bool balance_;
   std::map<int, std::vector<int>> views_;
   std::vector<std::vector<int>> by_source_;  // shapes of each source that has any
+  int group_ = 1;
+  std::map<int, std::vector<int>> lookalikes_;
+
+  std::vector<int> draw_groups(std::mt19937_64& rng);
 };
+
+// Each view's size: the 2nd-98th percentile spreads along the canonical
+// axes (canonical.hpp globals 6-8), robust to stray points.
+std::vector<Eigen::Vector3f> view_sizes(const objfeat::ViewSet& set);
 
 }  // namespace lista::train

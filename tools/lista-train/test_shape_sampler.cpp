@@ -1,10 +1,13 @@
 // Batch composition: distinct shapes, equal shares per source when balanced,
-// spill-over from a source that runs short, and the uniform draw otherwise.
+// spill-over from a source that runs short, the uniform draw otherwise, and
+// look-alike groups of shapes of nearly one size.
 #include "shape_sampler.hpp"
 
 #include <lista/error.hpp>
 
 #include <gtest/gtest.h>
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -78,6 +81,62 @@ TEST(ShapeSampler, ShapesWithOneViewDoNotCountAndTooFewAreAnError) {
   lista::train::ShapeSampler sampler(set, 4, true);
   EXPECT_EQ(sampler.shapes(), (std::vector<int>{0, 1, 2, 3}));
   EXPECT_THROW(lista::train::ShapeSampler(set, 5, true), lista::Error);
+}
+
+// Ten clusters of four shapes; a cluster's shapes are within 2% of one size
+// and clusters are 50% apart. Two views per shape, one of them half hidden
+// (a short extent), so the per-shape median must see through one bad view.
+std::vector<Eigen::Vector3f> clustered_sizes(const lista::objfeat::ViewSet& set) {
+  std::vector<Eigen::Vector3f> sizes;
+  for (size_t i = 0; i < set.views.size(); ++i) {
+    const int shape = set.views[i].label;
+    const float size = std::pow(1.5f, float(shape / 4)) * (1.f + 0.005f * float(shape % 4));
+    Eigen::Vector3f s(size, 0.5f * size, 0.8f * size);
+    if (i % 2 == 1 && shape % 3 == 0) s.x() *= 0.6f;  // partial view of some shapes, never both views
+    sizes.push_back(s);
+  }
+  return sizes;
+}
+
+TEST(ShapeSampler, LookalikeCandidatesAreTheShapesOfNearlyTheSameSize) {
+  const auto set = views_of_sources({40});
+  lista::train::ShapeSampler sampler(set, 8, 2, clustered_sizes(set));
+  for (int shape = 0; shape < 40; ++shape) {
+    const auto& near = sampler.lookalikes_of(shape);
+    ASSERT_EQ(near.size(), size_t(lista::train::ShapeSampler::kLookalikeCandidates));
+    std::set<int> first3(near.begin(), near.begin() + 3), mates;
+    for (int k = 0; k < 4; ++k)
+      if (shape / 4 * 4 + k != shape) mates.insert(shape / 4 * 4 + k);
+    EXPECT_EQ(first3, mates) << "shape " << shape;
+  }
+}
+
+TEST(ShapeSampler, LookalikeBatchesAreGroupsOfAnAnchorAndItsCandidates) {
+  const auto set = views_of_sources({40});
+  lista::train::ShapeSampler sampler(set, 12, 3, clustered_sizes(set));
+  std::mt19937_64 rng(11);
+  std::set<int> anchors;
+  for (int step = 0; step < 100; ++step) {
+    const auto shapes = sampler.draw(rng);
+    ASSERT_EQ(shapes.size(), 12u);
+    ASSERT_EQ(std::set<int>(shapes.begin(), shapes.end()).size(), 12u);
+    for (size_t g = 0; g < shapes.size(); g += 3) {
+      anchors.insert(shapes[g]);
+      const auto& near = sampler.lookalikes_of(shapes[g]);
+      for (size_t k = 1; k < 3; ++k)
+        EXPECT_NE(std::find(near.begin(), near.end(), shapes[g + k]), near.end())
+            << "shape " << shapes[g + k] << " is no look-alike of anchor " << shapes[g];
+    }
+  }
+  EXPECT_GT(anchors.size(), 35u);  // anchors are drawn from all shapes
+}
+
+TEST(ShapeSampler, LookalikeGroupsRejectBadArguments) {
+  const auto set = views_of_sources({10});
+  auto sizes = clustered_sizes(set);
+  EXPECT_THROW(lista::train::ShapeSampler(set, 4, 0, sizes), lista::Error);
+  sizes.pop_back();
+  EXPECT_THROW(lista::train::ShapeSampler(set, 4, 2, sizes), lista::Error);
 }
 
 }  // namespace

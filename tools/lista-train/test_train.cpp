@@ -155,3 +155,15 @@ TEST(ListaTrain, OutputFolderIsMadeAndAnUnwritableOutIsAnErrorBeforeTraining) {
   }
   fs::remove_all(dir);
 }
+
+TEST_F(ListaTrainTiny, LookalikeGroupsTrainAndCannotBeCombinedWithBalancedSources) {
+  auto cfg = tiny(file("groups.bin"), 30);
+  cfg.lookalike_group = 2;
+  const auto r = lista::train::train_descriptor(train, test, cfg);
+  EXPECT_TRUE(fs::exists(file("groups.bin")));
+  EXPECT_GT(r.test_top1, 0.0);
+  cfg.balance_sources = true;
+  cfg.out = file("both.bin");
+  EXPECT_THROW(lista::train::train_descriptor(train, test, cfg), lista::Error);
+  EXPECT_FALSE(fs::exists(file("both.bin")));
+}

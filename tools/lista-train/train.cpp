@@ -73,7 +73,11 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   torch::set_num_threads(cfg.threads);
   std::mt19937_64 rng(cfg.seed);
 
-  ShapeSampler sampler(train, cfg.instances_per_batch, cfg.balance_sources);
+  if (cfg.lookalike_group > 1 && cfg.balance_sources)
+    throw Error("look-alike groups and balanced sources are two ways to fill a batch: choose one");
+  ShapeSampler sampler = cfg.lookalike_group > 1
+                             ? ShapeSampler(train, cfg.instances_per_batch, cfg.lookalike_group, view_sizes(train))
+                             : ShapeSampler(train, cfg.instances_per_batch, cfg.balance_sources);
   const std::vector<int> instances = sampler.shapes();
 
   objfeat::NetConfig nc;

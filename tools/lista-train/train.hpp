@@ -44,6 +44,9 @@ struct TrainConfig {
   // Every shape source gets an equal share of each batch (shape_sampler.hpp);
   // off: shapes are drawn uniformly, whatever their source.
   bool balance_sources = false;
+  // Look-alike groups per batch (shape_sampler.hpp): shapes come in groups of
+  // this many of nearly one size; 1 = off (uniform). Not with balance_sources.
+  int lookalike_group = 1;
   uint64_t seed = 1;
   int threads = 1;
   int eval_every = 500;
