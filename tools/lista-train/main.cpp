@@ -51,6 +51,11 @@ int main(int argc, char** argv) {
   app.add_option("--lookalike-group", cfg.lookalike_group,
                  "fill batches with groups of this many shapes of nearly one size (1: uniform draw)")
       ->check(CLI::Range(1, 64))->excludes("--balance-sources");
+  app.add_option("--lookalike-share", cfg.lookalike_share, "share of each batch's shapes drawn in look-alike groups")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--lookalike-from", cfg.lookalike_from,
+                 "first step with look-alike groups (uniform batches before; from step 1 they collapse training)")
+      ->check(CLI::Range(0, 1000000));
   app.add_option("--seed", cfg.seed, "seed (same seed, same weights)");
   app.add_option("--threads", cfg.threads, "torch threads")->check(CLI::Range(1, 256));
   app.add_option("--eval-every", cfg.eval_every, "steps between held-out evaluations")->check(CLI::Range(1, 1000000));

@@ -28,9 +28,11 @@ ShapeSampler::ShapeSampler(const objfeat::ViewSet& train, int per_batch, bool ba
 }
 
 ShapeSampler::ShapeSampler(const objfeat::ViewSet& train, int per_batch, int group,
-                           const std::vector<Eigen::Vector3f>& sizes)
+                           const std::vector<Eigen::Vector3f>& sizes, double share)
     : ShapeSampler(train, per_batch, false) {
   if (group < 1) throw Error("look-alike groups need at least one shape, got " + std::to_string(group));
+  if (!(share >= 0.0 && share <= 1.0)) throw Error("look-alike share must lie in 0-1, got " + std::to_string(share));
+  grouped_slots_ = int(std::lround(share * per_batch));
   if (sizes.size() != train.views.size())
     throw Error("look-alike sizes: " + std::to_string(sizes.size()) + " rows for " +
                 std::to_string(train.views.size()) + " views");
@@ -69,15 +71,25 @@ std::vector<int> ShapeSampler::draw_groups(std::mt19937_64& rng) {
   for (size_t a = 0; a < pool.size() && int(out.size()) < per_batch_; ++a) {
     if (!taken.insert(pool[a]).second) continue;
     out.push_back(pool[a]);
+    if (int(out.size()) > grouped_slots_) continue;  // the grouped slots are full: singles
     std::vector<int> near = lookalikes_.at(pool[a]);
     std::shuffle(near.begin(), near.end(), rng);
     int added = 1;
     for (int shape : near) {
-      if (added == group_ || int(out.size()) == per_batch_) break;
+      if (added == group_ || int(out.size()) == grouped_slots_) break;
       if (taken.insert(shape).second) { out.push_back(shape); ++added; }
     }
   }
   return out;
+}
+
+std::vector<int> ShapeSampler::draw_uniform(std::mt19937_64& rng) {
+  if (balance_) throw Error("the uniform draw is not the draw of balanced sources");
+  // A full shuffle, then the first per_batch (the draw every shipped model
+  // was trained with; changing it changes them).
+  auto& pool = by_source_.front();
+  std::shuffle(pool.begin(), pool.end(), rng);
+  return {pool.begin(), pool.begin() + per_batch_};
 }
 
 std::vector<int> ShapeSampler::shapes() const {
@@ -88,13 +100,7 @@ std::vector<int> ShapeSampler::shapes() const {
 
 std::vector<int> ShapeSampler::draw(std::mt19937_64& rng) {
   if (group_ > 1) return draw_groups(rng);
-  if (!balance_) {
-    // Uniform over shapes: a full shuffle, then the first per_batch (the
-    // draw every shipped model was trained with; changing it changes them).
-    auto& pool = by_source_.front();
-    std::shuffle(pool.begin(), pool.end(), rng);
-    return {pool.begin(), pool.begin() + per_batch_};
-  }
+  if (!balance_) return draw_uniform(rng);
   // Slots per source: an even share, the remainder to random sources.
   const size_t n = by_source_.size();
   std::vector<int> quota(n, per_batch_ / int(n));

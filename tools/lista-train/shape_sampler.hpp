@@ -27,13 +27,20 @@ class ShapeSampler {
   // anchor's kLookalikeCandidates nearest by `sizes` (one row per view of
   // `train`, e.g. view_sizes(); compared in log space, per shape the
   // median over its views). Throws lista::Error for group < 1, with
-  // balanced sources, or when sizes has the wrong row count.
-  ShapeSampler(const objfeat::ViewSet& train, int per_batch, int group, const std::vector<Eigen::Vector3f>& sizes);
+  // balanced sources, when sizes has the wrong row count, or for a share
+  // outside 0-1.
+  // `share` of the batch's slots (rounded, 0-1) go to groups, the rest to
+  // single shapes drawn uniformly.
+  ShapeSampler(const objfeat::ViewSet& train, int per_batch, int group, const std::vector<Eigen::Vector3f>& sizes,
+               double share = 1.0);
   static constexpr int kLookalikeCandidates = 8;
   // `per_batch` distinct shapes. Balanced: the sources share the slots
   // evenly (the remainder to randomly chosen sources); a source with too
   // few shapes leaves its slots to the others.
   std::vector<int> draw(std::mt19937_64& rng);
+  // The uniform draw in look-alike mode (what draw gives with groups off and
+  // sources unbalanced); throws lista::Error when sources are balanced.
+  std::vector<int> draw_uniform(std::mt19937_64& rng);
   // Views of one shape (indices into the training set).
   const std::vector<int>& views_of(int shape) const { return views_.at(shape); }
   // Ids of the shapes that batches may hold (sorted; label order).
@@ -47,6 +54,7 @@ class ShapeSampler {
   std::map<int, std::vector<int>> views_;
   std::vector<std::vector<int>> by_source_;  // shapes of each source that has any
   int group_ = 1;
+  int grouped_slots_ = 0;
   std::map<int, std::vector<int>> lookalikes_;
 
   std::vector<int> draw_groups(std::mt19937_64& rng);

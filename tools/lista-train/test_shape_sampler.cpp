@@ -131,10 +131,35 @@ TEST(ShapeSampler, LookalikeBatchesAreGroupsOfAnAnchorAndItsCandidates) {
   EXPECT_GT(anchors.size(), 35u);  // anchors are drawn from all shapes
 }
 
+TEST(ShapeSampler, LookalikeShareGroupsTheFirstSlotsAndLeavesTheRestUniform) {
+  const auto set = views_of_sources({40});
+  const auto sizes = clustered_sizes(set);
+  lista::train::ShapeSampler half(set, 12, 3, sizes, 0.5), none(set, 12, 3, sizes, 0.0), uniform(set, 12, false);
+  std::mt19937_64 rng(13), a(17), b(17);
+  for (int step = 0; step < 50; ++step) {
+    const auto shapes = half.draw(rng);
+    ASSERT_EQ(std::set<int>(shapes.begin(), shapes.end()).size(), 12u);
+    for (size_t g = 0; g < 6; g += 3) {
+      const auto& near = half.lookalikes_of(shapes[g]);
+      for (size_t k = 1; k < 3; ++k) EXPECT_NE(std::find(near.begin(), near.end(), shapes[g + k]), near.end());
+    }
+    // No grouped slots: exactly the uniform draw, which draw_uniform also gives.
+    const auto plain = uniform.draw(b);
+    EXPECT_EQ(none.draw(a), plain);
+  }
+  // The pools are shuffled in place, so compare samplers that drew alike.
+  lista::train::ShapeSampler fresh_half(set, 12, 3, sizes, 0.5), fresh_uniform(set, 12, false);
+  std::mt19937_64 c(19), d(19);
+  EXPECT_EQ(fresh_half.draw_uniform(c), fresh_uniform.draw(d));
+  lista::train::ShapeSampler balanced(set, 12, true);
+  EXPECT_THROW(balanced.draw_uniform(c), lista::Error);
+}
+
 TEST(ShapeSampler, LookalikeGroupsRejectBadArguments) {
   const auto set = views_of_sources({10});
   auto sizes = clustered_sizes(set);
   EXPECT_THROW(lista::train::ShapeSampler(set, 4, 0, sizes), lista::Error);
+  EXPECT_THROW(lista::train::ShapeSampler(set, 4, 2, sizes, 1.5), lista::Error);
   sizes.pop_back();
   EXPECT_THROW(lista::train::ShapeSampler(set, 4, 2, sizes), lista::Error);
 }

@@ -156,11 +156,18 @@ TEST(ListaTrain, OutputFolderIsMadeAndAnUnwritableOutIsAnErrorBeforeTraining) {
   fs::remove_all(dir);
 }
 
-TEST_F(ListaTrainTiny, LookalikeGroupsTrainAndCannotBeCombinedWithBalancedSources) {
-  auto cfg = tiny(file("groups.bin"), 30);
+TEST_F(ListaTrainTiny, LookalikeGroupsTrainFromTheirFirstStepAndCannotBeCombinedWithBalancedSources) {
+  auto cfg = tiny(file("plain.bin"), 30);
+  lista::train::train_descriptor(train, test, cfg);
   cfg.lookalike_group = 2;
+  cfg.lookalike_from = 31;  // never: exactly the plain run
+  cfg.out = file("late.bin");
+  lista::train::train_descriptor(train, test, cfg);
+  EXPECT_EQ(read_all(file("late.bin")), read_all(file("plain.bin")));
+  cfg.lookalike_from = 15;
+  cfg.out = file("groups.bin");
   const auto r = lista::train::train_descriptor(train, test, cfg);
-  EXPECT_TRUE(fs::exists(file("groups.bin")));
+  EXPECT_NE(read_all(file("groups.bin")), read_all(file("plain.bin")));
   EXPECT_GT(r.test_top1, 0.0);
   cfg.balance_sources = true;
   cfg.out = file("both.bin");

@@ -76,7 +76,8 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   if (cfg.lookalike_group > 1 && cfg.balance_sources)
     throw Error("look-alike groups and balanced sources are two ways to fill a batch: choose one");
   ShapeSampler sampler = cfg.lookalike_group > 1
-                             ? ShapeSampler(train, cfg.instances_per_batch, cfg.lookalike_group, view_sizes(train))
+                             ? ShapeSampler(train, cfg.instances_per_batch, cfg.lookalike_group, view_sizes(train),
+                                            cfg.lookalike_share)
                              : ShapeSampler(train, cfg.instances_per_batch, cfg.balance_sources);
   const std::vector<int> instances = sampler.shapes();
 
@@ -121,7 +122,8 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
     double lr = cfg.lr * (0.05 + 0.95 * 0.5 * (1.0 + std::cos(M_PI * step / cfg.steps)));
     for (auto& g : opt.param_groups()) static_cast<torch::optim::AdamOptions&>(g.options()).lr(lr);
 
-    const std::vector<int> shapes = sampler.draw(rng);
+    const std::vector<int> shapes =
+        cfg.lookalike_group > 1 && step < cfg.lookalike_from ? sampler.draw_uniform(rng) : sampler.draw(rng);
     std::vector<objfeat::CanonicalCloud> batch(static_cast<size_t>(B));
     std::vector<int64_t> labels(B), classes(B);
     for (int p = 0; p < P; ++p) {

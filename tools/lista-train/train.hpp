@@ -47,6 +47,12 @@ struct TrainConfig {
   // Look-alike groups per batch (shape_sampler.hpp): shapes come in groups of
   // this many of nearly one size; 1 = off (uniform). Not with balance_sources.
   int lookalike_group = 1;
+  // Share of each batch's slots in groups, and the first step that draws
+  // groups (uniform batches before it). Hard batches from the first step
+  // collapse batch-hard training to one point (loss = margin throughout):
+  // the network must first learn coarse shape from uniform batches.
+  double lookalike_share = 1.0;
+  int lookalike_from = 0;
   uint64_t seed = 1;
   int threads = 1;
   int eval_every = 500;
