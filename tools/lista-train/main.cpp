@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
   try {
     prepare_output(cfg.out);
     ViewSet all;
-    if (!views_dirs.empty()) all = read_views(views_dirs);
+    if (!views_dirs.empty()) all = read_views(views_dirs, ViewChannels::xyz_only);  // training reads xyz alone
     else if (synthetic > 0) all = synthetic_views(synthetic, per_instance, cfg.seed);
     else throw lista::Error("give --views <folder> (lista-sim views) or --synthetic <shapes>");
     ViewSet train, test;

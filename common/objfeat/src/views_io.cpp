@@ -17,8 +17,8 @@ namespace {
 // Appends one folder's views; `labels` numbers shapes across folders, so one
 // shape id is one label in every folder (ids name the geometry); `variants`
 // numbers the generator's own ids the same way.
-void append_views(const std::string& folder, std::map<std::string, int>& labels, std::map<std::string, int>& variants,
-                  ViewSet& out) {
+void append_views(const std::string& folder, ViewChannels channels, std::map<std::string, int>& labels,
+                  std::map<std::string, int>& variants, ViewSet& out) {
   auto source_index = [&out](const std::string& name) {
     auto it = std::find(out.sources.begin(), out.sources.end(), name);
     if (it != out.sources.end()) return int(it - out.sources.begin());
@@ -53,7 +53,15 @@ void append_views(const std::string& folder, std::map<std::string, int>& labels,
       view.source = src != source_of.end() ? src->second : source_index("unknown");
       view.points = io::read_scan((fs::path(folder) / v.at("file").get<std::string>()).string()).points;
       if (view.points.empty()) continue;
-      view.points.label.clear();  // ground truth must not reach a descriptor
+      // Ground truth must not reach a descriptor; swapping frees the memory
+      // (clear() would keep it).
+      std::vector<uint32_t>().swap(view.points.label);
+      if (channels == ViewChannels::xyz_only) {
+        std::vector<float>().swap(view.points.intensity);
+        std::vector<uint32_t>().swap(view.points.scan);
+        std::vector<uint32_t>().swap(view.points.index);
+        view.points.xyz.shrink_to_fit();
+      }
       out.views.push_back(std::move(view));
     }
   } catch (const nlohmann::json::exception& e) {
@@ -64,13 +72,15 @@ void append_views(const std::string& folder, std::map<std::string, int>& labels,
 
 }  // namespace
 
-ViewSet read_views(const std::string& folder) { return read_views(std::vector<std::string>{folder}); }
+ViewSet read_views(const std::string& folder, ViewChannels channels) {
+  return read_views(std::vector<std::string>{folder}, channels);
+}
 
-ViewSet read_views(const std::vector<std::string>& folders) {
+ViewSet read_views(const std::vector<std::string>& folders, ViewChannels channels) {
   if (folders.empty()) throw Error("no views folder given");
   ViewSet out;
   std::map<std::string, int> labels, variants;
-  for (const auto& f : folders) append_views(f, labels, variants, out);
+  for (const auto& f : folders) append_views(f, channels, labels, variants, out);
   return out;
 }
 

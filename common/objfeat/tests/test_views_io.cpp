@@ -27,6 +27,8 @@ fs::path write_folder(const std::string& name, const std::vector<ViewEntry>& vie
   for (size_t i = 0; i < views.size(); ++i) {
     lista::PointSet p;
     p.xyz = {{0.f, 0.f, float(i)}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}};
+    p.intensity = {0.25f, 0.5f, 0.75f};
+    p.label = {7, 7, 8};
     const std::string file = "views/" + std::to_string(i) + ".pcd";
     lista::io::write_scan_pcd((dir / file).string(), p, lista::io::PcdEncoding::binary);
     list += std::string(i ? "," : "") + "{\"file\": \"" + file + "\", \"instance\": " + std::to_string(i + 1) +
@@ -51,6 +53,28 @@ TEST(ReadViews, ShapesKeepOneLabelAcrossFolders) {
   EXPECT_EQ(set.views[1].split, 1);
   EXPECT_EQ(set.views[3].split, 1);  // val is held out too
   EXPECT_EQ(lista::objfeat::read_views(a.string()).views.size(), 2u);
+  fs::remove_all(a.parent_path());
+}
+
+// Labels never reach a reader's caller; xyz-only reads (training) keep the
+// coordinates alone, with nothing held in reserve.
+TEST(ReadViews, LabelsAreDroppedAndXyzOnlyKeepsTheCoordinatesAlone) {
+  const fs::path a = write_folder("c", {{"crate-1", "train"}, {"cart-2", "test"}});
+  const auto all = lista::objfeat::read_views(a.string());
+  const auto xyz = lista::objfeat::read_views(a.string(), lista::objfeat::ViewChannels::xyz_only);
+  ASSERT_EQ(all.views.size(), 2u);
+  ASSERT_EQ(xyz.views.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    const lista::PointSet& full = all.views[i].points;
+    const lista::PointSet& bare = xyz.views[i].points;
+    EXPECT_TRUE(full.label.empty());
+    EXPECT_EQ(full.label.capacity(), 0u);
+    EXPECT_EQ(full.intensity, (std::vector<float>{0.25f, 0.5f, 0.75f}));
+    EXPECT_EQ(bare.xyz, full.xyz);
+    EXPECT_TRUE(bare.intensity.empty() && bare.scan.empty() && bare.index.empty() && bare.label.empty());
+    EXPECT_EQ(bare.intensity.capacity() + bare.scan.capacity() + bare.index.capacity(), 0u);
+    EXPECT_EQ(xyz.views[i].label, all.views[i].label);
+  }
   fs::remove_all(a.parent_path());
 }
 

@@ -33,10 +33,15 @@ struct ViewSet {
 
 // index.json ("lista-views/1") and its PCD files; splits 'val' and 'test'
 // are held out. Throws lista::Error naming the file for anything malformed.
-ViewSet read_views(const std::string& folder);
+// Which point channels a read keeps: everything but the ground-truth labels
+// (descriptors must not see them), or the coordinates alone (what training
+// reads; the 28 bytes per point of all channels drop to 12, which decides how
+// many views fit in memory).
+enum class ViewChannels { all, xyz_only };
+ViewSet read_views(const std::string& folder, ViewChannels channels = ViewChannels::all);
 // Several folders as one set: a shape id has one label across all of them
 // (e.g. single-sweep and multi-sweep views of the same objects).
-ViewSet read_views(const std::vector<std::string>& folders);
+ViewSet read_views(const std::vector<std::string>& folders, ViewChannels channels = ViewChannels::all);
 
 // `shapes` synthetic shapes (synthetic.hpp), one instance each,
 // `per_instance` partial views each, no intensity. Deterministic from seed.
