@@ -48,14 +48,14 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 0.99999));
   app.add_flag("--balance-sources", cfg.balance_sources,
                "give every shape source (procedural, furniture, ...) an equal share of each batch");
-  app.add_option("--lookalike-group", cfg.lookalike_group,
+  auto* lookalike_group = app.add_option("--lookalike-group", cfg.lookalike_group,
                  "fill batches with groups of this many shapes of nearly one size (1: uniform draw)")
       ->check(CLI::Range(1, 64))->excludes("--balance-sources");
   app.add_option("--lookalike-share", cfg.lookalike_share, "share of each batch's shapes drawn in look-alike groups")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(CLI::Range(0.0, 1.0))->needs(lookalike_group);
   app.add_option("--lookalike-from", cfg.lookalike_from,
                  "first step with look-alike groups (uniform batches before; from step 1 they collapse training)")
-      ->check(CLI::Range(0, 1000000));
+      ->check(CLI::Range(0, 1000000))->needs(lookalike_group);
   app.add_option("--seed", cfg.seed, "seed (same seed, same weights)");
   app.add_option("--threads", cfg.threads, "torch threads")->check(CLI::Range(1, 256));
   app.add_option("--eval-every", cfg.eval_every, "steps between held-out evaluations")->check(CLI::Range(1, 1000000));
