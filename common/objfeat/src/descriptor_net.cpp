@@ -147,8 +147,7 @@ DescriptorNet load_weights(const std::string& path) {
   c.globals = 0;
   if (!first) {
     const uint32_t frame = r.u32(), globals = r.u32();
-    if (frame > uint32_t(YawFrame::bounding_rectangle) || globals > uint32_t(kShapeGlobals) ||
-        !valid_global_count(int(globals)))
+    if (frame > uint32_t(YawFrame::bounding_rectangle) || !valid_global_count(int(globals)))
       throw Error("model weights '" + path + "' have an invalid configuration (frame " + std::to_string(frame) +
                   ", globals " + std::to_string(globals) + ")");
     c.frame = YawFrame(frame);

@@ -183,14 +183,18 @@ TEST_F(LearnedTest, FirstModelLayoutStillLoadsAndBadOptionsAreErrors) {
   auto b = describe(*stage((dir_ / "first.bin").string()), views);
   EXPECT_EQ((a.values - b.values).cwiseAbs().maxCoeff(), 0.f);
 
-  std::string bad = bytes;
-  bad[options + 4] = 3;  // three globals: no such preprocessing
-  write_with_checksum(dir_ / "bad.bin", bad);
-  try {
-    stage((dir_ / "bad.bin").string());
-    ADD_FAILURE() << "a weights file with 3 globals loaded";
-  } catch (const lista::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("invalid configuration"), std::string::npos) << e.what();
+  // Three globals (no such preprocessing) and 0xFFFFFFFF (which must not
+  // wrap into a valid count).
+  for (const std::string count : {std::string("\x03\0\0\0", 4), std::string(4, '\xff')}) {
+    std::string bad = bytes;
+    bad.replace(options + 4, 4, count);
+    write_with_checksum(dir_ / "bad.bin", bad);
+    try {
+      stage((dir_ / "bad.bin").string());
+      ADD_FAILURE() << "a weights file with globals " << int(uint8_t(count[0])) << "... loaded";
+    } catch (const lista::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("invalid configuration"), std::string::npos) << e.what();
+    }
   }
 }
 
