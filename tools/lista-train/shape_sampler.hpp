@@ -26,9 +26,9 @@ class ShapeSampler {
   // group is a random anchor shape plus group - 1 shapes drawn from the
   // anchor's kLookalikeCandidates nearest by `sizes` (one row per view of
   // `train`, e.g. view_sizes(); compared in log space, per shape the
-  // median over its views). Throws lista::Error for group < 1, with
-  // balanced sources, when sizes has the wrong row count, or for a share
-  // outside 0-1.
+  // median over its views). Throws lista::Error for group < 1, when
+  // sizes has the wrong row count, or for a share outside 0-1. Sources are
+  // not balanced in this mode.
   // `share` of the batch's slots (rounded, 0-1) go to groups, the rest to
   // single shapes drawn uniformly.
   ShapeSampler(const objfeat::ViewSet& train, int per_batch, int group, const std::vector<Eigen::Vector3f>& sizes,

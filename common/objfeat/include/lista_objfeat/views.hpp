@@ -35,8 +35,8 @@ struct ViewSet {
 // are held out. Throws lista::Error naming the file for anything malformed.
 // Which point channels a read keeps: everything but the ground-truth labels
 // (descriptors must not see them), or the coordinates alone (what training
-// reads; the 28 bytes per point of all channels drop to 12, which decides how
-// many views fit in memory).
+// reads; the 24 bytes per point of xyz, intensity, scan and index drop to 12,
+// which decides how many views fit in memory).
 enum class ViewChannels { all, xyz_only };
 ViewSet read_views(const std::string& folder, ViewChannels channels = ViewChannels::all);
 // Several folders as one set: a shape id has one label across all of them
