@@ -7,7 +7,9 @@
 //
 // Each view is turned by a random yaw and moved by a random offset (seeded)
 // before description: the views are stored in their object's frame, and a
-// descriptor must not profit from that.
+// descriptor must not profit from that. The floor moves with the view and
+// is given as the object's floor_z (the views stand on z = 0), as
+// annotate.floor gives it in a pipeline; --no-floor withholds it.
 #include "plugin_loader.hpp"
 
 #include <lista/basic_context.hpp>
@@ -48,10 +50,12 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
 }
 
-// One object per view, at a random pose about z.
-ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<float> yaw(-float(M_PI), float(M_PI)), off(-30.f, 30.f);
+// One object per view, at a random pose about z and a random height.
+ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed, bool give_floor) {
+  // Heights from their own stream: the yaws and offsets stay those of the
+  // runs before the lift, so earlier results remain comparable.
+  std::mt19937_64 rng(seed), lift_rng(seed ^ 0x6c69667400000000ull);
+  std::uniform_real_distribution<float> yaw(-float(M_PI), float(M_PI)), off(-30.f, 30.f), lift(-3.f, 3.f);
   ObjectSet set;
   set.missions = {"views"};
   for (size_t i = 0; i < views.views.size(); ++i) {
@@ -60,7 +64,9 @@ ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed) {
     o.points = views.views[i].points;
     Eigen::Matrix3f r = Eigen::AngleAxisf(yaw(rng), Eigen::Vector3f::UnitZ()).toRotationMatrix();
     Eigen::Vector3f t(off(rng), off(rng), 0.f);
+    t.z() = lift(lift_rng);
     for (auto& p : o.points.xyz) p = r * p + t;
+    if (give_floor) o.floor_z = t.z();
     o.update_geometry();
     set.objects.push_back(std::move(o));
   }
@@ -138,7 +144,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> plugins = {"describe.learned", "describe.esf", "describe.rift", "describe.shot"};
   std::vector<std::string> set_texts;
   int synthetic = 0, max_views = 0;
-  bool all_splits = false;
+  bool all_splits = false, no_floor = false;
   uint64_t seed = 7;
   app.add_option("--views", views_dir, "lista-sim views folder (docs/datasets.md)");
   app.add_option("--synthetic", synthetic, "use N built-in synthetic shapes (4 views each) instead");
@@ -148,6 +154,7 @@ int main(int argc, char** argv) {
   app.add_option("--plugin-dir", plugin_dir, "folder of the plugin libraries");
   app.add_option("--set", set_texts, "<plugin>.<param>=<value>: a parameter other than the default (repeatable)");
   app.add_option("--seed", seed, "seed of the random poses");
+  app.add_flag("--no-floor", no_floor, "do not give the objects their floor height (floor_z), as without annotate.floor");
   app.add_option("--json", json_out, "also write the results as JSON");
   app.add_option("--rows", rows_dir,
                  "write DIR/<plugin>.csv: per view (held-out views in index order) its label, point count and descriptor");
@@ -175,7 +182,7 @@ int main(int argc, char** argv) {
       ++per_label[v.label];
       ++per_variant[v.variant];
     }
-    ObjectSet objects = posed_objects(test, seed);
+    ObjectSet objects = posed_objects(test, seed, !no_floor);
     std::fprintf(stderr, "%zu objects (views) of %zu shapes\n", objects.objects.size(), per_label.size());
 
     std::vector<Row> rows;
@@ -190,8 +197,9 @@ int main(int argc, char** argv) {
       rows.push_back(run_plugin(stage, objects, labels, variants, params));
 
     std::printf("objects: %zu views of %zu shapes (%zu distinct meshes), random yaw + "
-                "offset per view (seed %llu)\n\n",
-                objects.objects.size(), per_label.size(), per_variant.size(), (unsigned long long)seed);
+                "offset per view (seed %llu), floor %s\n\n",
+                objects.objects.size(), per_label.size(), per_variant.size(), (unsigned long long)seed,
+                no_floor ? "withheld" : "given");
     for (const auto& st : settings) std::printf("--set %s\n", st.text.c_str());
     if (!settings.empty()) std::printf("\n");
     std::printf("| plugin | dim | median ms/object | p95 ms/object | top-1 | mAP | purity | top-1, variants |\n");
@@ -203,7 +211,7 @@ int main(int argc, char** argv) {
       j.push_back({{"plugin", r.plugin}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
                    {"top1", r.scores.top1}, {"map", r.scores.map}, {"purity", r.scores.purity},
                    {"top1_variants", r.variant_top1}, {"objects", objects.objects.size()},
-                   {"shapes", per_label.size()}, {"variants", per_variant.size()}});
+                   {"shapes", per_label.size()}, {"variants", per_variant.size()}, {"floor_given", !no_floor}});
       for (const auto& st : settings)
         if (st.plugin == r.plugin) j.back()["set"].push_back(st.text);
     }

@@ -3,6 +3,7 @@
 
 #include <lista/points.hpp>
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,11 @@ struct Object {
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
   Eigen::Vector3f bbox_min = Eigen::Vector3f::Zero();
   Eigen::Vector3f bbox_max = Eigen::Vector3f::Zero();
+  // Height (z, frame of `points`) of the floor the object stands on; NaN
+  // until a stage measures it (e.g. annotate.floor). Descriptors measure
+  // heights from it: a view that misses the object's bottom has its lowest
+  // point on the object's flank, not on the floor.
+  float floor_z = std::numeric_limits<float>::quiet_NaN();
   void update_geometry();  // recomputes centroid and bounds from points
 };
 

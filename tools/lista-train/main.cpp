@@ -39,8 +39,15 @@ int main(int argc, char** argv) {
   bool no_globals = false;
   app.add_flag("--no-globals", no_globals, "do not give the head the object's extents (the first model's layout)");
   app.add_option("--globals", cfg.globals,
-                 "shape globals the head reads: 9 (all, canonical.hpp), 4 (extents and centroid height) or 0")
-      ->check(CLI::IsMember({0, kExtentGlobals, kShapeGlobals}));
+                 "shape globals the head reads: 10 (all, canonical.hpp), 9 (all but the lowest point's height above "
+                 "the floor), 4 (extents and centroid height) or 0")
+      ->check(CLI::IsMember({0, kExtentGlobals, kNoFloorGlobals, kShapeGlobals}));
+  bool no_floor = false;
+  auto* no_floor_flag = app.add_flag("--no-floor", no_floor,
+               "measure heights from the lowest point, never from the floor (the models before 2026-11-26)");
+  app.add_option("--floor-dropout", cfg.floor_dropout,
+                 "share of training samples given no floor (so an unknown floor still describes well)")
+      ->check(CLI::Range(0.0, 1.0))->excludes(no_floor_flag);
   std::vector<int> widths;
   app.add_option("--widths", widths, "per-point MLP widths and head width: w1,w2,w3,head")
       ->delimiter(',')->expected(4)->check(CLI::Range(4, 2048));
@@ -62,6 +69,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", cfg.out, "weights file to write (a .sha256 sidecar is written next to it)");
   CLI11_PARSE(app, argc, argv);
   if (no_globals) cfg.globals = 0;
+  cfg.floor = !no_floor;
   if (!widths.empty()) { cfg.w1 = widths[0]; cfg.w2 = widths[1]; cfg.w3 = widths[2]; cfg.head = widths[3]; }
 
   try {

@@ -73,6 +73,7 @@ TEST_F(ListaTrainTiny, SameSeedSameWeightsAndTrainingHelps) {
   EXPECT_EQ(saved.frame, lista::objfeat::YawFrame::bounding_rectangle);
   EXPECT_EQ(saved.globals, lista::objfeat::kShapeGlobals);
   EXPECT_EQ(saved.points, 64);
+  EXPECT_TRUE(saved.floor);
   // Training must teach the per-point network. Without the extents in the
   // head (on these synthetic boxes the extents alone already rank well
   // untrained), the learned part is all there is.
@@ -134,6 +135,28 @@ TEST_F(ListaTrainTiny, FourGlobalWeightsReadTheFirstFour) {
   EXPECT_FALSE(torch::equal(rows[0], rows[2]));  // global 0 is
   cfg.globals = 5;
   EXPECT_THROW(lista::train::train_descriptor(train, test, cfg), lista::Error);
+}
+
+// Without the floor (--no-floor) the file says so, and the random draws of
+// the floor's augmentation are not made: the same seed trains the same
+// weights as before the floor existed, whatever floor_dropout says. With
+// it, withholding the floor from every sample trains other weights than
+// giving it to every sample.
+TEST_F(ListaTrainTiny, NoFloorRunsSkipTheFloorsDrawsAndRecordIt) {
+  auto run = [&](const std::string& name, bool floor, double dropout) {
+    auto cfg = tiny(file(name), 20);
+    cfg.globals = lista::objfeat::kNoFloorGlobals;
+    cfg.floor = floor;
+    cfg.floor_dropout = dropout;
+    lista::train::train_descriptor(train, test, cfg);
+    return read_all(file(name));
+  };
+  const std::string a = run("a.bin", false, 0.2), b = run("b.bin", false, 0.9);
+  EXPECT_EQ(a, b);
+  EXPECT_FALSE(lista::objfeat::load_weights(file("a.bin"))->config.floor);
+  const std::string always = run("c.bin", true, 0.0), never = run("d.bin", true, 1.0);
+  EXPECT_TRUE(lista::objfeat::load_weights(file("c.bin"))->config.floor);
+  EXPECT_NE(always, never);
 }
 
 }  // namespace

@@ -33,7 +33,9 @@ objfeat::Rows describe_all(objfeat::DescriptorNet& net, const objfeat::ViewSet& 
   torch::NoGradGuard no_grad;
   net->eval();
   std::vector<objfeat::CanonicalCloud> clouds;
-  for (const auto& v : set.views) clouds.push_back(objfeat::make_canonical(v.points.xyz, objfeat::canonical_config(c)));
+  // Views stand on z = 0 (docs/datasets.md): the floor is known.
+  for (const auto& v : set.views)
+    clouds.push_back(objfeat::make_canonical(v.points.xyz, objfeat::canonical_config(c), 0.f));
   const size_t chunk = 128;
   for (size_t b = 0; b < set.views.size(); b += chunk) {
     size_t e = std::min(set.views.size(), b + chunk);
@@ -51,8 +53,10 @@ void copy_weights(objfeat::DescriptorNet& from, objfeat::DescriptorNet& to) {
 }
 
 // A training sample: a random yaw, a random subset of points and a random
-// voxel selection, so the network learns what survives partial observation.
-objfeat::CanonicalCloud augmented(const objfeat::View& v, const objfeat::NetConfig& c, std::mt19937_64& rng) {
+// voxel selection, so the network learns what survives partial observation;
+// the floor (z = 0) with an estimate's error, or withheld.
+objfeat::CanonicalCloud augmented(const objfeat::View& v, const objfeat::NetConfig& c, const TrainConfig& cfg,
+                                  std::mt19937_64& rng) {
   std::uniform_real_distribution<float> u(0.f, 1.f);
   Eigen::Matrix3f r = Eigen::AngleAxisf(6.2832f * u(rng), Eigen::Vector3f::UnitZ()).toRotationMatrix();
   float keep = 0.4f + 0.6f * u(rng);
@@ -62,7 +66,12 @@ objfeat::CanonicalCloud augmented(const objfeat::View& v, const objfeat::NetConf
   for (const auto& p : v.points.xyz)
     if (u(rng) < keep) pts.push_back(r * p + Eigen::Vector3f(jitter(rng), jitter(rng), jitter(rng)));
   if (pts.size() < 8) pts = v.points.xyz;
-  return objfeat::make_canonical(pts, objfeat::canonical_config(c, rng()));
+  float floor = objfeat::kUnknownFloor;
+  if (cfg.floor) {  // no draws without it: --no-floor runs reproduce the earlier models
+    const float error = std::normal_distribution<float>(0.f, float(cfg.floor_noise))(rng);
+    if (u(rng) >= float(cfg.floor_dropout)) floor = error;
+  }
+  return objfeat::make_canonical(pts, objfeat::canonical_config(c, rng()), floor);
 }
 
 }  // namespace
@@ -94,9 +103,10 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
     throw Error("unknown frame '" + cfg.frame + "' (rectangle or principal)");
   nc.frame = cfg.frame == "rectangle" ? objfeat::YawFrame::bounding_rectangle : objfeat::YawFrame::principal_axis;
   if (!objfeat::valid_global_count(cfg.globals))
-    throw Error("globals must be 0, " + std::to_string(objfeat::kExtentGlobals) + " or " +
-                std::to_string(objfeat::kShapeGlobals));
+    throw Error("globals must be 0, " + std::to_string(objfeat::kExtentGlobals) + ", " +
+                std::to_string(objfeat::kNoFloorGlobals) + " or " + std::to_string(objfeat::kShapeGlobals));
   nc.globals = cfg.globals;
+  nc.floor = cfg.floor;
   objfeat::DescriptorNet net(nc);
   // The weight average starts as a copy of the initial weights.
   objfeat::DescriptorNet average(nc);
@@ -130,7 +140,7 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
       const auto& pool = sampler.views_of(shapes[size_t(p)]);
       for (int k = 0; k < K; ++k) {
         const objfeat::View& v = train.views[pool[rng() % pool.size()]];
-        batch[size_t(p * K + k)] = augmented(v, nc, rng);
+        batch[size_t(p * K + k)] = augmented(v, nc, cfg, rng);
         labels[p * K + k] = p;
         classes[p * K + k] = proxy_of[shapes[size_t(p)]];
       }

@@ -35,8 +35,17 @@ struct TrainConfig {
   // principal axis, the first model's) and how many shape globals the head
   // sees (canonical.hpp); both are recorded in the weights file.
   std::string frame = "rectangle";
-  // Shape globals the head reads: 0, objfeat::kExtentGlobals or kShapeGlobals.
+  // Shape globals the head reads: 0, objfeat::kExtentGlobals, kNoFloorGlobals or kShapeGlobals.
   int globals = objfeat::kShapeGlobals;
+  // Heights measured from the floor (canonical.hpp; views stand on z = 0,
+  // docs/datasets.md). A `floor_dropout` share of the training samples gets
+  // no floor, so the model also describes objects whose floor no stage
+  // measured (from the lowest point, as the models before it); the others
+  // get the floor with `floor_noise` (metres, standard deviation) of error,
+  // what a floor estimate from a map is off by.
+  bool floor = true;
+  double floor_dropout = 0.2;
+  double floor_noise = 0.01;
   // Exponential moving average of the weights (Polyak averaging); 0 = off.
   // The averaged weights are the ones evaluated and saved: they sit nearer
   // the middle of the region the last, noisy steps wander in.

@@ -83,7 +83,7 @@ float spread(const std::vector<Eigen::Vector3f>& cells, int axis, double q) {
 }  // namespace
 
 std::vector<CanonicalCloud> make_canonical_samples(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& cfg,
-                                                  int samples) {
+                                                  int samples, float floor_z) {
   if (samples < 1) throw Error("canonical samples must be >= 1");
   if (xyz.empty()) throw Error("cannot describe an object with no points");
   if (cfg.points < 1 || cfg.grid < 1) throw Error("canonical points and grid must be >= 1");
@@ -123,9 +123,14 @@ std::vector<CanonicalCloud> make_canonical_samples(const std::vector<Eigen::Vect
   std::vector<Eigen::Vector3f> cell_points(centres.size());
   for (size_t i = 0; i < centres.size(); ++i) cell_points[i] = centres[i].second;
   const Eigen::Vector3f extent = hi - lo;
+  // Heights are measured from `base`: the floor (in the centred frame; the
+  // rotation is about z) when known and used, else the lowest point. A floor
+  // above the lowest point (points under a floor estimate) is clamped to it.
+  const bool use_floor = cfg.floor && std::isfinite(floor_z);
+  const float base = use_floor ? std::min(floor_z - out.centroid.z(), lo.z()) : lo.z();
   const auto [radius, residual] = footprint_circle(cell_points, 2.f * std::max(extent.x(), extent.y()));
-  out.globals = {extent.x(), extent.y(), extent.z(), -lo.z(), radius, residual,
-                 spread(cell_points, 0, 0.02), spread(cell_points, 1, 0.02), spread(cell_points, 2, 0.02)};
+  out.globals = {extent.x(),  extent.y(), extent.z(), -base, radius, residual, spread(cell_points, 0, 0.02),
+                 spread(cell_points, 1, 0.02), spread(cell_points, 2, 0.02), lo.z() - base};
 
   // Seeded selections of exactly cfg.points cells (cycling if too few);
   // selection k uses seed cfg.seed + k, everything above is shared.
@@ -146,14 +151,14 @@ std::vector<CanonicalCloud> make_canonical_samples(const std::vector<Eigen::Vect
       f[2] = p.z();
       f[3] = std::hypot(p.x(), p.y());
       f[4] = p.norm();
-      f[5] = p.z() - lo.z();
+      f[5] = p.z() - base;
     }
   }
   return result;
 }
 
-CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& cfg) {
-  return std::move(make_canonical_samples(xyz, cfg, 1).front());
+CanonicalCloud make_canonical(const std::vector<Eigen::Vector3f>& xyz, const CanonicalConfig& cfg, float floor_z) {
+  return std::move(make_canonical_samples(xyz, cfg, 1, floor_z).front());
 }
 
 }  // namespace lista::objfeat

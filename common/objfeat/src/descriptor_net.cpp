@@ -60,6 +60,7 @@ CanonicalConfig canonical_config(const NetConfig& c, uint64_t seed) {
   cc.grid = c.grid;
   cc.seed = seed;
   cc.frame = c.frame;
+  cc.floor = c.floor;
   return cc;
 }
 
@@ -93,7 +94,7 @@ torch::Tensor mean_of_samples(const torch::Tensor& rows, int samples) {
 void save_weights(DescriptorNet& net, const std::string& path) {
   const NetConfig& c = net->config;
   std::string buf(kMagic, 8);
-  for (int v : {c.points, c.grid, c.in, c.w1, c.w2, c.w3, c.head, c.out, int(c.frame), c.globals, 0})
+  for (int v : {c.points, c.grid, c.in, c.w1, c.w2, c.w3, c.head, c.out, int(c.frame), c.globals, int(c.floor)})
     put_u32(buf, uint32_t(v));
   auto params = net->named_parameters();
   put_u32(buf, uint32_t(params.size()));
@@ -156,7 +157,14 @@ DescriptorNet load_weights(const std::string& path) {
   if (c.in < kFirstModelChannels || c.in > kCanonicalChannels)
     throw Error("model weights '" + path + "' expect " + std::to_string(c.in) + " input channels, the preprocessing has " +
                 std::to_string(kFirstModelChannels) + " to " + std::to_string(kCanonicalChannels));
-  r.u32();  // reserved
+  c.floor = false;
+  if (!first) {
+    const uint32_t floor = r.u32();  // a reserved 0 before the floor
+    if (floor > 1) throw Error("model weights '" + path + "' have an invalid configuration (floor " + std::to_string(floor) + ")");
+    c.floor = floor == 1;
+  } else {
+    r.u32();  // reserved
+  }
   DescriptorNet net(c);
   auto params = net->named_parameters();
   uint32_t count = r.u32();

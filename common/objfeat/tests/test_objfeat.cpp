@@ -196,3 +196,40 @@ TEST(Retrieval, PerfectAndShuffledLabels) {
   EXPECT_EQ(lone.queries, 4);
   EXPECT_THROW(score_retrieval(x, {1, 2}), lista::Error);
 }
+
+// A view that misses the bottom 0.3 m of a 0.8 m box (a sensor close above
+// it): from the floor, heights are the box's own; from the lowest point they
+// are 0.3 m short, and the gap global says how much was missed.
+TEST(Canonical, HeightsFromTheFloorWhenItIsKnownAndUsed) {
+  std::vector<Eigen::Vector3f> cut;
+  for (const auto& p : box_faces(1.2f, 0.5f, 0.8f, 0.4f, 3))
+    if (p.z() >= 0.3f - 1e-4f) cut.push_back(p + Eigen::Vector3f(0.f, 0.f, 2.f));  // floor at z = 2
+  CanonicalConfig with_floor;
+  with_floor.floor = true;
+  const CanonicalCloud lowest = make_canonical(cut, with_floor);  // floor unknown
+  const CanonicalCloud floor = make_canonical(cut, with_floor, 2.f);
+  EXPECT_NEAR(floor.globals[9], 0.3f, 1e-3f);
+  EXPECT_NEAR(floor.globals[3] - lowest.globals[3], 0.3f, 1e-3f);
+  EXPECT_EQ(lowest.globals[9], 0.f);
+  for (int i = 0; i < floor.points; ++i) {
+    const float from_floor = floor.features[size_t(i) * kCanonicalChannels + 5];
+    EXPECT_NEAR(from_floor - lowest.features[size_t(i) * kCanonicalChannels + 5], 0.3f, 1e-3f);
+    EXPECT_GE(from_floor, 0.3f - 1e-3f);
+    EXPECT_LE(from_floor, 0.8f + 1e-3f);
+  }
+  // A configuration without the floor (the models before it) ignores it.
+  const CanonicalCloud ignored = make_canonical(cut, CanonicalConfig{}, 2.f);
+  const CanonicalCloud plain = make_canonical(cut, CanonicalConfig{});
+  EXPECT_EQ(ignored.features, plain.features);
+  EXPECT_EQ(ignored.globals, plain.globals);
+  EXPECT_EQ(plain.features, lowest.features);
+  // A floor estimate above the lowest point is clamped to it: no negative heights.
+  const CanonicalCloud high = make_canonical(cut, with_floor, 2.5f);
+  EXPECT_EQ(high.globals, lowest.globals);
+  // Yaw about z still changes nothing.
+  const Eigen::Matrix3f r = Eigen::AngleAxisf(2.2f, Eigen::Vector3f::UnitZ()).toRotationMatrix();
+  std::vector<Eigen::Vector3f> turned;
+  for (const auto& p : cut) turned.push_back(r * p);
+  const CanonicalCloud t = make_canonical(turned, with_floor, 2.f);
+  for (size_t g = 0; g < floor.globals.size(); ++g) EXPECT_NEAR(t.globals[g], floor.globals[g], 1e-3f) << g;
+}

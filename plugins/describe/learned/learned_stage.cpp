@@ -36,6 +36,8 @@ class LearnedStage : public Stage {
         "Centres each object, rotates it about z so the longer side of its footprint's minimum-perimeter "
         "rectangle is +x (sign by skew), voxel-resamples it to a fixed number of points and runs a small "
         "PointNet (shared MLP, max+mean pooling joined by the object's shape globals: extents, footprint circle, robust spreads; MLP head) trained with batch-hard triplet loss on instance identity (lista-train). "
+        "Heights are measured from the object's floor_z when a stage measured it (annotate.floor) and the model "
+        "was trained with the floor, else from the object's lowest point. "
         "Output rows are L2-normalised. Weights: the 'weights' parameter, else $LISTA_MODEL_DIR/"
         "describe-learned.bin, else the installed/build/source models/ folder; a missing or corrupt file "
         "(SHA-256 sidecar) is an error. See docs/descriptors.md.";
@@ -67,8 +69,9 @@ class LearnedStage : public Stage {
     for (int t = 0; t < threads; ++t)
       pool.emplace_back([&, t] {
         for (size_t i = size_t(t); i < n; i += size_t(threads)) {
-          auto samples = objfeat::make_canonical_samples(objects.objects[i].points.xyz,
-                                                         objfeat::canonical_config(cfg, kSelectionSeed), samples_);
+          const Object& o = objects.objects[i];
+          auto samples = objfeat::make_canonical_samples(o.points.xyz, objfeat::canonical_config(cfg, kSelectionSeed),
+                                                         samples_, o.floor_z);
           std::move(samples.begin(), samples.end(), clouds.begin() + ptrdiff_t(i * S));
         }
       });

@@ -247,3 +247,41 @@ TEST(DescribeLearnedShipped, SameObjectTwoViewsIsNearerThanOtherObjects) {
 }
 
 }  // namespace
+
+// A model trained with the floor measures heights from an object's floor_z;
+// one without it (the files before the floor: a 0 where the flag is) never
+// does; a flag other than 0 or 1 is refused.
+TEST_F(LearnedTest, FloorModelsReadTheObjectsFloorAndOthersIgnoreIt) {
+  auto views = two_views_each(3, 13);
+  auto below = views, at_lowest = views;
+  for (size_t i = 0; i < views.objects.size(); ++i) {
+    below.objects[i].floor_z = views.objects[i].bbox_min.z() - 0.4f;
+    at_lowest.objects[i].floor_z = views.objects[i].bbox_min.z();
+  }
+  auto floor_model = stage(weights_);  // NetConfig{}: floor on
+  const auto plain = describe(*floor_model, views);
+  EXPECT_GT((describe(*floor_model, below).values - plain.values).cwiseAbs().maxCoeff(), 1e-3f);
+  EXPECT_LT((describe(*floor_model, at_lowest).values - plain.values).cwiseAbs().maxCoeff(), 1e-6f);
+
+  lista::objfeat::NetConfig no_floor;
+  no_floor.floor = false;
+  no_floor.globals = lista::objfeat::kNoFloorGlobals;
+  torch::manual_seed(6);
+  lista::objfeat::DescriptorNet net(no_floor);
+  const fs::path file = dir_ / "no-floor.bin";
+  lista::objfeat::save_weights(net, file.string());
+  auto earlier = stage(file.string());
+  EXPECT_EQ((describe(*earlier, below).values - describe(*earlier, views).values).cwiseAbs().maxCoeff(), 0.f);
+
+  const size_t flag = 8 + 10 * 4;  // magic, then 10 uint32 before the floor flag
+  std::string bytes = read_all(weights_);
+  ASSERT_EQ(bytes.substr(flag, 4), std::string("\x01\0\0\0", 4));
+  bytes.replace(flag, 4, std::string("\x02\0\0\0", 4));
+  write_with_checksum(dir_ / "bad-floor.bin", bytes);
+  try {
+    stage((dir_ / "bad-floor.bin").string());
+    ADD_FAILURE() << "a weights file with floor flag 2 loaded";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("invalid configuration (floor 2)"), std::string::npos) << e.what();
+  }
+}

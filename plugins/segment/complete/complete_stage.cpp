@@ -48,7 +48,9 @@ class CompleteStage : public Stage {
         "they did not change (a sliver of phantom change on a static wall stays a sliver; below the "
         "share the growth is kept, as a short move overlaps its other pose). The local "
         "floor is found around each object; points within max(floor_clearance, 4 sigma of the "
-        "floor's noise) of it are never added. Ids and order are kept.";
+        "floor's noise) of it are never added. Every object standing on its local floor (lowest point at most "
+        "0.3 m above it) gets that floor's height as its floor_z, which describe.learned measures heights "
+        "from. Ids and order are kept.";
     i.inputs = {{"objects", "objects", "per-mission change clusters"},
                 {"missions", "missions", "the aligned missions the clusters came from"}};
     i.outputs = {{"objects", "objects", "clusters, completed where a pair agreed"}};
@@ -82,6 +84,7 @@ class CompleteStage : public Stage {
     context.record("self_completed", double(st.self_completed));
     context.record("points_static", double(st.points_static));
     context.record("points_added", double(st.points_added));
+    context.record("floors", double(st.floors));
     context.info("completed " + std::to_string(st.completed) + " of " + std::to_string(st.pairs) +
                  " pairs, " + std::to_string(st.points_added) + " points added");
     Outputs out;

@@ -333,10 +333,6 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   }
   CompletionStats st;
   st.pairs = pairs.size();
-  if (pairs.empty() && !c.self_complete) {
-    if (stats) *stats = st;
-    return out;
-  }
 
   // 2. Each mission's points around its pairs, and what its objects own.
   const size_t nm = out.missions.size();
@@ -352,11 +348,12 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     if (m + 1 < nm) n.push_back(m + 1);
     return n;
   };
-  if (c.self_complete)
-    for (const auto& o : out.objects) {
-      if (o.points.empty()) continue;
-      regions[o.mission].push_back(own_floor_region(o));
-      if (c.static_check)
+  // Every object's own region: its floor is measured (rule 6) whether or
+  // not it self-completes.
+  for (const auto& o : out.objects) {
+    if (o.points.empty()) continue;
+    regions[o.mission].push_back(own_floor_region(o));
+    if (c.self_complete && c.static_check)
         for (size_t n : neighbours(o.mission)) regions[n].push_back(own_floor_region(o));
     }
   std::vector<LocalCloud> clouds(nm);
@@ -410,7 +407,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       Floor f;
       if (!local_floor(cloud.points, own_floor_region(o), c.floor_percentile, c.floor_clearance, f)) continue;
       Box r = Box{o.bbox_min, o.bbox_max}.grown(margin, margin, margin);
-      const bool on_floor = o.bbox_min.z() - f.z <= 0.3f;
+      const bool on_floor = o.bbox_min.z() - f.z <= kOnFloorGap;
       if (on_floor) r.lo.z() = f.clear_z;
       const Growth g = grow(o.points, cloud, r, f.clear_z, owned[o.mission]);
       std::vector<uint32_t> add;
@@ -439,6 +436,19 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       st.points_added += add.size();
       o.update_geometry();
     }
+
+  // 6. The floor each object stands on (Object::floor_z), for descriptors
+  // that measure heights from it. An object whose lowest point is more than
+  // on_floor_gap above the local floor stands on something else (a table, a
+  // shelf): its floor stays unknown and its lowest point is its base.
+  for (auto& o : out.objects) {
+    if (o.points.empty()) continue;
+    Floor f;
+    if (!local_floor(clouds[o.mission].points, own_floor_region(o), c.floor_percentile, c.floor_clearance, f)) continue;
+    if (o.bbox_min.z() - f.z > kOnFloorGap) continue;
+    o.floor_z = f.z;
+    ++st.floors;
+  }
   if (stats) *stats = st;
   return out;
 }

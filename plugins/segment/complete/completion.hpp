@@ -42,6 +42,9 @@
 //     of growing into the whole structure. Below the share the growth is
 //     kept whole: a short move whose two slivers were not paired overlaps
 //     its other pose too. The pair growth (rules 1-4) is exempt.
+//  6. Floor (every object): the local floor under an object standing on it
+//     (its lowest point at most kOnFloorGap above) becomes its floor_z, the
+//     height descriptors measure from (describe.learned).
 // The local floor around an object: the `floor_percentile` of the lowest point
 // per 0.2 m cell gives a first guess, refined to the median of the points just
 // above it; object points must lie max(`floor_clearance`, 4 x its noise)
@@ -54,6 +57,10 @@
 #include <cstddef>
 
 namespace lista::seg {
+
+// An object whose lowest point is at most this far above the local floor
+// stands on it (metres); farther up it stands on something else.
+constexpr float kOnFloorGap = 0.3f;
 
 struct CompletionConfig {
   double voxel = 0.1;             // m, connectivity grid of the growth
@@ -77,6 +84,7 @@ struct CompletionStats {
   size_t self_completed = 0;  // objects grown by rule 5
   size_t points_added = 0;    // over all objects
   size_t points_static = 0;   // rule 5 candidates left out as static (static_check)
+  size_t floors = 0;          // objects given their floor_z (rule 6)
 };
 
 // `missions` must be the aligned missions the objects were detected in (same

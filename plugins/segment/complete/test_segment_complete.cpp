@@ -239,3 +239,31 @@ TEST(SegmentComplete, PhantomChangeOnStaticFurnitureStaysASliver) {
   EXPECT_EQ(kept.objects[0].points.size(), detected);
   EXPECT_GE(st.points_static, base);
 }
+
+TEST(SegmentComplete, ObjectsStandingOnTheFloorGetItsHeight) {
+  // The scene's floor is z = 0, lifted by 0.7 m here so the height is not 0
+  // by accident. An object whose lowest point is over 0.3 m above the floor
+  // (a box on a table) gets none: what it stands on is not the floor.
+  Scene s = make_scene();
+  for (int m = 0; m < 2; ++m) {
+    PointSet lifted = s.cloud[m];
+    for (auto& p : lifted.xyz) p.z() += 0.7f;
+    s.cloud[m] = lifted;
+    s.missions.missions[size_t(m)].scans[0].points = std::make_shared<const PointSet>(lifted);
+  }
+  ObjectSet in = one_object(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+    return p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.82f;
+  });
+  in.objects.push_back(object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+    return p.x() >= 2.49f && p.y() <= 0.51f && p.z() > 1.1f;  // top of the static box only
+  }));
+  in.objects.back().id = 1;
+  seg::CompletionConfig c;
+  c.self_complete = false;  // the floor is measured without self-completion too
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  EXPECT_NEAR(out.objects[0].floor_z, 0.7f, 0.01f);
+  EXPECT_TRUE(std::isnan(out.objects[1].floor_z));
+  EXPECT_EQ(st.floors, 1u);
+  EXPECT_TRUE(std::isnan(in.objects[0].floor_z)) << "the input is not touched";
+}

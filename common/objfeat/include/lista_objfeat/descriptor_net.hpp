@@ -11,10 +11,12 @@
 // L2-normalised.
 //
 // Weights file (little-endian): "LISTADN2", 11 x uint32 config
-// (points grid in w1 w2 w3 head out frame globals reserved), uint32 tensor
+// (points grid in w1 w2 w3 head out frame globals floor), uint32 tensor
 // count, then per tensor uint32 name length, name, uint32 element count,
 // float32 data. "LISTADN1" files (the first model: 9 x uint32, no frame and
-// globals fields) load as principal-axis frame without globals.
+// globals fields) load as principal-axis frame without globals. `floor` (1:
+// heights from the floor when known, canonical.hpp) was a reserved 0 before
+// 2026-11-26, so earlier files load as models without the floor.
 // Next to it, "<file>.sha256" holds the SHA-256 (sha256sum format).
 #pragma once
 
@@ -35,6 +37,10 @@ struct NetConfig {
   // Shape globals the head reads (canonical.hpp): 0 (first model),
   // kExtentGlobals (extents and centroid height) or kShapeGlobals (all).
   int globals = kShapeGlobals;
+  // Heights from the floor the object stands on when the caller knows it
+  // (CanonicalConfig::floor); trained with the floor withheld from some
+  // samples, so an unknown floor falls back to the lowest point.
+  bool floor = true;
 };
 
 struct DescriptorNetImpl : torch::nn::Module {
