@@ -29,8 +29,11 @@ done
 # ~/.cache/lista/shapes) once. The network trains on all folders as one set.
 # Why seven procedural seeds: held-out accuracy grew with the number of
 # training shapes, not with steps or width (docs/bench/descriptors.md).
-# The head reads all nine shape globals (canonical.hpp); models before
-# 2026-11-25 (evening) were trained with --globals 4.
+# The head reads all ten shape globals (canonical.hpp) and measures heights
+# from the floor the views stand on, which it withholds from 20 % of the
+# training views (--floor-dropout 0.2) so that objects of unknown floor are
+# still described well. Models before 2026-11-26 were trained with
+# --globals 9 --no-floor, before 2026-11-25 (evening) with --globals 4.
 shapes="${LISTA_SHAPES_DIR:-$HOME/.cache/lista/shapes}"
 sh "$root/tools/fetch-shapes.sh" "$shapes" >&2
 folders=()
@@ -50,4 +53,4 @@ make_views furniture-single-5 5 --furniture "$shapes" --no-procedural
 # training run, not a reproduction.
 for seed in 15 17; do make_views "single-$seed" "$seed"; done
 "$build/bin/lista-train" --views "${folders[@]}" \
-  --out "$out" --globals 9 --loss triplet --margin 0.5 --ema 0.999 --steps 16000 --eval-every 2000 --seed 1 --threads 1
+  --out "$out" --globals 10 --floor-dropout 0.2 --loss triplet --margin 0.5 --ema 0.999 --steps 16000 --eval-every 2000 --seed 1 --threads 1
