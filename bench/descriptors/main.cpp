@@ -9,7 +9,7 @@
 // before description: the views are stored in their object's frame, and a
 // descriptor must not profit from that. The floor moves with the view and
 // is given as the object's floor_z (the views stand on z = 0), as
-// annotate.floor gives it in a pipeline; --no-floor withholds it.
+// segment.complete gives it in a pipeline; --no-floor withholds it.
 #include "plugin_loader.hpp"
 
 #include <lista/basic_context.hpp>
@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
   app.add_option("--plugin-dir", plugin_dir, "folder of the plugin libraries");
   app.add_option("--set", set_texts, "<plugin>.<param>=<value>: a parameter other than the default (repeatable)");
   app.add_option("--seed", seed, "seed of the random poses");
-  app.add_flag("--no-floor", no_floor, "do not give the objects their floor height (floor_z), as without annotate.floor");
+  app.add_flag("--no-floor", no_floor, "do not give the objects their floor height (floor_z), as a pipeline without segment.complete");
   app.add_option("--json", json_out, "also write the results as JSON");
   app.add_option("--rows", rows_dir,
                  "write DIR/<plugin>.csv: per view (held-out views in index order) its label, point count and descriptor");
@@ -196,8 +196,8 @@ int main(int argc, char** argv) {
     for (const auto& [stage, params] : stages)
       rows.push_back(run_plugin(stage, objects, labels, variants, params));
 
-    std::printf("objects: %zu views of %zu shapes (%zu distinct meshes), random yaw + "
-                "offset per view (seed %llu), floor %s\n\n",
+    std::printf("objects: %zu views of %zu shapes (%zu distinct meshes), random yaw, "
+                "offset and height per view (seed %llu), floor %s\n\n",
                 objects.objects.size(), per_label.size(), per_variant.size(), (unsigned long long)seed,
                 no_floor ? "withheld" : "given");
     for (const auto& st : settings) std::printf("--set %s\n", st.text.c_str());

@@ -17,7 +17,7 @@ struct Object {
   Eigen::Vector3f bbox_min = Eigen::Vector3f::Zero();
   Eigen::Vector3f bbox_max = Eigen::Vector3f::Zero();
   // Height (z, frame of `points`) of the floor the object stands on; NaN
-  // until a stage measures it (e.g. annotate.floor). Descriptors measure
+  // until a stage measures it (segment.complete does). Descriptors measure
   // heights from it: a view that misses the object's bottom has its lowest
   // point on the object's flank, not on the floor.
   float floor_z = std::numeric_limits<float>::quiet_NaN();

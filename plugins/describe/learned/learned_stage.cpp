@@ -36,7 +36,7 @@ class LearnedStage : public Stage {
         "Centres each object, rotates it about z so the longer side of its footprint's minimum-perimeter "
         "rectangle is +x (sign by skew), voxel-resamples it to a fixed number of points and runs a small "
         "PointNet (shared MLP, max+mean pooling joined by the object's shape globals: extents, footprint circle, robust spreads; MLP head) trained with batch-hard triplet loss on instance identity (lista-train). "
-        "Heights are measured from the object's floor_z when a stage measured it (annotate.floor) and the model "
+        "Heights are measured from the object's floor_z when a stage measured it (segment.complete) and the model "
         "was trained with the floor, else from the object's lowest point. "
         "Output rows are L2-normalised. Weights: the 'weights' parameter, else $LISTA_MODEL_DIR/"
         "describe-learned.bin, else the installed/build/source models/ folder; a missing or corrupt file "
