@@ -62,3 +62,40 @@ TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("/nonexistent/views/index.json: not found"), std::string::npos) << r.output;
 }
+
+// Views are lifted to a random height and their floor goes with them as the
+// objects' floor_z: a floor model reads it, so withholding it (--no-floor)
+// changes describe.learned's rows but not ESF's (which ignores the floor),
+// and the JSON records which way the set was scored.
+TEST(BenchDescriptors, TheFloorIsGivenUnlessWithheld) {
+#ifndef LISTA_HAVE_LEARNED
+  GTEST_SKIP() << "describe.learned not built (no libtorch)";
+#endif
+  e2e::TempDir dir("bench_floor");
+  const std::string views = (dir.path() / "views").string();
+  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 40 --views-per-object 2 --seed 3 --out " +
+                            views + " 2>&1");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  auto bench = [&](const std::string& name, const std::string& extra) {
+    const std::string base = (dir.path() / name).string();
+    const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
+                            " --plugins describe.learned,describe.esf --json " + base + ".json --rows " + base +
+                            " " + extra + " 2>&1");
+    EXPECT_EQ(r.status, 0) << r.output;
+    return std::make_pair(r.output, json::parse(e2e::read_file(base + ".json")));
+  };
+  const auto [given_text, given] = bench("given", "");
+  const auto [withheld_text, withheld] = bench("withheld", "--no-floor");
+  EXPECT_NE(given_text.find("floor given"), std::string::npos) << given_text;
+  EXPECT_NE(withheld_text.find("floor withheld"), std::string::npos) << withheld_text;
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_TRUE(given[i].at("floor_given").get<bool>());
+    EXPECT_FALSE(withheld[i].at("floor_given").get<bool>());
+  }
+  const auto rows = [&](const std::string& name, const std::string& plugin) {
+    return e2e::read_file((dir.path() / name / (plugin + ".csv")).string());
+  };
+  EXPECT_NE(rows("given", "describe.learned"), rows("withheld", "describe.learned"));
+  ASSERT_FALSE(rows("given", "describe.esf").empty());
+  EXPECT_EQ(rows("given", "describe.esf"), rows("withheld", "describe.esf"));
+}
