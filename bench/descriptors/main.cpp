@@ -9,7 +9,8 @@
 // before description: the views are stored in their object's frame, and a
 // descriptor must not profit from that. The floor moves with the view and
 // is given as the object's floor_z (the views stand on z = 0), as
-// segment.complete gives it in a pipeline; --no-floor withholds it.
+// segment.complete gives it in a pipeline; --no-floor withholds it and
+// --floor-error adds a measurement error to it.
 #include "plugin_loader.hpp"
 
 #include <lista/basic_context.hpp>
@@ -50,12 +51,15 @@ double percentile(std::vector<double> v, double q) {
   return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
 }
 
-// One object per view, at a random pose about z and a random height.
-ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed, bool give_floor) {
-  // Heights from their own stream: the yaws and offsets stay those of the
-  // runs before the lift, so earlier results remain comparable.
-  std::mt19937_64 rng(seed), lift_rng(seed ^ 0x6c69667400000000ull);
+// One object per view, at a random pose about z and a random height; its
+// floor known (floor_z, off by Gaussian error of `floor_error` m) or not.
+ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed, bool give_floor, float floor_error) {
+  // Heights and floor errors from their own streams: the yaws and offsets
+  // stay those of the runs before the lift, so earlier results remain
+  // comparable, and an error changes nothing else.
+  std::mt19937_64 rng(seed), lift_rng(seed ^ 0x6c69667400000000ull), error_rng(seed ^ 0x6572726f72000000ull);
   std::uniform_real_distribution<float> yaw(-float(M_PI), float(M_PI)), off(-30.f, 30.f), lift(-3.f, 3.f);
+  std::normal_distribution<float> error(0.f, 1.f);
   ObjectSet set;
   set.missions = {"views"};
   for (size_t i = 0; i < views.views.size(); ++i) {
@@ -66,7 +70,7 @@ ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed, bool give_
     Eigen::Vector3f t(off(rng), off(rng), 0.f);
     t.z() = lift(lift_rng);
     for (auto& p : o.points.xyz) p = r * p + t;
-    if (give_floor) o.floor_z = t.z();
+    if (give_floor) o.floor_z = t.z() + floor_error * error(error_rng);
     o.update_geometry();
     set.objects.push_back(std::move(o));
   }
@@ -145,6 +149,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> set_texts;
   int synthetic = 0, max_views = 0;
   bool all_splits = false, no_floor = false;
+  double floor_error = 0.0;
   uint64_t seed = 7;
   app.add_option("--views", views_dir, "lista-sim views folder (docs/datasets.md)");
   app.add_option("--synthetic", synthetic, "use N built-in synthetic shapes (4 views each) instead");
@@ -155,6 +160,10 @@ int main(int argc, char** argv) {
   app.add_option("--set", set_texts, "<plugin>.<param>=<value>: a parameter other than the default (repeatable)");
   app.add_option("--seed", seed, "seed of the random poses");
   app.add_flag("--no-floor", no_floor, "do not give the objects their floor height (floor_z), as a pipeline without segment.complete");
+  app.add_option("--floor-error", floor_error,
+                 "standard deviation (m) of a Gaussian error added to each object's floor_z, as a floor "
+                 "estimated from a map is off")
+      ->check(CLI::Range(0.0, 1.0))->excludes("--no-floor");
   app.add_option("--json", json_out, "also write the results as JSON");
   app.add_option("--rows", rows_dir,
                  "write DIR/<plugin>.csv: per view (held-out views in index order) its label, point count and descriptor");
@@ -182,7 +191,7 @@ int main(int argc, char** argv) {
       ++per_label[v.label];
       ++per_variant[v.variant];
     }
-    ObjectSet objects = posed_objects(test, seed, !no_floor);
+    ObjectSet objects = posed_objects(test, seed, !no_floor, float(floor_error));
     std::fprintf(stderr, "%zu objects (views) of %zu shapes\n", objects.objects.size(), per_label.size());
 
     std::vector<Row> rows;
@@ -199,7 +208,10 @@ int main(int argc, char** argv) {
     std::printf("objects: %zu views of %zu shapes (%zu distinct meshes), random yaw, "
                 "offset and height per view (seed %llu), floor %s\n\n",
                 objects.objects.size(), per_label.size(), per_variant.size(), (unsigned long long)seed,
-                no_floor ? "withheld" : "given");
+                no_floor ? "withheld"
+                : floor_error > 0 ? ("given, off by " + std::to_string(int(std::lround(floor_error * 1000))) +
+                                     " mm (sigma)").c_str()
+                                  : "given");
     for (const auto& st : settings) std::printf("--set %s\n", st.text.c_str());
     if (!settings.empty()) std::printf("\n");
     std::printf("| plugin | dim | median ms/object | p95 ms/object | top-1 | mAP | purity | top-1, variants |\n");
@@ -211,7 +223,8 @@ int main(int argc, char** argv) {
       j.push_back({{"plugin", r.plugin}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
                    {"top1", r.scores.top1}, {"map", r.scores.map}, {"purity", r.scores.purity},
                    {"top1_variants", r.variant_top1}, {"objects", objects.objects.size()},
-                   {"shapes", per_label.size()}, {"variants", per_variant.size()}, {"floor_given", !no_floor}});
+                   {"shapes", per_label.size()}, {"variants", per_variant.size()}, {"floor_given", !no_floor},
+                   {"floor_error_m", floor_error}});
       for (const auto& st : settings)
         if (st.plugin == r.plugin) j.back()["set"].push_back(st.text);
     }

@@ -66,7 +66,8 @@ TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
 // Views are lifted to a random height and their floor goes with them as the
 // objects' floor_z: a floor model reads it, so withholding it (--no-floor)
 // changes describe.learned's rows but not ESF's (which ignores the floor),
-// and the JSON records which way the set was scored.
+// as does an error added to the floor (--floor-error); the JSON records
+// which way the set was scored.
 TEST(BenchDescriptors, TheFloorIsGivenUnlessWithheld) {
 #ifndef LISTA_HAVE_LEARNED
   GTEST_SKIP() << "describe.learned not built (no libtorch)";
@@ -86,8 +87,12 @@ TEST(BenchDescriptors, TheFloorIsGivenUnlessWithheld) {
   };
   const auto [given_text, given] = bench("given", "");
   const auto [withheld_text, withheld] = bench("withheld", "--no-floor");
+  const auto [off_text, off] = bench("off", "--floor-error 0.05");
   EXPECT_NE(given_text.find("floor given"), std::string::npos) << given_text;
   EXPECT_NE(withheld_text.find("floor withheld"), std::string::npos) << withheld_text;
+  EXPECT_NE(off_text.find("floor given, off by 50 mm"), std::string::npos) << off_text;
+  EXPECT_DOUBLE_EQ(off[0].at("floor_error_m").get<double>(), 0.05);
+  EXPECT_DOUBLE_EQ(given[0].at("floor_error_m").get<double>(), 0.0);
   for (size_t i = 0; i < 2; ++i) {
     EXPECT_TRUE(given[i].at("floor_given").get<bool>());
     EXPECT_FALSE(withheld[i].at("floor_given").get<bool>());
@@ -98,4 +103,11 @@ TEST(BenchDescriptors, TheFloorIsGivenUnlessWithheld) {
   EXPECT_NE(rows("given", "describe.learned"), rows("withheld", "describe.learned"));
   ASSERT_FALSE(rows("given", "describe.esf").empty());
   EXPECT_EQ(rows("given", "describe.esf"), rows("withheld", "describe.esf"));
+  EXPECT_NE(rows("given", "describe.learned"), rows("off", "describe.learned"));
+  EXPECT_EQ(rows("given", "describe.esf"), rows("off", "describe.esf"));  // the error draws move nothing else
+  // An error without a floor is a contradiction, refused before any work.
+  const auto both = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
+                             " --plugins describe.esf --no-floor --floor-error 0.05 2>&1");
+  EXPECT_NE(both.status, 0);
+  EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
 }
