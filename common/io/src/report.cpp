@@ -132,6 +132,7 @@ void write_report(const std::string& path, const Report& report) {
     j["match"] = o.match >= 0 ? json(o.match) : json(nullptr);
     if (o.transform) j["transform"] = matrix_json(*o.transform);
     j["history"] = o.history;
+    j["floor_z"] = o.floor_z ? json(*o.floor_z) : json(nullptr);
     objects.push_back(std::move(j));
   }
   root["objects"] = std::move(objects);
@@ -192,6 +193,7 @@ Report read_report(const std::string& path) {
       if (!h.is_array()) rd.fail(w + ".history", "expected a list of ids");
       for (size_t k = 0; k < h.size(); ++k) o.history.push_back(rd.integer(h[k], w + ".history"));
     }
+    if (j.contains("floor_z") && !j["floor_z"].is_null()) o.floor_z = rd.number(j["floor_z"], w + ".floor_z");
     r.objects.push_back(std::move(o));
   }
   for (const auto& o : r.objects)

@@ -27,6 +27,7 @@ Report sample_report() {
   o.match = 11;
   o.transform = t;
   o.history = {3, 11};
+  o.floor_z = -0.59;
   ReportObject p = o;
   p.id = 11;
   p.mission = "B";
@@ -55,6 +56,9 @@ TEST(ReportJson, RoundTripAndContractLayout) {
   EXPECT_EQ(r.alignment.at("B")(0, 3), 1.5);
   EXPECT_EQ(r.timings_s[0].first, "read");
   EXPECT_EQ(r.objects[0].history, (std::vector<int>{3, 11}));
+  ASSERT_TRUE(r.objects[0].floor_z.has_value());
+  EXPECT_DOUBLE_EQ(*r.objects[0].floor_z, -0.59);
+  EXPECT_FALSE(r.objects[2].floor_z.has_value());  // unknown: written as null, read back as none
   EXPECT_NE(r.extra_json.find("provenance"), std::string::npos);
   // The raw JSON follows the contract: match null, timings an object.
   std::ifstream in(path);

@@ -1,5 +1,6 @@
 #include "report_build.hpp"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include <map>
@@ -59,6 +60,7 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
     ro.bbox_min = o.points.empty() ? o.bbox_min.cast<double>() : lo.cast<double>();
     ro.bbox_max = o.points.empty() ? o.bbox_max.cast<double>() : hi.cast<double>();
     ro.points = o.points.size();
+    if (std::isfinite(o.floor_z)) ro.floor_z = double(o.floor_z);
     ro.group = groups ? groups->group_of(o.id) : -1;
     const ObjectChange* c = matches ? matches->find(o.id) : nullptr;
     if (c) {

@@ -83,7 +83,7 @@ StageInfo info() {
   s.doc =
       "Writes the change report: report.json (format, missions, alignment = each mission's to_common, "
       "objects with id, mission, status, centroid, bbox, points, group (-1 without groups), confidence, "
-      "match (null if none), transform for moved objects, and the extension 'history'; timings_s per "
+      "match (null if none), transform for moved objects, and the extensions 'history' and 'floor_z'; timings_s per "
       "finished stage) plus 'provenance' (resolved pipeline, plugin versions, git revision, seed, threads, "
       "per-stage time and peak memory) and 'metrics'. changes/<mission>.pcd (binary; x y z float32 in the "
       "common frame, scan uint32, index uint32, object int32) holds every object point with its object id "

@@ -48,6 +48,7 @@ struct Fixture {
     objects.missions = {"A", "B"};
     objects.objects = {make_object(0, 0, 0.f, 0, 10, 4), make_object(1, 1, 5.f, 2, 0, 4),
                        make_object(2, 1, 9.f, 3, 7, 2)};
+    objects.objects[0].floor_z = -0.25f;  // measured by a stage; the others unknown
     ObjectChange a{0, ChangeStatus::moved, 1, 0.1, 0.9, true, Eigen::Matrix4d::Identity(), {0, 1}};
     a.transform(0, 3) = 5;
     ObjectChange b{1, ChangeStatus::moved, 0, 0.1, 0.9, false, Eigen::Matrix4d::Identity(), {0, 1}};
@@ -98,6 +99,9 @@ TEST(IoReport, WritesTheContractAndReadsBack) {
   EXPECT_EQ(r.objects[2].group, -1);
   EXPECT_EQ(r.objects[1].points, 4u);
   EXPECT_NEAR(r.objects[0].bbox_max.x(), 0.3, 1e-6);
+  ASSERT_TRUE(r.objects[0].floor_z.has_value());  // the object's floor, passed through
+  EXPECT_DOUBLE_EQ(*r.objects[0].floor_z, -0.25);
+  EXPECT_FALSE(r.objects[1].floor_z.has_value());
   ASSERT_EQ(r.timings_s.size(), 2u);
   EXPECT_EQ(r.timings_s[1].first, "diff");
   const auto extra = nlohmann::json::parse(r.extra_json);

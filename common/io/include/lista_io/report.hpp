@@ -23,6 +23,7 @@ struct ReportObject {
   int match = -1;                            // -1 is written as null
   std::optional<Eigen::Matrix4d> transform;  // moved only
   std::vector<int> history;                  // extension: ids across missions
+  std::optional<double> floor_z;             // extension: floor under the object (common frame), null if unknown
 };
 
 struct Report {
