@@ -205,13 +205,12 @@ int main(int argc, char** argv) {
     for (const auto& [stage, params] : stages)
       rows.push_back(run_plugin(stage, objects, labels, variants, params));
 
+    std::string floor_text = no_floor ? "withheld" : "given";
+    if (floor_error > 0) floor_text += ", off by " + std::to_string(std::lround(floor_error * 1000)) + " mm (sigma)";
     std::printf("objects: %zu views of %zu shapes (%zu distinct meshes), random yaw, "
                 "offset and height per view (seed %llu), floor %s\n\n",
                 objects.objects.size(), per_label.size(), per_variant.size(), (unsigned long long)seed,
-                no_floor ? "withheld"
-                : floor_error > 0 ? ("given, off by " + std::to_string(int(std::lround(floor_error * 1000))) +
-                                     " mm (sigma)").c_str()
-                                  : "given");
+                floor_text.c_str());
     for (const auto& st : settings) std::printf("--set %s\n", st.text.c_str());
     if (!settings.empty()) std::printf("\n");
     std::printf("| plugin | dim | median ms/object | p95 ms/object | top-1 | mAP | purity | top-1, variants |\n");
