@@ -10,7 +10,10 @@
 // descriptor must not profit from that. The floor moves with the view and
 // is given as the object's floor_z (the views stand on z = 0), as
 // segment.complete gives it in a pipeline; --no-floor withholds it and
-// --floor-error adds a measurement error to it.
+// --floor-error adds a measurement error to it. Top-1 is also split by
+// view size, sensor, distance and which part of the object a view shows
+// (breakdowns.hpp).
+#include "breakdowns.hpp"
 #include "plugin_loader.hpp"
 
 #include <lista/basic_context.hpp>
@@ -227,32 +230,29 @@ int main(int argc, char** argv) {
       for (const auto& st : settings)
         if (st.plugin == r.plugin) j.back()["set"].push_back(st.text);
     }
-    // Top-1 by view size (points in the view).
-    const std::vector<std::pair<size_t, size_t>> bins = {{0, 64}, {65, 299}, {300, 1499}, {1500, SIZE_MAX}};
-    std::printf("\ntop-1 by view size (points):\n\n| plugin |");
-    for (const auto& [lo, hi] : bins)
-      hi == SIZE_MAX ? std::printf(" >= %zu |", lo) : std::printf(" %zu-%zu |", lo, hi);
-    std::printf("\n|---|");
-    for (size_t b = 0; b < bins.size(); ++b) std::printf("---:|");
-    std::printf("\n");
-    for (const auto& r : rows) {
-      std::printf("| %s |", r.plugin.c_str());
-      nlohmann::json by_size = nlohmann::json::array();
-      for (const auto& [lo, hi] : bins) {
-        size_t n = 0, hits = 0;
-        for (size_t i = 0; i < test.views.size(); ++i) {
-          const size_t points = test.views[i].points.xyz.size();
-          if (points < lo || points > hi) continue;
-          ++n;
-          hits += size_t(r.scores.top1_hits[i]);
-        }
-        std::printf(n ? " %.3f (%zu) |" : " - |", n ? double(hits) / double(n) : 0.0, n);
-        by_size.push_back({{"min_points", lo}, {"max_points", hi == SIZE_MAX ? -1 : int64_t(hi)}, {"views", n},
-                           {"top1", n ? double(hits) / double(n) : 0.0}});
-      }
+    // Where each plugin misses: top-1 by what the views are; a breakdown the
+    // folder gives no data for (synthetic views have no sensor) is left out.
+    for (const bench::Breakdown& b :
+         {bench::by_view_size(test), bench::by_sensor(test), bench::by_distance(test), bench::by_coverage(test)}) {
+      if (b.empty()) continue;
+      std::printf("\n%s:\n\n| plugin |", b.title.c_str());
+      for (const auto& name : b.bins) std::printf(" %s |", name.c_str());
+      std::printf("\n|---|");
+      for (size_t k = 0; k < b.bins.size(); ++k) std::printf("---:|");
       std::printf("\n");
-      for (auto& e : j)
-        if (e["plugin"] == r.plugin) e["top1_by_view_size"] = by_size;
+      for (const auto& r : rows) {
+        std::printf("| %s |", r.plugin.c_str());
+        nlohmann::json bins = nlohmann::json::array();
+        const std::vector<bench::BinScore> scores = bench::score_bins(b, r.scores.top1_hits);
+        for (size_t k = 0; k < b.bins.size(); ++k) {
+          const bench::BinScore& sc = scores[k];
+          sc.views ? std::printf(" %.3f (%zu) |", sc.top1(), sc.views) : std::printf(" - |");
+          bins.push_back({{"bin", b.bins[k]}, {"views", sc.views}, {"top1", sc.top1()}});
+        }
+        std::printf("\n");
+        for (auto& e : j)
+          if (e["plugin"] == r.plugin) e[b.json_key] = bins;
+      }
     }
     if (!json_out.empty()) {
       {

@@ -1,6 +1,7 @@
 // lista-bench-descriptors as a user runs it: on a small `lista-sim views`
 // folder it describes every held-out view, writes the table and a JSON file
-// whose numbers are scores, and it refuses a folder that is not there.
+// whose numbers are scores (with top-1 split by view size, sensor, distance
+// and coverage), and it refuses a folder that is not there.
 #include "e2e_support.hpp"
 
 #include <gtest/gtest.h>
@@ -39,6 +40,20 @@ TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
   EXPECT_GT(r.at("median_ms").get<double>(), 0.0);
   EXPECT_GE(r.at("p95_ms").get<double>(), r.at("median_ms").get<double>());
   EXPECT_FALSE(std::filesystem::exists(out + ".tmp"));
+  // Every simulated view says its size, sensor, distance and shape: each
+  // breakdown puts every view in one bin, and its hits add up to top-1.
+  for (const char* key : {"top1_by_view_size", "top1_by_sensor", "top1_by_distance", "top1_by_coverage"}) {
+    ASSERT_TRUE(r.contains(key)) << key;
+    size_t views_in_bins = 0;
+    double hits = 0.0;
+    for (const json& bin : r.at(key)) {
+      views_in_bins += bin.at("views").get<size_t>();
+      hits += bin.at("top1").get<double>() * bin.at("views").get<double>();
+    }
+    EXPECT_EQ(views_in_bins, held_out) << key;
+    EXPECT_NEAR(hits / double(held_out), r.at("top1").get<double>(), 1e-9) << key;
+  }
+  EXPECT_NE(bench.output.find("top-1 by what the view shows:"), std::string::npos) << bench.output;
   EXPECT_FALSE(r.contains("set")) << "the setting names describe.shot only";
   ASSERT_TRUE(rows[1].contains("set")) << rows[1].dump();
   EXPECT_EQ(rows[1].at("set"), json::array({"describe.shot.voxel=0.05"}));

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <vector>
 
 namespace lista::objfeat {
 
@@ -39,9 +40,18 @@ void append_views(const std::string& folder, ViewChannels channels, std::map<std
   const size_t before = out.views.size();
   try {
     std::map<std::string, int> source_of;  // shape id -> source index
+    std::map<std::string, std::array<float, 3>> extent_of;
     if (index.contains("shapes"))
-      for (const auto& s : index.at("shapes"))
-        source_of[s.at("id").get<std::string>()] = source_index(s.value("source", "unknown"));
+      for (const auto& s : index.at("shapes")) {
+        const std::string id = s.at("id").get<std::string>();
+        source_of[id] = source_index(s.value("source", "unknown"));
+        if (s.contains("extent")) {
+          const auto e = s.at("extent").get<std::vector<float>>();
+          if (e.size() != 3 || !(e[0] > 0.f && e[1] > 0.f && e[2] > 0.f))
+            throw Error(index_path.string() + ": shape '" + id + "' extent must be three positive sizes");
+          extent_of[id] = {e[0], e[1], e[2]};
+        }
+      }
     for (const auto& v : index.at("views")) {
       View view;
       const std::string shape = v.at("shape").get<std::string>();
@@ -51,6 +61,9 @@ void append_views(const std::string& folder, ViewChannels channels, std::map<std
       view.split = v.value("split", "train") == "train" ? 0 : 1;
       auto src = source_of.find(shape);
       view.source = src != source_of.end() ? src->second : source_index("unknown");
+      if (auto e = extent_of.find(shape); e != extent_of.end()) view.extent = e->second;
+      view.sensor = v.value("sensor", "");
+      if (v.contains("distance")) view.distance = v.at("distance").get<float>();
       view.points = io::read_scan((fs::path(folder) / v.at("file").get<std::string>()).string()).points;
       if (view.points.empty()) continue;
       // Ground truth must not reach a descriptor; swapping frees the memory

@@ -5,6 +5,7 @@
 #include <lista/error.hpp>
 #include <lista_io/pcd.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -114,6 +115,40 @@ TEST(ReadViews, SourcesComeFromTheShapesList) {
   lista::objfeat::ViewSet train, test;
   lista::objfeat::split_by_shape(set, 0.0, 1, train, test);
   EXPECT_EQ(train.sources, set.sources);
+  fs::remove_all(a.parent_path());
+}
+
+// Sizes come from the shapes list, sensor and distance from each view; what
+// a folder does not give stays unknown ("" or NaN); a malformed size is an
+// error naming the file and the shape.
+TEST(ReadViews, SizesSensorsAndDistancesAreKeptForBreakdowns) {
+  const fs::path a = write_folder("e1", {{"box-1", "train"}, {"box-2", "test"}, {"box-1", "train"}},
+                                  R"({"id": "box-1", "extent": [0.5, 0.25, 1.5]}, {"id": "box-2"})");
+  {  // give the first view a sensor and a distance
+    std::ifstream in(a / "index.json");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string first = "\"instance\": 1,";
+    text.replace(text.find(first), first.size(), first + " \"sensor\": \"vlp16\", \"distance\": 4.5,");
+    std::ofstream(a / "index.json") << text;
+  }
+  const lista::objfeat::ViewSet set = lista::objfeat::read_views(a.string());
+  ASSERT_EQ(set.views.size(), 3u);
+  EXPECT_EQ(set.views[0].extent, (std::array<float, 3>{0.5f, 0.25f, 1.5f}));
+  EXPECT_EQ(set.views[2].extent, set.views[0].extent);
+  for (float e : set.views[1].extent) EXPECT_TRUE(std::isnan(e));
+  EXPECT_EQ(set.views[0].sensor, "vlp16");
+  EXPECT_FLOAT_EQ(set.views[0].distance, 4.5f);
+  EXPECT_EQ(set.views[1].sensor, "");
+  EXPECT_TRUE(std::isnan(set.views[1].distance));
+  const fs::path b = write_folder("e2", {{"box-1", "train"}}, R"({"id": "box-1", "extent": [0.5, 0.0, 1.5]})");
+  try {
+    lista::objfeat::read_views(b.string());
+    ADD_FAILURE() << "a zero size was accepted";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("index.json: shape 'box-1' extent must be three positive sizes"),
+              std::string::npos)
+        << e.what();
+  }
   fs::remove_all(a.parent_path());
 }
 

@@ -7,7 +7,9 @@
 
 #include <lista/points.hpp>
 
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,15 @@ struct View {
   int instance = 0; // object instance in the data set
   int split = -1;   // -1: unassigned, 0: training, 1: held out (given by the data set)
   int source = 0;   // index into ViewSet::sources: where the shape came from
+  // How the view was taken and what it shows part of (index.json; for
+  // benchmark breakdowns, never for a descriptor): the sensor's name ("" if
+  // not given), its distance to the object (m) and the whole shape's size
+  // (shapes[].extent: x, y along the shape's own axes, height; m); NaN where
+  // not given.
+  std::string sensor;
+  float distance = std::numeric_limits<float>::quiet_NaN();
+  std::array<float, 3> extent{std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::quiet_NaN(),
+                              std::numeric_limits<float>::quiet_NaN()};
   PointSet points;  // object frame
 };
 
