@@ -13,8 +13,9 @@ bool Breakdown::empty() const {
 namespace {
 
 // Bins [edges[k], edges[k + 1]) named "a-b", the last one ">= a".
-Breakdown by_edges(const objfeat::ViewSet& views, const std::vector<double>& edges, double (*value)(const objfeat::View&)) {
-  Breakdown b;
+Breakdown by_edges(const objfeat::ViewSet& views, const std::string& title, const std::string& json_key,
+                   const std::vector<double>& edges, double (*value)(const objfeat::View&)) {
+  Breakdown b{title, json_key, {}, {}};
   for (size_t k = 0; k < edges.size(); ++k) {
     auto text = [](double x) {
       std::string s = std::to_string(x);
@@ -38,17 +39,14 @@ Breakdown by_edges(const objfeat::ViewSet& views, const std::vector<double>& edg
 }  // namespace
 
 Breakdown by_view_size(const objfeat::ViewSet& views) {
-  Breakdown b = by_edges(views, {0, 65, 300, 1500}, [](const objfeat::View& v) { return double(v.points.xyz.size()); });
+  Breakdown b = by_edges(views, "top-1 by view size (points)", "top1_by_view_size", {0, 65, 300, 1500},
+                         [](const objfeat::View& v) { return double(v.points.xyz.size()); });
   b.bins = {"0-64", "65-299", "300-1499", ">= 1500"};  // counts, so closed ranges
-  b.title = "top-1 by view size (points)";
-  b.json_key = "top1_by_view_size";
   return b;
 }
 
 Breakdown by_sensor(const objfeat::ViewSet& views) {
-  Breakdown b;
-  b.title = "top-1 by sensor";
-  b.json_key = "top1_by_sensor";
+  Breakdown b{"top-1 by sensor", "top1_by_sensor", {}, {}};
   std::set<std::string> names;
   for (const auto& v : views.views)
     if (!v.sensor.empty()) names.insert(v.sensor);
@@ -59,17 +57,12 @@ Breakdown by_sensor(const objfeat::ViewSet& views) {
 }
 
 Breakdown by_distance(const objfeat::ViewSet& views) {
-  Breakdown b = by_edges(views, {0, 3, 5, 8, 12}, [](const objfeat::View& v) { return double(v.distance); });
-  b.title = "top-1 by distance (m)";
-  b.json_key = "top1_by_distance";
-  return b;
+  return by_edges(views, "top-1 by distance (m)", "top1_by_distance", {0, 3, 5, 8, 12},
+                  [](const objfeat::View& v) { return double(v.distance); });
 }
 
 Breakdown by_coverage(const objfeat::ViewSet& views) {
-  Breakdown b;
-  b.title = "top-1 by what the view shows";
-  b.json_key = "top1_by_coverage";
-  b.bins = {"whole", "bottom missed", "top missed", "both missed"};
+  Breakdown b{"top-1 by what the view shows", "top1_by_coverage", {"whole", "bottom missed", "top missed", "both missed"}, {}};
   for (const auto& v : views.views) {
     const float height = v.extent[2];
     if (!std::isfinite(height) || v.points.xyz.empty()) {
