@@ -185,7 +185,10 @@ int main(int argc, char** argv) {
     else throw Error("give --views <folder> (lista-sim views) or --synthetic <shapes>");
     if (all_splits || views_dir.empty()) test = all;
     else objfeat::split_by_shape(all, 0.2, seed, train, test);
+    if (test.views.empty())
+      throw Error(views_dir + ": no held-out views (index.json split 'val' or 'test'); score every view with --all-splits");
     if (max_views > 0 && int(test.views.size()) > max_views) test.views.resize(size_t(max_views));
+    if (test.views.size() < 2) throw Error("one view is nothing to retrieve: give at least two");
     std::vector<int> labels, variants;
     std::map<int, int> per_label, per_variant;
     for (const auto& v : test.views) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 using nlohmann::json;
@@ -76,6 +77,34 @@ TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
   const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views /nonexistent/views 2>&1");
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.output.find("/nonexistent/views/index.json: not found"), std::string::npos) << r.output;
+}
+
+// A folder whose views are all for training (one's own scans, split left
+// out) has nothing held out: a one-line error that names the way out, not
+// an empty table; --all-splits scores them.
+TEST(BenchDescriptors, AFolderWithNothingHeldOutIsAnErrorUnlessAllSplitsAreScored) {
+  e2e::TempDir dir("bench_no_held_out");
+  const std::string views = (dir.path() / "views").string();
+  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 12 --views-per-object 2 --seed 4 --out " +
+                            views + " 2>&1");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  std::string index = e2e::read_file(views + "/index.json");
+  for (const std::string held : {"\"split\": \"val\"", "\"split\": \"test\""})
+    for (size_t at = index.find(held); at != std::string::npos; at = index.find(held))
+      index.replace(at, held.size(), "\"split\": \"train\"");
+  std::ofstream(views + "/index.json") << index;
+  const std::string bench = e2e::bin("lista-bench-descriptors") + " --views " + views + " --plugins describe.esf";
+  const auto refused = e2e::run(bench + " 2>&1");
+  EXPECT_NE(refused.status, 0);
+  EXPECT_NE(refused.output.find("no held-out views (index.json split 'val' or 'test'); score every view with --all-splits"),
+            std::string::npos)
+      << refused.output;
+  const auto all = e2e::run(bench + " --all-splits 2>&1");
+  EXPECT_EQ(all.status, 0) << all.output;
+  EXPECT_NE(all.output.find("| describe.esf | 640 |"), std::string::npos) << all.output;
+  const auto one = e2e::run(bench + " --all-splits --max-views 1 2>&1");
+  EXPECT_NE(one.status, 0);
+  EXPECT_NE(one.output.find("give at least two"), std::string::npos) << one.output;
 }
 
 // Views are lifted to a random height and their floor goes with them as the
