@@ -15,16 +15,15 @@ namespace {
 // Bins [edges[k], edges[k + 1]) named "a-b", the last one ">= a".
 Breakdown by_edges(const objfeat::ViewSet& views, const std::string& title, const std::string& json_key,
                    const std::vector<double>& edges, double (*value)(const objfeat::View&)) {
+  auto text = [](double x) {  // 12, 2.5: no trailing zeros
+    std::string s = std::to_string(x);
+    s.erase(s.find_last_not_of('0') + 1);
+    if (s.back() == '.') s.pop_back();
+    return s;
+  };
   Breakdown b{title, json_key, {}, {}};
-  for (size_t k = 0; k < edges.size(); ++k) {
-    auto text = [](double x) {
-      std::string s = std::to_string(x);
-      s.erase(s.find_last_not_of('0') + 1);
-      if (s.back() == '.') s.pop_back();
-      return s;
-    };
+  for (size_t k = 0; k < edges.size(); ++k)
     b.bins.push_back(k + 1 < edges.size() ? text(edges[k]) + "-" + text(edges[k + 1]) : ">= " + text(edges[k]));
-  }
   for (const auto& v : views.views) {
     const double x = value(v);
     int bin = -1;
