@@ -200,6 +200,16 @@ int main(int argc, char** argv) {
     ObjectSet objects = posed_objects(test, seed, !no_floor, float(floor_error));
     std::fprintf(stderr, "%zu objects (views) of %zu shapes\n", objects.objects.size(), per_label.size());
 
+    // Outputs that cannot be written fail now, not after minutes of runs.
+    if (!json_out.empty()) {
+      if (!std::ofstream(json_out + ".tmp")) throw Error("cannot write " + json_out + ".tmp: choose another --json");
+      std::filesystem::remove(json_out + ".tmp");
+    }
+    if (!rows_dir.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(rows_dir, ec);
+      if (ec) throw Error("cannot make --rows folder " + rows_dir + ": " + ec.message());
+    }
     std::vector<Row> rows;
     // Every plugin loaded and every setting checked before the first one runs.
     std::vector<std::pair<bench::LoadedStage, Params>> stages;
@@ -266,7 +276,6 @@ int main(int argc, char** argv) {
       std::filesystem::rename(json_out + ".tmp", json_out);
     }
     if (!rows_dir.empty()) {
-      std::filesystem::create_directories(rows_dir);
       for (const auto& r : rows) {
         const std::string path = rows_dir + "/" + r.plugin + ".csv";
         {

@@ -81,7 +81,7 @@ TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
 
 // A folder whose views are all for training (one's own scans, split left
 // out) has nothing held out: a one-line error that names the way out, not
-// an empty table; --all-splits scores them.
+// an empty table; --all-splits scores them. Bad outputs fail up front.
 TEST(BenchDescriptors, AFolderWithNothingHeldOutIsAnErrorUnlessAllSplitsAreScored) {
   e2e::TempDir dir("bench_no_held_out");
   const std::string views = (dir.path() / "views").string();
@@ -102,6 +102,12 @@ TEST(BenchDescriptors, AFolderWithNothingHeldOutIsAnErrorUnlessAllSplitsAreScore
   const auto all = e2e::run(bench + " --all-splits 2>&1");
   EXPECT_EQ(all.status, 0) << all.output;
   EXPECT_NE(all.output.find("| describe.esf | 640 |"), std::string::npos) << all.output;
+  // An output that cannot be written fails before any plugin runs.
+  const auto bad_json = e2e::run(bench + " --all-splits --json /nonexistent/out.json 2>&1");
+  EXPECT_NE(bad_json.status, 0);
+  EXPECT_NE(bad_json.output.find("cannot write /nonexistent/out.json.tmp: choose another --json"), std::string::npos)
+      << bad_json.output;
+  EXPECT_EQ(bad_json.output.find("| describe.esf |"), std::string::npos) << bad_json.output;
   const auto one = e2e::run(bench + " --all-splits --max-views 1 2>&1");
   EXPECT_NE(one.status, 0);
   EXPECT_NE(one.output.find("give at least two"), std::string::npos) << one.output;
