@@ -230,3 +230,25 @@ TEST(Plan, ResolvedTomlRoundTrips) {
   EXPECT_EQ(again.resolved_toml(), plan.resolved_toml());
   EXPECT_NE(plan.describe().find("level 2"), std::string::npos);
 }
+
+// Problems come out as a reader meets them in the file, whichever check
+// found them first; file-wide ones lead, and other files keep their order.
+TEST(Diagnostics, SortByLocationOrdersByFileThenLineThenColumn) {
+  Diagnostics d;
+  d.error({"p.toml", 13, 11}, "describe", "samples out of range");
+  d.error({"p.toml", 8, 1}, "load", "unknown parameter");
+  d.error({"other.toml", 2, 1}, "", "elsewhere");
+  d.error({"p.toml", 12, 22}, "describe", "no such output");
+  d.error({"p.toml", 0, 0}, "", "--set names no stage");
+  d.error({"p.toml", 12, 22}, "describe", "second at the same place");
+  d.warning({"p.toml", 10, 1}, "describe", "unused output");
+  d.warning({"p.toml", 6, 1}, "load", "unused output");
+  d.sort_by_location();
+  std::vector<std::string> order;
+  for (const auto& e : d.errors) order.push_back(e.message);
+  EXPECT_EQ(order, (std::vector<std::string>{"--set names no stage", "unknown parameter", "no such output",
+                                             "second at the same place", "samples out of range", "elsewhere"}));
+  ASSERT_EQ(d.warnings.size(), 2u);
+  EXPECT_EQ(d.warnings[0].where.line, 6);
+  EXPECT_EQ(d.first_error().message(), "--set names no stage");
+}

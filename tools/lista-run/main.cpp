@@ -70,6 +70,7 @@ int run(const Options& o) {
   try {
     const PipelineSpec spec = parse_pipeline_file(o.pipeline, diagnostics);
     plan = build_plan(spec, overrides, registry, diagnostics, loaded.errors);
+    diagnostics.sort_by_location();
   } catch (const lista::Error& e) {
     if (o.validate) {
       // A syntax error is a verdict too.

@@ -321,6 +321,20 @@ std::string Diagnostic::str() const {
   return s + message;
 }
 
+void Diagnostics::sort_by_location() {
+  for (auto* list : {&errors, &warnings}) {
+    std::vector<std::string> files;
+    for (const auto& d : *list)
+      if (std::find(files.begin(), files.end(), d.where.file) == files.end()) files.push_back(d.where.file);
+    auto key = [&files](const Diagnostic& d) {
+      return std::make_tuple(std::find(files.begin(), files.end(), d.where.file) - files.begin(), d.where.line,
+                             d.where.column);
+    };
+    std::stable_sort(list->begin(), list->end(),
+                     [&key](const Diagnostic& a, const Diagnostic& b) { return key(a) < key(b); });
+  }
+}
+
 Error Diagnostics::first_error() const {
   if (errors.empty()) return Error("no error");
   const auto& e = errors.front();

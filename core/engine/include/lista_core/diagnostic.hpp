@@ -25,6 +25,11 @@ struct Diagnostics {
   void warning(SourceLocation where, std::string stage, std::string message) {
     warnings.push_back({std::move(where), std::move(stage), std::move(message)});
   }
+  // Orders errors and warnings as a reader meets them: by file (in order of
+  // first mention), line, column; file-wide ones (line 0, e.g. a --set
+  // naming no stage) first. The checks run stage by stage and pass by pass,
+  // so they find problems out of order. Stable: ties keep their order.
+  void sort_by_location();
   // The first error as a lista::Error (for callers that stop at one).
   Error first_error() const;
 };
