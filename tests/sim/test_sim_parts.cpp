@@ -237,7 +237,22 @@ TEST(Sensor, BeamTablesMatchTheDatasheets) {
   EXPECT_EQ(xt.max_range, 120.0);
   EXPECT_EQ(make_sensor("vlp16").elevations.size(), 16u);
   EXPECT_EQ(make_sensor("vlp16", 900).columns, 900);
-  EXPECT_THROW(make_sensor("lidar9000"), lista::Error);
+  const SensorModel os1 = make_sensor("os1-64");
+  EXPECT_EQ(os1.elevations.size(), 64u);
+  EXPECT_NEAR((os1.elevations.back() - os1.elevations.front()) * 180 / M_PI, 42.4, 1e-9);
+  const SensorModel hdl = make_sensor("hdl32");
+  EXPECT_EQ(hdl.elevations.size(), 32u);
+  EXPECT_NEAR(hdl.elevations.front() * 180 / M_PI, -30.67, 1e-9);
+  EXPECT_NEAR((hdl.elevations[1] - hdl.elevations[0]) * 180 / M_PI, 1.33, 0.01);
+  try {
+    make_sensor("lidar9000");
+    ADD_FAILURE() << "an unknown sensor was accepted";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("use one of os0-128, xt32, vlp16, os1-64, hdl32"), std::string::npos)
+        << e.what();
+  }
+  for (const auto& name : all_sensor_names()) EXPECT_EQ(make_sensor(name).name, name);
+  EXPECT_EQ(sensor_names(), (std::vector<std::string>{"os0-128", "xt32", "vlp16"}));  // the default draw
 }
 
 TEST(RayScene, HitsAWallAtTheRightRangeWithItsLabel) {

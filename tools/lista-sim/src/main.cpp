@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed (same seed, same dataset)");
   app.add_option("--missions", missions, "number of missions (default: the preset's)");
   app.add_option("--scans", scans, "scans per mission (default: the preset's)");
-  app.add_option("--sensor", sensor, "os0-128, xt32 or vlp16 (default: the preset's)");
+  app.add_option("--sensor", sensor, "os0-128, xt32, vlp16, os1-64 or hdl32 (default: the preset's)");
   app.add_option("--threads", threads, "worker threads")->check(CLI::PositiveNumber);
   app.add_flag("--overwrite", overwrite, "replace a dataset already in --out");
 
@@ -85,6 +85,9 @@ int main(int argc, char** argv) {
   views_cmd->add_option("--scans-per-view", views.scans_per_view,
                         "sweeps merged into each view, 1 m apart along a pass by the object (as a mission map sees it)")
       ->check(CLI::PositiveNumber);
+  views_cmd->add_option("--sensors", views.sensors,
+                        "sensors each view draws from (default os0-128,xt32,vlp16; also os1-64, hdl32)")
+      ->delimiter(',');
   views_cmd->add_option("--seed", views.seed, "random seed");
   views_cmd->add_option("--threads", views.threads, "worker threads")->check(CLI::PositiveNumber);
   views_cmd->add_flag("--overwrite", views.overwrite, "replace views already in --out");

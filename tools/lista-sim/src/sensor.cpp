@@ -20,6 +20,11 @@ const std::vector<std::string>& sensor_names() {
   return n;
 }
 
+const std::vector<std::string>& all_sensor_names() {
+  static const std::vector<std::string> n = {"os0-128", "xt32", "vlp16", "os1-64", "hdl32"};
+  return n;
+}
+
 SensorModel make_sensor(const std::string& name, int columns) {
   SensorModel s;
   s.name = name;
@@ -44,8 +49,24 @@ SensorModel make_sensor(const std::string& name, int columns) {
     s.max_range = 100.0;
     s.range_sigma = 0.015;
     s.dropout = 0.003;
+  } else if (name == "os1-64") {  // Ouster OS1-64: 42.4 deg vertical FoV, 1024x10 mode
+    s.elevations = uniform_beams(64, -21.2, 21.2);
+    s.columns = 1024;
+    s.min_range = 0.3;
+    s.max_range = 120.0;
+    s.range_sigma = 0.02;
+    s.dropout = 0.005;
+  } else if (name == "hdl32") {  // Velodyne HDL-32E: -30.67..+10.67 deg, 1.33 deg spacing, 10 Hz
+    s.elevations = uniform_beams(32, -30.67, 10.67);
+    s.columns = 2170;
+    s.min_range = 1.0;
+    s.max_range = 100.0;
+    s.range_sigma = 0.02;
+    s.dropout = 0.003;
   } else {
-    throw Error("lista-sim: unknown sensor '" + name + "' (use os0-128, xt32 or vlp16)");
+    std::string known;
+    for (const auto& n : all_sensor_names()) known += (known.empty() ? "" : ", ") + n;
+    throw Error("lista-sim: unknown sensor '" + name + "' (use one of " + known + ")");
   }
   if (columns < 0) throw Error("lista-sim: sensor columns must be > 0");
   if (columns > 0) s.columns = columns;

@@ -73,7 +73,10 @@ ViewsStats write_views(const ViewsOptions& opt) {
   if (opt.out.empty()) throw Error("lista-sim views: --out is required");
   if (opt.objects < 1 || opt.views_per_object < 1 || opt.scans_per_view < 1)
     throw Error("lista-sim views: --objects, --views-per-object and --scans-per-view must be >= 1");
-  // The pool first: an unusable shape set must not cost the folder's old views.
+  // Sensors and pool first: an unknown sensor or an unusable shape set must
+  // not cost the folder's old views.
+  const std::vector<std::string> sensors = opt.sensors.empty() ? sensor_names() : opt.sensors;
+  for (const auto& name : sensors) make_sensor(name);
   std::vector<std::string> variants;
   const std::vector<Shape> pool = shape_pool(opt, variants);
   const fs::path root(opt.out);
@@ -107,7 +110,7 @@ ViewsStats write_views(const ViewsOptions& opt) {
       std::string sensor_name;
       Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
       for (int attempt = 0; attempt < 20; ++attempt) {  // retry views that see (almost) nothing
-        sensor_name = sensor_names()[size_t(rng.integer(0, int(sensor_names().size()) - 1))];
+        sensor_name = sensors[size_t(rng.integer(0, int(sensors.size()) - 1))];
         const SensorModel sensor = make_sensor(sensor_name);
         const double dist = 0.5 * shape.size() + rng.uniform(1.0, 8.0);
         const double az = rng.uniform(-M_PI, M_PI);

@@ -18,6 +18,10 @@ struct ViewsOptions {
   // object (as a robot walking past it builds its map). 1: one sweep.
   int scans_per_view = 1;
   uint64_t seed = 1;
+  // Sensors each view draws from (sensor.hpp); empty: sensor_names(). The
+  // draw takes the same random numbers whatever the list, so one seed gives
+  // the same shapes and viewpoints with other sensors.
+  std::vector<std::string> sensors;
   int threads = 1;
   bool overwrite = false;
   bool progress = false;
