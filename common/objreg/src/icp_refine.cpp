@@ -169,6 +169,14 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   for (size_t i = 0; i < std::min<size_t>(coarse.size(), 3); ++i) chosen.push_back(i);
   const size_t coarse_pick = pick(coarse);
   if (coarse_pick >= chosen.size()) chosen.push_back(coarse_pick);
+  // The least turned hypothesis always gets its fine pass: the simplest
+  // explanation of a move, and a symmetric shape's (a box's) true pose,
+  // which a coarse pass with partial views can rank below its half-turned
+  // twin by more than symmetry_tolerance (measured: exp1 from an OS1-64).
+  size_t least_turned = 0;
+  for (size_t i = 1; i < coarse.size(); ++i)
+    if (angle(coarse[i].t) < angle(coarse[least_turned].t)) least_turned = i;
+  if (std::find(chosen.begin(), chosen.end(), least_turned) == chosen.end()) chosen.push_back(least_turned);
   // GICP's plane-to-plane minimum can sit a few degrees off on box-like
   // objects (measured: a cart stuck at a 90-degree hypothesis, 4.5 deg from
   // the truth, which point-to-point ICP reached with a lower score), so a
