@@ -26,48 +26,36 @@ const std::vector<std::string>& all_sensor_names() {
 }
 
 SensorModel make_sensor(const std::string& name, int columns) {
-  SensorModel s;
-  s.name = name;
-  if (name == "os0-128") {  // Ouster OS0-128: 90 deg vertical FoV, 1024x10 mode
-    s.elevations = uniform_beams(128, -45.0, 45.0);
-    s.columns = 1024;
-    s.min_range = 0.3;
-    s.max_range = 50.0;
-    s.range_sigma = 0.015;
-    s.dropout = 0.005;
-  } else if (name == "xt32") {  // Hesai PandarXT-32: -16..+15 deg, 1 deg spacing, 10 Hz
-    s.elevations = uniform_beams(32, -16.0, 15.0);
-    s.columns = 2000;
-    s.min_range = 0.05;
-    s.max_range = 120.0;
-    s.range_sigma = 0.01;
-    s.dropout = 0.002;
-  } else if (name == "vlp16") {  // Velodyne VLP-16: +-15 deg, 2 deg spacing, 10 Hz
-    s.elevations = uniform_beams(16, -15.0, 15.0);
-    s.columns = 1800;
-    s.min_range = 0.5;
-    s.max_range = 100.0;
-    s.range_sigma = 0.015;
-    s.dropout = 0.003;
-  } else if (name == "os1-64") {  // Ouster OS1-64: 42.4 deg vertical FoV, 1024x10 mode
-    s.elevations = uniform_beams(64, -21.2, 21.2);
-    s.columns = 1024;
-    s.min_range = 0.3;
-    s.max_range = 120.0;
-    s.range_sigma = 0.02;
-    s.dropout = 0.005;
-  } else if (name == "hdl32") {  // Velodyne HDL-32E: -30.67..+10.67 deg, 1.33 deg spacing, 10 Hz
-    s.elevations = uniform_beams(32, -30.67, 10.67);
-    s.columns = 2170;
-    s.min_range = 1.0;
-    s.max_range = 100.0;
-    s.range_sigma = 0.02;
-    s.dropout = 0.003;
-  } else {
+  struct Sheet {
+    const char* name;
+    int beams;
+    double lowest_deg, highest_deg;
+    int columns;
+    double min_range, max_range, range_sigma, dropout;
+  };
+  static const Sheet sheets[] = {
+      {"os0-128", 128, -45.0, 45.0, 1024, 0.3, 50.0, 0.015, 0.005},    // Ouster OS0-128, 1024x10 mode
+      {"xt32", 32, -16.0, 15.0, 2000, 0.05, 120.0, 0.01, 0.002},       // Hesai PandarXT-32, 1 deg spacing, 10 Hz
+      {"vlp16", 16, -15.0, 15.0, 1800, 0.5, 100.0, 0.015, 0.003},      // Velodyne VLP-16, 2 deg spacing, 10 Hz
+      {"os1-64", 64, -21.2, 21.2, 1024, 0.3, 120.0, 0.02, 0.005},      // Ouster OS1-64, 1024x10 mode
+      {"hdl32", 32, -30.67, 10.67, 2170, 1.0, 100.0, 0.02, 0.003},     // Velodyne HDL-32E, 1.33 deg spacing, 10 Hz
+  };
+  const Sheet* sheet = nullptr;
+  for (const Sheet& s : sheets)
+    if (name == s.name) sheet = &s;
+  if (!sheet) {
     std::string known;
     for (const auto& n : all_sensor_names()) known += (known.empty() ? "" : ", ") + n;
     throw Error("lista-sim: unknown sensor '" + name + "' (use one of " + known + ")");
   }
+  SensorModel s;
+  s.name = name;
+  s.elevations = uniform_beams(sheet->beams, sheet->lowest_deg, sheet->highest_deg);
+  s.columns = sheet->columns;
+  s.min_range = sheet->min_range;
+  s.max_range = sheet->max_range;
+  s.range_sigma = sheet->range_sigma;
+  s.dropout = sheet->dropout;
   if (columns < 0) throw Error("lista-sim: sensor columns must be > 0");
   if (columns > 0) s.columns = columns;
   return s;
