@@ -60,7 +60,7 @@ StageInfo info() {
       "four proper axis flips and yaw_hypotheses rotations about the vertical through the centroids. "
       "Each is refined with PCL Generalized ICP (method = gicp; plain ICP below 30 points or with "
       "method = icp) on voxel-downsampled points and scored by the symmetric truncated mean squared "
-      "nearest-neighbour distance (truncated at inlier_distance); the three best are refined again with the "
+      "nearest-neighbour distance (truncated at inlier_distance); the three best and the least turned are refined again with the "
       "correspondence gate narrowed to inlier_distance (with gicp, a point-to-point ICP polish competes: GICP's "
       "minimum can sit degrees off on box-like objects) and the best is kept; the view covering fewer voxels "
       "is the one moved (then inverted); among poses scoring within "
