@@ -174,8 +174,8 @@ TEST(IcpRefine, SimulatedBoxPairIsNotReportedHalfTurned) {
   // A real pair (lista-sim exp1 scanned with an OS1-64): the box turned by
   // -27.8 degrees. The coarse pass ranked the half-turned pose best by more
   // than symmetry_tolerance and the unturned one outside its top three;
-  // the least turned hypothesis always gets a fine pass, and there it fits
-  // as well as its twin.
+  // the least turned hypothesis always gets a fine pass, and there it
+  // scores within symmetry_tolerance of its twin, so it wins.
   EXPECT_NEAR(yaw_deg(register_pair("box_pair.txt")), -27.8, 3.0);
 }
 
