@@ -46,7 +46,9 @@ void append_views(const std::string& folder, ViewChannels channels, std::map<std
         const std::string id = s.at("id").get<std::string>();
         source_of[id] = source_index(s.value("source", "unknown"));
         if (s.contains("extent")) {
-          const auto e = s.at("extent").get<std::vector<float>>();
+          const auto& j = s.at("extent");
+          const bool numbers = j.is_array() && std::all_of(j.begin(), j.end(), [](const auto& x) { return x.is_number(); });
+          const auto e = numbers ? j.get<std::vector<float>>() : std::vector<float>{};
           if (e.size() != 3 || !(e[0] > 0.f && e[1] > 0.f && e[2] > 0.f))
             throw Error(index_path.string() + ": shape '" + id + "' extent must be three positive sizes");
           extent_of[id] = {e[0], e[1], e[2]};
@@ -63,7 +65,11 @@ void append_views(const std::string& folder, ViewChannels channels, std::map<std
       view.source = src != source_of.end() ? src->second : source_index("unknown");
       if (auto e = extent_of.find(shape); e != extent_of.end()) view.extent = e->second;
       view.sensor = v.value("sensor", "");
-      if (v.contains("distance")) view.distance = v.at("distance").get<float>();
+      if (v.contains("distance")) {
+        if (!v.at("distance").is_number())
+          throw Error(index_path.string() + ": view '" + v.at("file").get<std::string>() + "' distance must be a number (metres)");
+        view.distance = v.at("distance").get<float>();
+      }
       view.points = io::read_scan((fs::path(folder) / v.at("file").get<std::string>()).string()).points;
       if (view.points.empty()) continue;
       // Ground truth must not reach a descriptor; swapping frees the memory

@@ -140,12 +140,29 @@ TEST(ReadViews, SizesSensorsAndDistancesAreKeptForBreakdowns) {
   EXPECT_FLOAT_EQ(set.views[0].distance, 4.5f);
   EXPECT_EQ(set.views[1].sensor, "");
   EXPECT_TRUE(std::isnan(set.views[1].distance));
-  const fs::path b = write_folder("e2", {{"box-1", "train"}}, R"({"id": "box-1", "extent": [0.5, 0.0, 1.5]})");
+  for (const std::string bad : {"[0.5, 0.0, 1.5]", "\"big\"", "[0.5, \"wide\", 1.5]", "[0.5, 1.5]"}) {
+    const fs::path b = write_folder("e2", {{"box-1", "train"}}, R"({"id": "box-1", "extent": )" + bad + "}");
+    try {
+      lista::objfeat::read_views(b.string());
+      ADD_FAILURE() << "extent " << bad << " was accepted";
+    } catch (const lista::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("index.json: shape 'box-1' extent must be three positive sizes"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  {  // a distance that is not a number
+    std::ifstream in(a / "index.json");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string number = "\"distance\": 4.5";
+    text.replace(text.find(number), number.size(), "\"distance\": \"far\"");
+    std::ofstream(a / "index.json") << text;
+  }
   try {
-    lista::objfeat::read_views(b.string());
-    ADD_FAILURE() << "a zero size was accepted";
+    lista::objfeat::read_views(a.string());
+    ADD_FAILURE() << "a distance of \"far\" was accepted";
   } catch (const lista::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("index.json: shape 'box-1' extent must be three positive sizes"),
+    EXPECT_NE(std::string(e.what()).find("index.json: view 'views/0.pcd' distance must be a number (metres)"),
               std::string::npos)
         << e.what();
   }
