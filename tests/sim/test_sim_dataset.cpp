@@ -53,6 +53,9 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
+// A views folder's index.json.
+nlohmann::json views_index(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "index.json")); }
+
 std::map<std::string, std::string> all_files(const fs::path& root) {
   std::map<std::string, std::string> files;
   for (const auto& e : fs::recursive_directory_iterator(root))
@@ -227,8 +230,7 @@ TEST(SimDataset, ViewsGiveLookAlikesOneShapeId) {
   const std::string common = "views --objects 300 --views-per-object 1 --seed 3 --out ";
   ASSERT_EQ(simulate(common + merged.string()), 0);
   ASSERT_EQ(simulate(common + strict.string() + " --look-alike-tolerance 0"), 0);
-  auto read = [](const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "index.json")); };
-  const nlohmann::json m = read(merged), s = read(strict);
+  const nlohmann::json m = views_index(merged), s = views_index(strict);
   EXPECT_DOUBLE_EQ(m.at("look_alike_tolerance").get<double>(), 0.02);
   EXPECT_DOUBLE_EQ(s.at("look_alike_tolerance").get<double>(), 0.0);
   ASSERT_EQ(m.at("views").size(), s.at("views").size());
@@ -279,8 +281,7 @@ TEST(SimDataset, ViewsFromOtherSensorsKeepShapesAndViewpoints) {
   const std::string common = "views --objects 5 --views-per-object 3 --seed 8 --out ";
   ASSERT_EQ(simulate(common + usual.string()), 0);
   ASSERT_EQ(simulate(common + other.string() + " --sensors os1-64,hdl32"), 0);
-  auto read = [](const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "index.json")); };
-  const nlohmann::json a = read(usual), b = read(other);
+  const nlohmann::json a = views_index(usual), b = views_index(other);
   ASSERT_EQ(a.at("views").size(), b.at("views").size());
   std::set<std::string> sensors;
   for (size_t i = 0; i < a.at("views").size(); ++i) {
