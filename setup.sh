@@ -10,7 +10,7 @@ PACKAGES=(build-essential cmake ninja-build ccache git pkg-config
   libeigen3-dev libboost-dev libboost-filesystem-dev libboost-system-dev
   libtoml11-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libpcl-dev liboctomap-dev libopenvdb-dev libembree-dev libflann-dev
-  libceres-dev libtbb-dev libtorch-dev libstb-dev chromium unzip)
+  libceres-dev libtbb-dev libtorch-dev libstb-dev chromium unzip python3)
 BUILD_DIR=${LISTA_BUILD_DIR:-build}
 
 install_missing() {

@@ -32,6 +32,41 @@ std::string read_file(const std::filesystem::path& p) {
   return s.str();
 }
 
+std::string python3() {
+#ifdef LISTA_PYTHON3
+  return LISTA_PYTHON3;
+#else
+  return {};
+#endif
+}
+
+std::vector<std::vector<std::string>> markdown_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream lines(text);
+  std::string line;
+  bool header_next = true;  // a table's first line is its header
+  while (std::getline(lines, line)) {
+    if (line.rfind("|", 0) != 0) {
+      header_next = true;
+      continue;
+    }
+    if (line.rfind("|---", 0) == 0) continue;
+    if (header_next) {
+      header_next = false;
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::istringstream parts(line.substr(1));
+    std::string cell;
+    while (std::getline(parts, cell, '|')) {
+      const auto b = cell.find_first_not_of(' '), e = cell.find_last_not_of(' ');
+      cells.push_back(b == std::string::npos ? std::string() : cell.substr(b, e - b + 1));
+    }
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
 TempDir::TempDir(const std::string& tag) {
   std::random_device rd;
   path_ = std::filesystem::temp_directory_path() /

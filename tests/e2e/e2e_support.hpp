@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace e2e {
 
@@ -18,6 +19,14 @@ Result run(const std::string& command);
 std::string bin(const std::string& program);  // path of a built program
 std::string source(const std::string& path);  // path inside the source tree
 std::string read_file(const std::filesystem::path& p);
+
+// The Python 3 interpreter CMake found for the analysis scripts under bench/
+// (plain Python, no packages); empty when none was found.
+std::string python3();
+
+// The body rows of every Markdown table in `text` ("| a | b |" lines that
+// are neither a header nor a "|---|" rule), each as its trimmed cells.
+std::vector<std::vector<std::string>> markdown_rows(const std::string& text);
 
 class TempDir {
  public:

@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 using nlohmann::json;
@@ -62,7 +64,7 @@ TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
   // A parameter the plugin does not declare, a value out of range or of the
   // wrong type, a plugin not compared, a malformed setting: an error before
   // any plugin runs, and no JSON.
-  for (const std::string& bad : {"describe.esf.nope=1", "describe.shot.voxel=5", "describe.shot.voxel=dense",
+  for (const char* bad : {"describe.esf.nope=1", "describe.shot.voxel=5", "describe.shot.voxel=dense",
                                  "describe.learned.samples=2", "esf=3"}) {
     const std::string json_bad = (dir.path() / "bad.json").string();
     const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
@@ -160,4 +162,46 @@ TEST(BenchDescriptors, TheFloorIsGivenUnlessWithheld) {
                              " --plugins describe.esf --no-floor --floor-error 0.05 2>&1");
   EXPECT_NE(both.status, 0);
   EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
+}
+
+// bench/descriptors/confusions.py reads the rows the benchmark wrote and
+// redoes the nearest-neighbour search in plain Python: its top-1 must be the
+// benchmark's, and every confused pair it lists is counted.
+TEST(BenchDescriptors, ConfusionsScriptAgreesWithTheBenchmark) {
+  if (e2e::python3().empty()) GTEST_SKIP() << "no Python 3 interpreter found by CMake";
+  e2e::TempDir dir("bench_confusions");
+  const std::string views = (dir.path() / "views").string(), rows = (dir.path() / "rows").string();
+  const std::string out = (dir.path() / "esf.json").string();
+  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 40 --views-per-object 3 --seed 2 --out " +
+                            views + " 2>&1");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  const auto bench = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
+                              " --plugins describe.esf --json " + out + " --rows " + rows + " 2>&1");
+  ASSERT_EQ(bench.status, 0) << bench.output;
+  const json scores = json::parse(e2e::read_file(out)).at(0);
+
+  const auto script = e2e::run(e2e::python3() + " " + e2e::source("bench/descriptors/confusions.py") + " " + views +
+                               " " + rows + "/describe.esf.csv 2>&1");
+  ASSERT_EQ(script.status, 0) << script.output;
+  int views_seen = 0, wrong = 0, same_class = 0;
+  double top1 = -1.0;
+  ASSERT_EQ(std::sscanf(script.output.c_str(), "views %d, top-1 %lf, wrong %d, of the same class %d", &views_seen,
+                        &top1, &wrong, &same_class),
+            4)
+      << script.output;
+  EXPECT_EQ(views_seen, scores.at("objects").get<int>());
+  EXPECT_NEAR(top1, scores.at("top1").get<double>(), 0.0005);  // printed with three decimals
+  ASSERT_GT(wrong, 0) << "ESF confuses some of 40 shapes; the pair lines need a miss to check";
+  EXPECT_LE(same_class, wrong);
+  // "  a -> b: n" lines: the ten most common pairs, together at most `wrong`.
+  int listed = 0, n = 0;
+  std::istringstream lines(script.output);
+  std::string line;
+  while (std::getline(lines, line))
+    if (line.rfind("  ", 0) == 0 && line.find(" -> ") != std::string::npos) {
+      ASSERT_EQ(std::sscanf(line.c_str() + line.rfind(':'), ": %d", &n), 1) << line;
+      listed += n;
+    }
+  EXPECT_GT(listed, 0);
+  EXPECT_LE(listed, wrong);
 }

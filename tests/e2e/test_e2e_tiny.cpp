@@ -11,6 +11,8 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <string>
+#include <utility>
 
 using nlohmann::json;
 
@@ -130,4 +132,72 @@ TEST_F(TinyScene, EvaluatorScoresTheRun) {
   // A floor, not a target: the change found must be mostly real change.
   EXPECT_GT(p.at("precision").get<double>(), 0.5);
   EXPECT_GT(p.at("recall").get<double>(), 0.3);
+}
+
+// The analysis scripts under bench/segmentation on the same run: what they
+// print must agree with lista-eval and with the report they read.
+std::string run_script(const std::string& script, const std::string& args) {
+  const e2e::Result r = e2e::run(e2e::python3() + " " + e2e::source(script) + " " + args + " 2>&1");
+  EXPECT_EQ(r.status, 0) << r.output;
+  return r.output;
+}
+
+TEST_F(TinyScene, MissedScriptAgreesWithTheEvaluator) {
+  require_run();
+  if (e2e::python3().empty()) GTEST_SKIP() << "no Python 3 interpreter found by CMake";
+  const auto rows = e2e::markdown_rows(run_script("bench/segmentation/missed.py", data_ + " " + out_));
+  const json verdicts = json::parse(
+      e2e::run(e2e::bin("lista-eval") + " --dataset " + data_ + " --run " + out_ + " --json 2>/dev/null").output)
+                            .at("object_verdicts");
+  // Object rows: id, class, kind, mission, points, "share / IoU"; then the
+  // summary: kind, appearances, paired.
+  std::map<std::pair<int, std::string>, std::pair<long, double>> seen;  // (id, mission) -> points, IoU
+  std::map<std::string, std::pair<int, int>> summary;                   // kind -> appearances, paired
+  for (const auto& r : rows) {
+    if (r.size() == 6) {
+      const double iou = std::stod(r[5].substr(r[5].find('/') + 1));
+      seen[{std::stoi(r[0]), r[3]}] = {std::stol(r[4]), iou};
+    } else if (r.size() == 3) {
+      summary[r[0]] = {std::stoi(r[1]), std::stoi(r[2])};
+    }
+  }
+  ASSERT_EQ(seen.size(), verdicts.size()) << "one row per truly changed object and mission";
+  std::map<std::string, std::pair<int, int>> expected;
+  for (const auto& v : verdicts) {
+    SCOPED_TRACE(v.dump());
+    const auto it = seen.find({v.at("truth_id").get<int>(), v.at("mission").get<std::string>()});
+    ASSERT_NE(it, seen.end());
+    EXPECT_EQ(it->second.first, v.at("truth_points").get<long>());
+    const bool paired = v.at("report_id").get<int>() >= 0;
+    if (paired) {
+      EXPECT_NEAR(it->second.second, v.at("iou").get<double>(), 0.0051);  // printed with two decimals
+    } else {
+      EXPECT_LE(it->second.second, 0.505);
+    }
+    auto& e = expected[v.at("truth_status").get<std::string>()];
+    ++e.first;
+    e.second += paired;
+  }
+  EXPECT_EQ(summary, expected);
+}
+
+TEST_F(TinyScene, FloorErrorScriptMeasuresEveryReportedFloor) {
+  require_run();
+  if (e2e::python3().empty()) GTEST_SKIP() << "no Python 3 interpreter found by CMake";
+  const auto rows = e2e::markdown_rows(run_script("bench/segmentation/floor_error.py", data_ + " " + out_));
+  ASSERT_EQ(rows.size(), 1u);
+  const auto& r = rows[0];  // run, objects, given a floor, median, |median|, |p90|, |max|
+  ASSERT_EQ(r.size(), 7u);
+  const json objects = report().at("objects");
+  EXPECT_EQ(r[1], std::to_string(objects.size()));
+  int with_floor = 0;
+  for (const auto& o : objects) with_floor += o.contains("floor_z") && o.at("floor_z").is_number();
+  ASSERT_GT(with_floor, 0) << "segment.complete measures the floor under objects on a simulated floor";
+  EXPECT_EQ(r[2], std::to_string(with_floor));
+  const double median = std::stod(r[3]), abs_median = std::stod(r[4]), p90 = std::stod(r[5]), max = std::stod(r[6]);
+  EXPECT_LE(std::abs(median), max + 1e-9);
+  EXPECT_LE(abs_median, p90 + 1e-9);
+  EXPECT_LE(p90, max + 1e-9);
+  // lista-sim's floor is flat and the floor is fitted to it: centimetres at most.
+  EXPECT_LT(max, 0.05);
 }
