@@ -111,9 +111,28 @@ Params params_of(const StageInfo& info, const std::vector<Setting>& settings) {
   return params;
 }
 
-Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std::vector<int>& labels,
+// A plugin's failure as one line naming it and its library, whatever it threw.
+[[noreturn]] void plugin_failed(const core::RegisteredStage& s, const std::string& what) {
+  throw Error(s.info.name + " (" + (s.library.empty() ? std::string("built in") : s.library) + "): " + what);
+}
+
+template <class F>
+auto guarded(const core::RegisteredStage& s, F&& call) -> decltype(call()) {
+  try {
+    return call();
+  } catch (const Error& e) {
+    plugin_failed(s, e.message());
+  } catch (const std::exception& e) {
+    plugin_failed(s, e.what());
+  } catch (...) {
+    plugin_failed(s, "unknown exception");
+  }
+}
+
+Row run_plugin(const core::RegisteredStage& s, const ObjectSet& objects, const std::vector<int>& labels,
                const std::vector<int>& variants, const Params& params) {
-  auto stage = s.factory(params);
+  std::unique_ptr<Stage> stage = guarded(s, [&] { return s.factory(params); });
+  if (!stage) plugin_failed(s, "the plugin's factory returned no stage");
   Row row;
   row.plugin = s.info.name;
   objfeat::Rows values;
@@ -123,13 +142,21 @@ Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std:
     one.missions = objects.missions;
     one.objects = {objects.objects[i]};
     Inputs in;
-    in.set("objects", Data::make(std::move(one)));
+    in.set(s.info.inputs.at(0).name, Data::make(std::move(one)));
     BasicContext ctx("bench", 1, 0);
     auto t0 = std::chrono::steady_clock::now();
-    Outputs out = stage->run(in, ctx);
+    Outputs out = guarded(s, [&] { return stage->run(in, ctx); });
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    const auto& d = out.at("descriptors").as<DescriptorSet>();
+    // The checks lista-run makes of a descriptors output, and one width for all.
+    const DescriptorSet& d = guarded(s, [&]() -> const DescriptorSet& {
+      return out.at(s.info.outputs.at(0).name).as<DescriptorSet>();
+    });
+    const ObjectSet& asked = in.get<ObjectSet>(s.info.inputs.at(0).name);
+    if (std::string why = contract_problem(d, asked); !why.empty()) plugin_failed(s, why);
     if (values.rows() == 0) values.resize(long(objects.objects.size()), d.dim());
+    if (d.dim() != values.cols() || d.dim() == 0)
+      plugin_failed(s, "gave " + std::to_string(d.dim()) + "-d descriptors after " + std::to_string(values.cols()) +
+                           "-d ones (one width for every object)");
     values.row(long(i)) = d.values.row(0);
     if (isatty(2)) std::fprintf(stderr, "\r%s: %zu/%zu", row.plugin.c_str(), i + 1, objects.objects.size());
   }
@@ -147,7 +174,8 @@ Row run_plugin(const bench::LoadedStage& s, const ObjectSet& objects, const std:
 
 int main(int argc, char** argv) {
   CLI::App app{"Compare describe.* plugins: time per object, top-1, mAP, cluster purity"};
-  std::string views_dir, plugin_dir = LISTA_PLUGIN_DIR, json_out, rows_dir;
+  std::string views_dir, json_out, rows_dir;
+  std::vector<std::string> plugin_dirs;
   std::vector<std::string> plugins = {"describe.learned", "describe.esf", "describe.rift", "describe.shot"};
   std::vector<std::string> set_texts;
   int synthetic = 0, max_views = 0;
@@ -159,7 +187,10 @@ int main(int argc, char** argv) {
   app.add_flag("--all-splits", all_splits, "use every view, not only held-out shapes");
   app.add_option("--max-views", max_views, "use at most this many views (first ones), 0 = all");
   app.add_option("--plugins", plugins, "stages to compare")->delimiter(',');
-  app.add_option("--plugin-dir", plugin_dir, "folder of the plugin libraries");
+  app.add_option("--plugin-dir", plugin_dirs,
+                 "extra folder of plugin libraries, searched before the shipped ones (repeatable; LISTA_PLUGIN_PATH too)")
+      ->allow_extra_args(false)
+      ->check(CLI::ExistingDirectory);
   app.add_option("--set", set_texts, "<plugin>.<param>=<value>: a parameter other than the default (repeatable)");
   app.add_option("--seed", seed, "seed of the random poses");
   app.add_flag("--no-floor", no_floor, "do not give the objects their floor height (floor_z), as a pipeline without segment.complete");
@@ -212,14 +243,20 @@ int main(int argc, char** argv) {
     }
     std::vector<Row> rows;
     // Every plugin loaded and every setting checked before the first one runs.
-    std::vector<std::pair<bench::LoadedStage, Params>> stages;
+    const bench::StageFinder finder(plugin_dirs);
+    std::vector<std::pair<const core::RegisteredStage*, Params>> stages;
     for (const auto& name : plugins) {
-      bench::LoadedStage stage = bench::load_stage(plugin_dir, name);
-      Params params = params_of(stage.info, settings);
-      stages.emplace_back(std::move(stage), std::move(params));
+      const core::RegisteredStage& stage = finder.find(name);
+      if (stage.info.outputs.size() != 1 || stage.info.outputs[0].type != "descriptors" ||
+          stage.info.inputs.size() != 1 || stage.info.inputs[0].type != "objects")
+        throw Error(name + " is not a descriptor stage (one 'objects' input, one 'descriptors' output)");
+      for (const auto& other : finder.refused(name))
+        std::fprintf(stderr, "lista-bench-descriptors: warning: plugin '%s' is provided twice: using %s, not %s\n",
+                     name.c_str(), stage.library.c_str(), other.c_str());
+      stages.emplace_back(&stage, params_of(stage.info, settings));
     }
     for (const auto& [stage, params] : stages)
-      rows.push_back(run_plugin(stage, objects, labels, variants, params));
+      rows.push_back(run_plugin(*stage, objects, labels, variants, params));
 
     std::string floor_text = no_floor ? "withheld" : "given";
     if (floor_error > 0) floor_text += ", off by " + std::to_string(std::lround(floor_error * 1000)) + " mm (sigma)";

@@ -1,21 +1,30 @@
-// Loads describe.* plugins by file, the way the core does (Boost.DLL alias
-// `lista_plugin_manifest`, SDK version and fingerprint checked), so the
-// benchmark measures the very libraries a pipeline would run.
+// Finds describe.* stages the way lista-run does: every plugin library on the
+// search path (LISTA_PLUGIN_PATH, then the given folders, then the
+// lista-plugins folder next to liblista_core) loaded by the core's loader into
+// its registry, so the benchmark measures the very libraries a pipeline runs
+// and a third-party plugin is compared beside the shipped ones.
 #pragma once
 
-#include <lista/stage.hpp>
+#include <lista_core/loader.hpp>
+#include <lista_core/registry.hpp>
 
 #include <string>
+#include <vector>
 
 namespace lista::bench {
 
-struct LoadedStage {
-  StageInfo info;
-  StageFactory factory;
-};
+class StageFinder {
+ public:
+  explicit StageFinder(const std::vector<std::string>& plugin_dirs, bool include_default = true);
+  // The stage called `name`; throws lista::Error naming similar stages and
+  // the libraries that failed to load when there is none.
+  const core::RegisteredStage& find(const std::string& name) const;
+  // Libraries that offered a stage name already taken (lista-run warns too).
+  const std::vector<std::string>& refused(const std::string& name) const { return registry_.refused(name); }
 
-// Finds stage `name` (e.g. "describe.esf") in <plugin_dir>/liblista_<kind>_<name>.so.
-// Throws lista::Error if the file is missing, refused or lacks the stage.
-LoadedStage load_stage(const std::string& plugin_dir, const std::string& name);
+ private:
+  core::Registry registry_;
+  core::LoadResult loaded_;
+};
 
 }  // namespace lista::bench

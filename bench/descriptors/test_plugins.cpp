@@ -54,9 +54,10 @@ TEST(DescriptorPlugins, AllShareOnePortTypeAndGiveUnitRowsPerObject) {
   auto names = present_plugins();
   ASSERT_GE(names.size(), 3u) << "the hand-crafted describe.* plugins are not built in " << LISTA_PLUGIN_DIR;
   const ObjectSet set = small_set();
+  const bench::StageFinder finder({LISTA_PLUGIN_DIR}, false);
   for (const auto& name : names) {
     SCOPED_TRACE(name);
-    bench::LoadedStage s = bench::load_stage(LISTA_PLUGIN_DIR, name);
+    const core::RegisteredStage& s = finder.find(name);
     EXPECT_EQ(s.info.kind(), "describe");
     ASSERT_EQ(s.info.inputs.size(), 1u);
     ASSERT_EQ(s.info.outputs.size(), 1u);
@@ -76,11 +77,20 @@ TEST(DescriptorPlugins, AllShareOnePortTypeAndGiveUnitRowsPerObject) {
     ASSERT_EQ(d.values.rows(), 3);
     EXPECT_EQ(d.object_ids, (std::vector<int>{10, 11, 12}));
     for (long i = 0; i < 3; ++i) EXPECT_NEAR(d.values.row(i).norm(), 1.f, 1e-4f);
+    EXPECT_EQ(contract_problem(d, set), "");
   }
 }
 
-TEST(DescriptorPlugins, UnknownPluginIsAClearError) {
-  EXPECT_THROW(bench::load_stage(LISTA_PLUGIN_DIR, "describe.nosuch"), Error);
+TEST(DescriptorPlugins, UnknownPluginIsAClearErrorNamingTheNearestOne) {
+  const bench::StageFinder finder({LISTA_PLUGIN_DIR}, false);
+  try {
+    finder.find("describe.shoot");
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown plugin 'describe.shoot' (did you mean 'describe.shot'?)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

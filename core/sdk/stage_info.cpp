@@ -1,4 +1,8 @@
+#include <lista/data.hpp>
 #include <lista/stage.hpp>
+
+#include <algorithm>
+#include <set>
 
 namespace lista {
 
@@ -18,6 +22,30 @@ const PortSpec* StageInfo::output(const std::string& n) const {
   for (const auto& p : outputs)
     if (p.name == n) return &p;
   return nullptr;
+}
+
+std::string StageInfo::declaration_problem() const {
+  std::set<std::string> seen;
+  for (const auto& p : params) {
+    if (!seen.insert(p.name).second) return "declares parameter '" + p.name + "' twice";
+    if (std::string why = p.check(p.default_value); !why.empty())
+      return "parameter '" + p.name + "': its default " + why;
+  }
+  const auto& types = port_types();
+  for (const auto* ports : {&inputs, &outputs}) {
+    const char* side = ports == &inputs ? "input" : "output";
+    seen.clear();
+    for (const auto& port : *ports) {
+      if (!seen.insert(port.name).second) return std::string("declares ") + side + " '" + port.name + "' twice";
+      if (std::find(types.begin(), types.end(), port.type) == types.end()) {
+        std::string known;
+        for (const auto& t : types) known += (known.empty() ? "" : ", ") + t;
+        return std::string(side) + " '" + port.name + "' has type '" + port.type + "', which is not a port type (" +
+               known + ")";
+      }
+    }
+  }
+  return {};
 }
 
 }  // namespace lista

@@ -1,6 +1,10 @@
 // Small methods of the SDK's data types.
 #include <lista/data.hpp>
 
+#include <cmath>
+#include <set>
+#include <string>
+
 namespace lista {
 
 size_t Mission::point_count() const {
@@ -40,6 +44,37 @@ int DescriptorSet::row_of(int object_id) const {
   for (size_t i = 0; i < object_ids.size(); ++i)
     if (object_ids[i] == object_id) return static_cast<int>(i);
   return -1;
+}
+
+std::string contract_problem(const DescriptorSet& d) {
+  const size_t rows = size_t(d.values.rows());
+  if (rows != d.object_ids.size())
+    return "descriptors have " + std::to_string(rows) + " rows but " + std::to_string(d.object_ids.size()) +
+           " object ids (one row per object)";
+  std::set<int> ids;
+  for (int id : d.object_ids)
+    if (!ids.insert(id).second) return "descriptors name object " + std::to_string(id) + " twice";
+  for (size_t i = 0; i < rows; ++i) {
+    const auto row = d.values.row(long(i));
+    if (!row.allFinite())
+      return "the descriptor of object " + std::to_string(d.object_ids[i]) + " holds a NaN or infinite value";
+    if (d.normalized && std::abs(row.norm() - 1.0f) > 1e-3f)
+      return "descriptors are marked normalized but the row of object " + std::to_string(d.object_ids[i]) +
+             " has norm " + std::to_string(row.norm());
+  }
+  return {};
+}
+
+std::string contract_problem(const DescriptorSet& d, const ObjectSet& objects) {
+  if (std::string why = contract_problem(d); !why.empty()) return why;
+  std::set<int> wanted;
+  for (const auto& o : objects.objects) wanted.insert(o.id);
+  for (int id : d.object_ids)
+    if (!wanted.count(id)) return "descriptors name object " + std::to_string(id) + ", which is not among the input objects";
+  if (d.object_ids.size() != wanted.size())
+    return "descriptors cover " + std::to_string(d.object_ids.size()) + " of " + std::to_string(wanted.size()) +
+           " input objects (one row per object)";
+  return {};
 }
 
 int Groups::group_of(int object_id) const {

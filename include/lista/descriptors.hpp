@@ -20,4 +20,15 @@ struct DescriptorSet {
   int row_of(int object_id) const;  // -1 if absent
 };
 
+struct ObjectSet;
+
+// Empty when `d` keeps the contract above, else what is broken: a row count
+// other than the id count, an id given twice, a value that is not finite, or
+// (when `normalized`) a row whose L2 norm is not 1 within 1e-3. The core
+// checks every `descriptors` output with it, failing the stage that made it.
+std::string contract_problem(const DescriptorSet& d);
+// The same, and one row per object of `objects` (the stage's input): the
+// same ids, none missing, none extra.
+std::string contract_problem(const DescriptorSet& d, const ObjectSet& objects);
+
 }  // namespace lista

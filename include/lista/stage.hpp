@@ -33,6 +33,12 @@ struct StageInfo {
   const ParamSpec* param(const std::string& n) const;
   const PortSpec* input(const std::string& n) const;
   const PortSpec* output(const std::string& n) const;
+  // Empty when the declaration holds together, else what is wrong, e.g.
+  // "declares parameter 'bins' twice": a parameter or port named twice, a
+  // default that its own type, range or choices refuse, a port of a type
+  // that is not a port type (data.hpp). The core refuses such a stage when
+  // its library loads.
+  std::string declaration_problem() const;
 };
 
 class Stage {

@@ -159,3 +159,15 @@ TEST(Cli, CtrlCExits130) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 130);
 }
+
+// The folder a plugin author builds into is easy to get wrong; a --plugin-dir
+// that is missing or is a file says so instead of "unknown plugin" later.
+TEST(Cli, PluginDirMustBeAFolder) {
+  lista_test::TempDir dir;
+  const auto missing = lista_run("--plugin-dir " + dir.path.string() + "/nope --list-plugins");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_EQ(missing.err, "lista-run: error: --plugin-dir " + dir.path.string() + "/nope: no such folder\n");
+  const auto file = lista_run("--plugin-dir " + lista_test::good_library() + " --list-plugins");
+  EXPECT_EQ(file.code, 2);
+  EXPECT_NE(file.err.find("is a file; give the folder that holds the plugin libraries"), std::string::npos) << file.err;
+}

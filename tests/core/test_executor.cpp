@@ -132,6 +132,30 @@ TEST(Executor, OutputsMustMatchTheDeclaration) {
   }
 }
 
+// A descriptors output that breaks its contract fails the stage that made
+// it, not the grouping or matching stage that would read it.
+TEST(Executor, DescriptorsMustKeepTheirContract) {
+  const std::string base = "[stages.src]\nplugin = \"test.source\"\nmissions = 3\n"
+                           "[stages.obj]\nplugin = \"test.to_objects\"\ninputs = { missions = \"src.missions\" }\n"
+                           "[stages.desc]\nplugin = \"test.describe\"\ninputs = { objects = \"obj.objects\" }\n";
+  EXPECT_NO_THROW(run(checked_plan(base), 1));
+  for (const auto& [mode, text] : std::vector<std::pair<std::string, std::string>>{
+           {"missing_row", "descriptors cover 2 of 3 input objects"},
+           {"extra_id", "descriptors have 3 rows but 4 object ids"},
+           {"unknown_id", "descriptors name object 99, which is not among the input objects"},
+           {"twice", "descriptors name object 0 twice"},
+           {"not_finite", "the descriptor of object 0 holds a NaN"},
+           {"not_unit", "descriptors are marked normalized but the row of object 0 has norm 2"}}) {
+    try {
+      run(checked_plan(base, {"desc.mode=" + mode}), 1);
+      ADD_FAILURE() << mode << " accepted";
+    } catch (const lista::Error& e) {
+      EXPECT_EQ(e.stage_id(), "desc") << mode;
+      EXPECT_NE(std::string(e.what()).find("output 'descriptors': " + text), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Executor, CancellationStopsCleanly) {
   const std::string toml = "[stages.src]\nplugin = \"test.source\"\n"
                            "[stages.w]\nplugin = \"test.wait_cancel\"\ninputs = { missions = \"src.missions\" }\n"

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <functional>
 #include <memory>
 
 using namespace lista::core;
@@ -89,6 +90,58 @@ TEST(Loader, DuplicateNameNamesBothLibraries) {
     EXPECT_NE(m.find("liblista_test_duplicate.so"), std::string::npos) << m;
   }
   EXPECT_EQ(r.find("test.source")->info.version, "1.0.0");  // the first one stays
+  ASSERT_EQ(r.refused("test.source").size(), 1u);
+  EXPECT_NE(r.refused("test.source")[0].find("liblista_test_duplicate.so"), std::string::npos);
+  // A pipeline that uses the name is told which library it gets.
+  Diagnostics d;
+  build_plan(parse_pipeline_text("[stages.src]\nplugin = \"test.source\"\n", "p.toml", d), {}, r, d);
+  ASSERT_TRUE(d.ok());
+  ASSERT_EQ(d.warnings.size(), 2u);  // and that its output is not used
+  const std::string w = d.warnings[0].str() + d.warnings[1].str();
+  EXPECT_NE(w.find("plugin 'test.source' is provided twice: using "), std::string::npos) << w;
+  EXPECT_NE(w.find("liblista_test_stages.so (found first on the plugin search path), not "), std::string::npos) << w;
+}
+
+// A declaration that cannot be right is refused when it registers, naming
+// the stage and the fault, rather than misbehaving in a pipeline later.
+TEST(Registry, RefusesDeclarationsThatDoNotHoldTogether) {
+  auto factory = [](const lista::Params&) -> std::unique_ptr<lista::Stage> { return nullptr; };
+  auto base = [] {
+    lista::StageInfo i;
+    i.name = "mine.stage";
+    i.inputs = {{"objects", "objects", ""}};
+    i.outputs = {{"descriptors", "descriptors", ""}};
+    i.params = {lista::ParamSpec::integer("bins", 8, "").range(2, 64)};
+    return i;
+  };
+  std::vector<std::pair<std::function<void(lista::StageInfo&)>, std::string>> cases = {
+      {[](lista::StageInfo& i) { i.params.push_back(lista::ParamSpec::integer("bins", 16, "")); },
+       "stage 'mine.stage' declares parameter 'bins' twice"},
+      {[](lista::StageInfo& i) { i.params.push_back(lista::ParamSpec::real("weight", 50.0, "").range(0, 10)); },
+       "parameter 'weight': its default must be in [0.0, 10.0], got 50.0"},
+      {[](lista::StageInfo& i) { i.params.push_back(lista::ParamSpec::text("mode", "x", "").one_of({"a", "b"})); },
+       "parameter 'mode': its default must be one of"},
+      {[](lista::StageInfo& i) { i.outputs[0].type = "descriptor"; },
+       "output 'descriptors' has type 'descriptor', which is not a port type (missions, points, objects"},
+      {[](lista::StageInfo& i) { i.inputs.push_back({"objects", "objects", ""}); },
+       "declares input 'objects' twice"},
+  };
+  {
+    Registry r;
+    EXPECT_NO_THROW(r.add(base(), factory));
+  }
+  for (const auto& [spoil, text] : cases) {
+    Registry r;
+    lista::StageInfo info = base();
+    spoil(info);
+    try {
+      r.add(info, factory);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const lista::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(r.find("mine.stage"), nullptr);
+  }
 }
 
 TEST(Loader, FolderLoadCollectsEveryFailureAndSkipsMissingFolders) {

@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <iostream>
 
 namespace {
@@ -32,6 +33,13 @@ struct Options {
 
 int run(const Options& o) {
   using namespace lista::core;
+  // A --plugin-dir that is not a folder is a mistake, not an empty folder.
+  for (const auto& dir : o.plugin_dirs) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(dir, ec))
+      return fail("--plugin-dir " + dir + " is a file; give the folder that holds the plugin libraries", exit_usage);
+    if (!std::filesystem::is_directory(dir, ec)) return fail("--plugin-dir " + dir + ": no such folder", exit_usage);
+  }
   Registry registry;
   const LoadResult loaded = load_plugins(registry, plugin_search_path(o.plugin_dirs, !o.no_default_plugins));
   auto warn_load_errors = [&] {
@@ -51,6 +59,10 @@ int run(const Options& o) {
       return fail("unknown plugin '" + o.describe + "'" + did_you_mean(o.describe, registry.names()) +
                   "; see lista-run --list-plugins");
     }
+    if (!o.quiet)
+      for (const auto& other : registry.refused(o.describe))
+        std::cerr << "lista-run: warning: plugin '" << o.describe << "' is provided twice: showing " << stage->library
+                  << " (found first on the plugin search path), not " << other << "\n";
     std::cout << (o.json ? lista_run::describe_json(*stage) : lista_run::describe_text(*stage));
     return exit_ok;
   }

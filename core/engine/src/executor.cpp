@@ -33,8 +33,10 @@ std::string mib(uint64_t bytes) {
   return os.str();
 }
 
-// Checks a stage's outputs against its declaration.
-void check_outputs(const StageInfo& info, const Outputs& outputs) {
+// Checks a stage's outputs against its declaration, and the values whose
+// type has a contract (descriptors: one finite row per input object) against
+// it, so a broken plugin fails itself instead of a stage downstream.
+void check_outputs(const StageInfo& info, const Inputs& inputs, const Outputs& outputs) {
   for (const auto& [port, value] : outputs.values()) {
     const PortSpec* spec = info.output(port);
     if (!spec) throw Error("produced output '" + port + "' that " + info.name + " does not declare");
@@ -44,6 +46,19 @@ void check_outputs(const StageInfo& info, const Outputs& outputs) {
   }
   for (const auto& port : info.outputs)
     if (!outputs.has(port.name)) throw Error("declared output '" + port.name + "' was not produced");
+  const ObjectSet* objects = nullptr;  // the input objects, when there is exactly one such input
+  int object_inputs = 0;
+  for (const auto& [port, value] : inputs.values())
+    if (value && value.type() == PortTraits<ObjectSet>::name) {
+      ++object_inputs;
+      objects = &value.as<ObjectSet>();
+    }
+  for (const auto& [port, value] : outputs.values()) {
+    if (value.type() != PortTraits<DescriptorSet>::name) continue;
+    const auto& d = value.as<DescriptorSet>();
+    const std::string why = object_inputs == 1 ? contract_problem(d, *objects) : contract_problem(d);
+    if (!why.empty()) throw Error("output '" + port + "': " + why);
+  }
 }
 
 // The error of a failed stage, with its id, plugin and table location.
@@ -135,8 +150,8 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
       std::unique_ptr<Stage> stage = s.stage->factory(s.params);
       if (!stage) throw Error("the plugin's factory returned no stage");
       outputs = stage->run(inputs, context);
+      check_outputs(s.stage->info, inputs, outputs);
       inputs = Inputs();  // release this stage's hold on its inputs early
-      check_outputs(s.stage->info, outputs);
       if (run.cancel->load()) throw Cancelled();
     } catch (...) {
       failure = std::current_exception();

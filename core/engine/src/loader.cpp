@@ -89,10 +89,14 @@ void load_plugin_library(Registry& registry, const std::string& path) {
   // Check every name before adding any.
   std::set<std::string> names;
   for (const auto& [info, factory] : staging.staged) {
-    if (const auto* existing = registry.find(info.name))
+    if (std::string why = info.declaration_problem(); !why.empty())
+      throw Error(path + ": stage '" + info.name + "' " + why);
+    if (const auto* existing = registry.find(info.name)) {
+      registry.note_refused(info.name, key);
       throw Error("plugin '" + info.name + "' is provided twice: by " +
                   (existing->library.empty() ? std::string("the program itself") : existing->library) +
-                  " and by " + path);
+                  " and by " + path + " (the first one found is used)");
+    }
     if (!names.insert(info.name).second)
       throw Error(path + ": registers plugin '" + info.name + "' twice");
   }

@@ -198,6 +198,11 @@ Plan build_plan(const PipelineSpec& spec, const std::vector<Override>& overrides
         if (o.stage == s.id) mine.push_back(&o);
       p.params = resolve_params(s, reg->info, mine, d);
       check_inputs(s, reg->info, spec, registry, d);
+      for (const auto& other : registry.refused(s.plugin))
+        d.warning(s.plugin_where.known() ? s.plugin_where : s.where, s.id,
+                  "plugin '" + s.plugin + "' is provided twice: using " +
+                      (reg->library.empty() ? std::string("the program's own") : reg->library) +
+                      " (found first on the plugin search path), not " + other);
     }
     index_of[s.id] = plan.stages.size();
     plan.stages.push_back(std::move(p));

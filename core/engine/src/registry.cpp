@@ -8,6 +8,8 @@ void Registry::add(StageInfo info, StageFactory factory) {
   if (info.name.find('.') == std::string::npos || info.name.front() == '.' || info.name.back() == '.')
     throw Error("stage name '" + info.name + "' from " + where + " is not of the form <kind>.<name>");
   if (!factory) throw Error("stage '" + info.name + "' from " + where + " has no factory");
+  if (std::string why = info.declaration_problem(); !why.empty())
+    throw Error(where + ": stage '" + info.name + "' " + why);
   if (auto it = stages_.find(info.name); it != stages_.end()) {
     const std::string first = it->second.library.empty() ? "the program itself" : it->second.library;
     throw Error("plugin '" + info.name + "' is provided twice: by " + first + " and by " + where);
@@ -19,6 +21,12 @@ void Registry::add(StageInfo info, StageFactory factory) {
 const RegisteredStage* Registry::find(const std::string& name) const {
   auto it = stages_.find(name);
   return it == stages_.end() ? nullptr : &it->second;
+}
+
+const std::vector<std::string>& Registry::refused(const std::string& name) const {
+  static const std::vector<std::string> none;
+  auto it = refused_.find(name);
+  return it == refused_.end() ? none : it->second;
 }
 
 std::vector<std::string> Registry::names() const {

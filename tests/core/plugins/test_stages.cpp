@@ -3,6 +3,7 @@
 #include <lista/plugin.hpp>
 
 #include <chrono>
+#include <limits>
 #include <random>
 #include <thread>
 
@@ -233,6 +234,77 @@ class BadOutput : public Stage {
   std::string mode_;
 };
 
+// One object per mission (ids 0, 1, ...), three points each.
+class ToObjects : public Stage {
+ public:
+  explicit ToObjects(const Params&) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.to_objects";
+    i.version = "1.0.0";
+    i.summary = "one object per mission";
+    i.inputs = {{"missions", "missions", "missions"}};
+    i.outputs = {{"objects", "objects", "one object per mission"}};
+    return i;
+  }
+  Outputs run(const Inputs& in, Context&) override {
+    ObjectSet set;
+    for (const auto& m : in.get<MissionSet>("missions").missions) {
+      set.missions.push_back(m.name);
+      Object o;
+      o.id = int(set.objects.size());
+      o.mission = uint32_t(set.objects.size());
+      o.points.xyz = {{0.f, 0.f, 0.f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}};
+      o.update_geometry();
+      set.objects.push_back(std::move(o));
+    }
+    Outputs out;
+    out.put("objects", std::move(set));
+    return out;
+  }
+};
+
+// Describes each object by a unit row, or breaks the descriptors contract
+// in the way `mode` says.
+class Describe : public Stage {
+ public:
+  explicit Describe(const Params& p) : mode_(p.get<std::string>("mode")) {}
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "test.describe";
+    i.version = "1.0.0";
+    i.summary = "unit rows, or a broken contract";
+    i.inputs = {{"objects", "objects", "objects"}};
+    i.outputs = {{"descriptors", "descriptors", "one row per object"}};
+    i.params = {ParamSpec::text("mode", "ok", "how to misbehave")
+                    .one_of({"ok", "missing_row", "extra_id", "unknown_id", "twice", "not_finite", "not_unit"})};
+    return i;
+  }
+  Outputs run(const Inputs& in, Context&) override {
+    DescriptorSet d;
+    d.method = "test.describe";
+    d.normalized = true;
+    for (const auto& o : in.get<ObjectSet>("objects").objects) d.object_ids.push_back(o.id);
+    d.values = DescriptorSet::Matrix::Zero(long(d.object_ids.size()), 2);
+    d.values.col(0).setOnes();
+    if (mode_ == "missing_row") {
+      d.object_ids.pop_back();
+      d.values.conservativeResize(long(d.object_ids.size()), 2);
+    }
+    if (mode_ == "extra_id") d.object_ids.push_back(99);
+    if (mode_ == "unknown_id") d.object_ids.back() = 99;
+    if (mode_ == "twice") d.object_ids.back() = d.object_ids.front();
+    if (mode_ == "not_finite") d.values(0, 1) = std::numeric_limits<float>::quiet_NaN();
+    if (mode_ == "not_unit") d.values(0, 0) = 2.f;
+    Outputs out;
+    out.put("descriptors", std::move(d));
+    return out;
+  }
+
+ private:
+  std::string mode_;
+};
+
 template <class S>
 void add(Registrar& r) {
   r.add(S::info(), [](const Params& p) { return std::make_unique<S>(p); });
@@ -246,6 +318,8 @@ void register_stages(Registrar& r) {
   add<Sink>(r);
   add<WaitCancel>(r);
   add<BadOutput>(r);
+  add<ToObjects>(r);
+  add<Describe>(r);
 }
 
 }  // namespace

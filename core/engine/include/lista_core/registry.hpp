@@ -31,6 +31,12 @@ class Registry : public Registrar {
   void mark_library_loaded(const std::string& path) { libraries_.insert(path); }
   bool has_library(const std::string& path) const { return libraries_.count(path) != 0; }
 
+  // A library refused because it provides `name`, which an earlier one on
+  // the search path already gave: the stage in use is find(name), and a
+  // pipeline using it is warned that another library offered it too.
+  void note_refused(const std::string& name, const std::string& library) { refused_[name].push_back(library); }
+  const std::vector<std::string>& refused(const std::string& name) const;
+
   const RegisteredStage* find(const std::string& name) const;
   std::vector<std::string> names() const;  // sorted
   size_t size() const { return stages_.size(); }
@@ -41,6 +47,7 @@ class Registry : public Registrar {
   std::map<std::string, RegisteredStage> stages_;
   std::string current_library_;
   std::set<std::string> libraries_;
+  std::map<std::string, std::vector<std::string>> refused_;
 };
 
 }  // namespace lista::core
