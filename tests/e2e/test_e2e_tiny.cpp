@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <string>
@@ -200,4 +202,34 @@ TEST_F(TinyScene, FloorErrorScriptMeasuresEveryReportedFloor) {
   EXPECT_LE(p90, max + 1e-9);
   // lista-sim's floor is flat and the floor is fitted to it: centimetres at most.
   EXPECT_LT(max, 0.05);
+}
+
+// report.json marks a complete run: an earlier run's report is gone as soon
+// as a new run into the same folder starts, so a run that then fails leaves
+// none, and neither does one whose own report was written before it failed.
+TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
+  require_run();
+  const std::filesystem::path out = dir_->path() / "rerun";
+  std::filesystem::copy(out_, out, std::filesystem::copy_options::recursive);
+  ASSERT_TRUE(std::filesystem::exists(out / "report.json"));
+  const std::filesystem::path broken = dir_->path() / "broken";
+  for (const char* m : {"A", "B"}) {
+    std::filesystem::create_directories(broken / m / "scans");
+    std::ofstream(broken / m / "poses.txt") << "0 0 0 0 0 0 0 1\n";
+    std::ofstream(broken / m / "scans" / "000000.pcd") << "not a point cloud\n";
+  }
+  const auto failed = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                               broken.string() + " --out " + out.string() + " --threads 1 2>&1");
+  EXPECT_EQ(failed.status, 1) << failed.output;
+  EXPECT_NE(failed.output.find("report.json (left by an earlier run"), std::string::npos) << failed.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+
+  // The report stage succeeds, the page after it cannot be written.
+  std::filesystem::remove(out / "report.html");
+  std::filesystem::create_directories(out / "report.html");
+  const auto late = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                             data_ + " --out " + out.string() + " --threads 1 -q 2>&1");
+  EXPECT_EQ(late.status, 1) << late.output;
+  EXPECT_NE(late.output.find("report.json (the run did not complete)"), std::string::npos) << late.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
 }

@@ -10,8 +10,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <unistd.h>
 
 namespace {
 
@@ -20,6 +24,43 @@ constexpr int exit_ok = 0, exit_error = 1, exit_usage = 2, exit_cancelled = 130;
 int fail(const std::string& message, int code = exit_error) {
   std::cerr << "lista-run: error: " << message << "\n";
   return code;
+}
+
+namespace fs = std::filesystem;
+
+// The folders a run reads and writes, checked before the first stage so a
+// typo costs a second, not a whole run. Empty when fine, else the error.
+std::string dataset_problem(const std::string& dataset) {
+  std::error_code ec;
+  if (dataset.empty() || fs::is_directory(dataset, ec)) return {};
+  if (fs::exists(dataset, ec)) return "dataset " + dataset + " is a file; give the folder that holds the missions";
+  return "dataset folder " + dataset + " does not exist";
+}
+
+std::string output_problem(const std::string& out, bool create) {
+  std::error_code ec;
+  if (out.empty()) return {};
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+    return "output " + out + " exists and is not a folder; choose another --out";
+  if (!create) return {};
+  fs::create_directories(out, ec);
+  if (ec) return "cannot create the output folder " + out + ": " + ec.message();
+  const fs::path probe = fs::path(out) / (".lista-run-write-test-" + std::to_string(::getpid()));
+  if (!std::ofstream(probe)) return "cannot write into the output folder " + out + ": " + std::strerror(errno);
+  fs::remove(probe, ec);
+  return {};
+}
+
+// report.json marks a complete run (data contract): one from an earlier run
+// goes before this run starts, and one this run wrote goes if it then fails
+// or is cancelled, so the folder never looks complete when it is not.
+void remove_report(const std::string& out, const char* why, bool quiet) {
+  std::error_code ec;
+  if (out.empty()) return;
+  const fs::path report = fs::path(out) / "report.json";
+  if (!fs::exists(report, ec)) return;
+  fs::remove(report, ec);
+  if (!quiet) std::cerr << "lista-run: removed " << report.string() << " (" << why << ")\n";
 }
 
 struct Options {
@@ -93,6 +134,10 @@ int run(const Options& o) {
     }
     return fail(e.what());
   }
+  const std::string dataset_dir = o.dataset.empty() ? plan.spec.dataset : o.dataset;
+  const std::string output_dir = o.out.empty() ? plan.spec.output : o.out;
+  for (const std::string& why : {dataset_problem(dataset_dir), output_problem(output_dir, false)})
+    if (!why.empty()) diagnostics.error({}, "", why);
   if (o.validate) {
     std::cout << lista_run::verdict_json(diagnostics);
     return diagnostics.ok() ? exit_ok : exit_error;
@@ -109,6 +154,9 @@ int run(const Options& o) {
     return exit_ok;
   }
 
+  if (std::string why = output_problem(output_dir, true); !why.empty()) return fail(why);
+  remove_report(output_dir, "left by an earlier run; this run writes its own when it completes", o.quiet);
+
   RunOptions options;
   options.jobs = o.jobs;
   options.threads = o.threads;
@@ -122,11 +170,11 @@ int run(const Options& o) {
   try {
     execute(plan, options);
   } catch (const lista::Cancelled&) {
+    remove_report(output_dir, "the run was cancelled", false);
     std::cerr << "lista-run: cancelled\n";
     return exit_cancelled;
-  } catch (const lista::Error& e) {
-    return fail(e.what());
   } catch (const std::exception& e) {
+    remove_report(output_dir, "the run did not complete", false);
     return fail(e.what());
   }
   return exit_ok;
