@@ -252,3 +252,22 @@ TEST(Diagnostics, SortByLocationOrdersByFileThenLineThenColumn) {
   EXPECT_EQ(d.warnings[0].where.line, 6);
   EXPECT_EQ(d.first_error().message(), "--set names no stage");
 }
+
+// A pipeline file that is not there: the nearest .toml beside it is named.
+TEST(PipelineFile, AMissingFileSuggestsTheNearestPipeline) {
+  lista_test::TempDir dir;
+  dir.write("volumetric-octomap.toml", "");
+  dir.write("lista.toml", "");
+  for (const auto& [asked, suggested] : std::vector<std::pair<std::string, std::string>>{
+           {"octomap.toml", "volumetric-octomap.toml"}, {"lista.tml", "lista.toml"}}) {
+    Diagnostics d;
+    try {
+      parse_pipeline_file((dir.path / asked).string(), d);
+      ADD_FAILURE() << asked << " opened";
+    } catch (const lista::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("(did you mean '" + (dir.path / suggested).string() + "'?)"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}

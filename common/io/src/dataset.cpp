@@ -46,8 +46,16 @@ std::vector<std::string> list_missions(const std::string& dataset_dir) {
   if (!fs::is_directory(root)) throw Error(dataset_dir + ": dataset folder does not exist");
   std::vector<std::string> names;
   std::error_code ec;
-  for (fs::directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec))
-    if (it->is_directory() && is_mission_dir(it->path())) names.push_back(it->path().filename().string());
+  for (fs::directory_iterator it(root, ec), end; !ec && it != end; it.increment(ec)) {
+    if (!it->is_directory()) continue;
+    if (is_mission_dir(it->path())) {
+      names.push_back(it->path().filename().string());
+    } else if (fs::is_directory(it->path() / "scans")) {
+      // A mission without its poses would be left out silently otherwise.
+      throw Error(it->path().string() + ": has scans/ but no poses.txt; add the poses (docs/formats.md), or move "
+                                        "the folder out of the dataset to leave the mission out");
+    }
+  }
   if (ec) throw Error(dataset_dir + ": cannot list (" + ec.message() + ")");
   std::sort(names.begin(), names.end());
   if (names.empty()) {

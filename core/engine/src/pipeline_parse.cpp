@@ -1,10 +1,12 @@
 // toml11 is used only here: the TOML file becomes a PipelineSpec with a
 // source location on everything a later message may point at.
 #include <lista_core/pipeline.hpp>
+#include <lista_core/text.hpp>
 
 #include <toml.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <cctype>
@@ -280,7 +282,24 @@ const StageSpec* PipelineSpec::find(const std::string& id) const {
 
 PipelineSpec parse_pipeline_file(const std::string& path, Diagnostics& diagnostics) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open pipeline file '" + path + "'");
+  if (!in) {
+    // A misspelt file name: suggest the nearest .toml beside where it was looked for.
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path want(path);
+    const fs::path folder = want.has_parent_path() ? want.parent_path() : fs::path(".");
+    std::vector<std::string> names;
+    for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec))
+      if (it->path().extension() == ".toml") names.push_back(it->path().filename().string());
+    std::sort(names.begin(), names.end());
+    std::vector<std::string> close = similar_names(want.filename().string(), names);
+    for (const auto& n : names)  // "octomap.toml" for "volumetric-octomap.toml"
+      if (close.empty() && n.find(want.stem().string()) != std::string::npos) close.push_back(n);
+    const std::string hint =
+        close.empty() ? std::string()
+                      : " (did you mean '" + (want.has_parent_path() ? (folder / close[0]).string() : close[0]) + "'?)";
+    throw Error("cannot open pipeline file '" + path + "'" + hint);
+  }
   return parse_stream(in, path, diagnostics);
 }
 

@@ -75,6 +75,21 @@ TEST(IoMissions, ClearErrors) {
   }
 }
 
+// A mission folder whose poses.txt is missing (or misnamed) would drop out
+// of the run without a word; it is an error naming it instead.
+TEST(IoMissions, AMissionWithScansButNoPosesIsAnError) {
+  const fs::path root = make_dataset("c");
+  fs::rename(root / "t1" / "poses.txt", root / "t1" / "poses.csv");
+  BasicContext ctx;
+  ctx.info.dataset = root.string();
+  try {
+    io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("t1: has scans/ but no poses.txt"), std::string::npos) << e.what();
+  }
+}
+
 // One mission whose scans use every contract format (binary_compressed PCD,
 // ASCII PLY, KITTI .bin) with KITTI poses: the stage reads all of them, keeps
 // file indices across a skipped non-finite point and records the count.
