@@ -7,25 +7,20 @@ namespace lista::core {
 
 void ProgressDisplay::update(const std::string& stage, const std::string& what, uint64_t done, uint64_t total,
                              bool finished) {
-  if (quiet_) return;
+  if (quiet_ || !tty_) return;  // progress is for people watching; logs get the info lines
   std::lock_guard<std::mutex> lock(mutex_);
   const double fraction = total ? std::min(1.0, double(done) / double(total)) : (finished ? 1.0 : 0.0);
   const int percent = static_cast<int>(fraction * 100.0);
-  if (tty_) {
-    constexpr int width = 30;
-    const int filled = static_cast<int>(fraction * width);
-    out_ << "\r\033[K" << stage << ": " << what << " [" << std::string(filled, '#')
-         << std::string(width - filled, ' ') << "] " << percent << "%";
-    if (finished) {
-      out_ << "\n";
-      bar_shown_ = false;
-    } else {
-      bar_shown_ = true;
-    }
-  } else {
-    out_ << stage << ": " << what << " " << (finished ? 100 : percent) << "%";
-    if (total) out_ << " (" << done << "/" << total << ")";
+  constexpr int width = 30;
+  const int filled = static_cast<int>(fraction * width);
+  out_ << "\r\033[K" << stage << ": " << what << " [" << std::string(filled, '#') << std::string(width - filled, ' ')
+       << "] " << percent << "%";
+  if (total) out_ << " (" << done << "/" << total << ")";
+  if (finished) {
     out_ << "\n";
+    bar_shown_ = false;
+  } else {
+    bar_shown_ = true;
   }
   out_.flush();
 }
@@ -53,10 +48,9 @@ void StageProgress::begin(const std::string& what, uint64_t total) {
 
 void StageProgress::advance(uint64_t n) {
   const uint64_t done = done_ += n;
-  if (total_ == 0 || display_.quiet()) return;
-  // 100 steps for bars; the display prints plain lines only every 25 of them.
-  const int granularity = display_.tty() ? 1 : 25;
-  const int step = static_cast<int>(std::min<uint64_t>(100, done * 100 / total_)) / granularity * granularity;
+  if (total_ == 0 || display_.quiet() || !display_.tty()) return;
+  // At most 100 redraws of the bar per task.
+  const int step = static_cast<int>(std::min<uint64_t>(100, done * 100 / total_));
   int shown = shown_step_.load();
   if (step <= shown) return;
   if (!shown_step_.compare_exchange_strong(shown, step)) return;
@@ -69,8 +63,7 @@ void StageProgress::advance(uint64_t n) {
 }
 
 void StageProgress::end() {
-  // Plain lines: the 100% line was already printed by advance().
-  if (!display_.tty() && total_ != 0 && shown_step_.load() >= 100) return;
+  if (display_.quiet() || !display_.tty()) return;
   std::string what;
   {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -1,5 +1,6 @@
-// Progress on stderr: an updating bar on a TTY, a plain line per quarter
-// otherwise, nothing when quiet. Shared by all running stages.
+// Progress on stderr: an updating bar on a TTY; nothing when stderr is not
+// a TTY (logs keep the stages' info lines) or when quiet. Shared by all
+// running stages.
 #pragma once
 
 #include <lista/context.hpp>
