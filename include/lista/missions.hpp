@@ -42,6 +42,12 @@ struct Mission {
 struct MissionSet {
   std::string dataset;  // dataset folder
   std::vector<Mission> missions;
+  // Where the run's zero lies in the dataset's own coordinates. Georeferenced
+  // poses (UTM, ENU) put points hundreds of km from zero, where float32 keeps
+  // only centimetres, so io.missions moves the poses by -origin (a whole
+  // number of km) and every stage works near zero; writers of coordinates
+  // (io.report) add it back. Zero for data already near zero.
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   const Mission* find(const std::string& name) const;
 };
 

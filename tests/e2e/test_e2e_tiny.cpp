@@ -11,6 +11,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <sstream>
+#include <cstdio>
 #include <map>
 #include <set>
 #include <string>
@@ -232,4 +235,75 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   EXPECT_EQ(late.status, 1) << late.output;
   EXPECT_NE(late.output.find("report.json (the run did not complete)"), std::string::npos) << late.output;
   EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+}
+
+// Georeferenced poses (UTM-like, here 300 km east): the same scene moved far
+// from zero gives the same report, its coordinates moved by the same amount
+// (io.missions works near zero, io.report adds the offset back). Float
+// points at 300 km would keep only centimetres and lose the moved objects.
+TEST_F(TinyScene, FarFromZeroGivesTheSameReportMoved) {
+  require_run();
+  constexpr double kEast = 300000.0;
+  const std::filesystem::path far = dir_->path() / "far";
+  std::filesystem::copy(data_, far, std::filesystem::copy_options::recursive);
+  for (const char* m : {"A", "B"})
+    for (const char* f : {"poses.txt", "poses_gt.txt"}) {
+      std::istringstream in(e2e::read_file(std::filesystem::path(data_) / m / f));
+      std::ofstream out(far / m / f);
+      std::string line;
+      while (std::getline(in, line)) {
+        std::istringstream fields(line);
+        std::vector<double> v{std::istream_iterator<double>(fields), std::istream_iterator<double>()};
+        ASSERT_EQ(v.size(), 8u) << line;  // TUM: t x y z qx qy qz qw
+        v[1] += kEast;
+        char text[512];
+        std::snprintf(text, sizeof text, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", v[0], v[1], v[2], v[3],
+                      v[4], v[5], v[6], v[7]);
+        out << text;
+      }
+    }
+  const std::string far_out = (dir_->path() / "far-out").string();
+  const auto r = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                          far.string() + " --out " + far_out + " --threads 2 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("poses lie far from zero: working around (300000, 0, 0) m"), std::string::npos) << r.output;
+
+  const json near = report(), moved = json::parse(e2e::read_file(far_out + "/report.json"));
+  ASSERT_EQ(moved.at("objects").size(), near.at("objects").size());
+  for (size_t i = 0; i < near.at("objects").size(); ++i) {
+    const json &a = near.at("objects")[i], &b = moved.at("objects")[i];
+    SCOPED_TRACE(a.dump());
+    EXPECT_EQ(b.at("status"), a.at("status"));
+    EXPECT_EQ(b.at("match"), a.at("match"));
+    EXPECT_NEAR(b.at("centroid")[0].get<double>() - kEast, a.at("centroid")[0].get<double>(), 0.01);
+    EXPECT_NEAR(b.at("centroid")[1].get<double>(), a.at("centroid")[1].get<double>(), 0.01);
+    if (a.contains("transform") && a.at("transform").is_array()) {
+      // p_match = T p in both frames: T' = S T S^-1 with S the shift, so the
+      // rotation is the same and the translation gains (I - R) * east.
+      for (int row = 0; row < 3; ++row) {
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(b.at("transform")[row][k].get<double>(), a.at("transform")[row][k].get<double>(), 1e-3);
+        const double r0 = a.at("transform")[row][0].get<double>();
+        EXPECT_NEAR(b.at("transform")[row][3].get<double>(),
+                    a.at("transform")[row][3].get<double>() + ((row == 0 ? 1.0 : 0.0) - r0) * kEast, 0.05);
+      }
+    }
+  }
+  // lista-eval scores it against the truth moved the same way: the same scores.
+  std::string truth = e2e::read_file(std::filesystem::path(data_) / "ground_truth.json");
+  json gt = json::parse(truth);
+  for (auto& [m, t] : gt.at("mission_to_world").items()) t[0][3] = t[0][3].get<double>() + kEast;
+  for (auto& o : gt.at("objects"))
+    for (auto& [m, p] : o.at("poses").items())
+      if (p.is_array()) p[0][3] = p[0][3].get<double>() + kEast;
+  std::ofstream(far / "ground_truth.json") << gt.dump();
+  const auto score = [](const std::string& data, const std::string& run) {
+    return json::parse(e2e::run(e2e::bin("lista-eval") + " --dataset " + data + " --run " + run + " --json 2>/dev/null").output);
+  };
+  const json s_near = score(data_, out_), s_far = score(far.string(), far_out);
+  EXPECT_EQ(s_far.at("points"), s_near.at("points"));
+  for (size_t m = 0; m < s_near.at("objects").size(); ++m) {
+    EXPECT_EQ(s_far.at("objects")[m].at("match_accuracy"), s_near.at("objects")[m].at("match_accuracy"));
+    EXPECT_EQ(s_far.at("objects")[m].at("status_accuracy"), s_near.at("objects")[m].at("status_accuracy"));
+  }
 }

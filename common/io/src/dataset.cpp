@@ -108,8 +108,9 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
     if (viewpoint_layout) {
       // Points are in the map frame: bring them into the sensor frame.
       s.pose = f.viewpoint.value_or(Eigen::Isometry3d::Identity());
-      const Eigen::Isometry3f inv = s.pose.inverse().cast<float>();
-      for (auto& p : f.points.xyz) p = inv * p;
+      // In double: the map frame may be georeferenced (hundreds of km).
+      const Eigen::Isometry3d inv = s.pose.inverse();
+      for (auto& p : f.points.xyz) p = (inv * p.cast<double>()).cast<float>();
     }
     s.points_in_file = f.points_in_file;
     skipped[i] = f.skipped_nonfinite;

@@ -2,9 +2,23 @@
 #include <lista/lista.hpp>
 #include <lista_io/dataset.hpp>
 
+#include <cstdio>
+
 namespace lista::io {
 
 namespace {
+
+// The origin of the run's local frame (MissionSet::origin): the first pose's
+// position rounded to whole kilometres, zero when it lies within a km of zero.
+Eigen::Vector3d local_origin(const MissionSet& set) {
+  for (const auto& m : set.missions)
+    if (!m.scans.empty()) {
+      const Eigen::Vector3d t = m.scans.front().pose.translation();
+      if (t.cwiseAbs().maxCoeff() < 1000.0) return Eigen::Vector3d::Zero();
+      return (t / 1000.0).array().round().matrix() * 1000.0;
+    }
+  return Eigen::Vector3d::Zero();
+}
 
 class MissionsStage : public Stage {
  public:
@@ -33,6 +47,17 @@ class MissionsStage : public Stage {
       ctx.progress().advance();
     }
     ctx.progress().end();
+    set.origin = local_origin(set);
+    if (!set.origin.isZero()) {
+      for (auto& m : set.missions) {
+        for (auto& s : m.scans) s.pose.translation() -= set.origin;
+        for (auto& g : m.poses_gt) g.translation() -= set.origin;
+      }
+      char text[160];
+      std::snprintf(text, sizeof text, "poses lie far from zero: working around (%.0f, %.0f, %.0f) m, added back in the report",
+                    set.origin.x(), set.origin.y(), set.origin.z());
+      ctx.info(text);
+    }
     size_t points = 0, skipped = 0, scans = 0;
     for (const auto& m : set.missions) {
       const size_t n = m.point_count();
@@ -68,7 +93,8 @@ StageInfo info() {
       "name, or a folder of map-frame .pcd scans carrying the sensor pose in VIEWPOINT; poses_gt.txt when "
       "present. Scans are read in parallel. Non-finite points are skipped and counted. Errors: scan count "
       "!= pose count, unreadable or malformed file (with its line), non-orthonormal rotation, empty "
-      "mission. See docs/formats.md.";
+      "mission. Poses more than a km from zero (georeferenced) are moved by a whole number of km so float "
+      "points keep millimetres; io.report adds the offset back. See docs/formats.md.";
   s.outputs = {{"missions", "missions", "the missions, each in its own map frame (to_common = identity)"}};
   s.params = {
       ParamSpec::text("path", "", "dataset folder; empty = the run's dataset (lista-run --dataset)"),

@@ -28,11 +28,23 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
                    const Matches* matches, const MissionPoints* changes) {
   Built b;
   io::Report& r = b.report;
+  // Stages work near zero (MissionSet::origin); the report is in the
+  // dataset's own coordinates: positions + origin, frame maps conjugated.
+  const Eigen::Vector3d origin = missions.origin;
+  auto restore = [&](const Eigen::Matrix4d& local) {
+    Eigen::Matrix4d shift = Eigen::Matrix4d::Identity(), back = Eigen::Matrix4d::Identity();
+    shift.block<3, 1>(0, 3) = origin;
+    back.block<3, 1>(0, 3) = -origin;
+    return Eigen::Matrix4d(shift * local * back);
+  };
+  auto push_point = [&](ChangeCloud& c, const Eigen::Vector3f& p, uint32_t scan, uint32_t index, int32_t object) {
+    push(c, (p.cast<double>() + origin).cast<float>(), scan, index, object);
+  };
   std::map<std::string, size_t> mission_index;
   for (const auto& m : missions.missions) {
     mission_index[m.name] = r.missions.size();
     r.missions.push_back(m.name);
-    r.alignment[m.name] = m.to_common.matrix();
+    r.alignment[m.name] = restore(m.to_common.matrix());
     b.clouds.push_back({m.name, {}, {}, {}, {}, {}, {}});
   }
   auto cloud_of = [&](const std::string& name, const char* what) -> ChangeCloud& {
@@ -56,11 +68,11 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
     ChangeCloud& cloud = cloud_of(ro.mission, "objects input");
     Eigen::Vector3f lo, hi;
     o.points.bounds(lo, hi);
-    ro.centroid = o.points.empty() ? o.centroid.cast<double>() : o.points.centroid().cast<double>();
-    ro.bbox_min = o.points.empty() ? o.bbox_min.cast<double>() : lo.cast<double>();
-    ro.bbox_max = o.points.empty() ? o.bbox_max.cast<double>() : hi.cast<double>();
+    ro.centroid = (o.points.empty() ? o.centroid.cast<double>() : o.points.centroid().cast<double>()) + origin;
+    ro.bbox_min = (o.points.empty() ? o.bbox_min.cast<double>() : lo.cast<double>()) + origin;
+    ro.bbox_max = (o.points.empty() ? o.bbox_max.cast<double>() : hi.cast<double>()) + origin;
     ro.points = o.points.size();
-    if (std::isfinite(o.floor_z)) ro.floor_z = double(o.floor_z);
+    if (std::isfinite(o.floor_z)) ro.floor_z = double(o.floor_z) + origin.z();
     ro.group = groups ? groups->group_of(o.id) : -1;
     const ObjectChange* c = matches ? matches->find(o.id) : nullptr;
     if (c) {
@@ -74,11 +86,11 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
                       " is not among the objects");
         ro.match = c->match;
         if (c->has_transform) {
-          ro.transform = c->transform;
+          ro.transform = restore(c->transform);
         } else {
           Eigen::Matrix4d t = Eigen::Matrix4d::Identity();
           t.block<3, 1>(0, 3) = (partner->points.centroid() - o.points.centroid()).cast<double>();
-          ro.transform = t;
+          ro.transform = t;  // a translation: the same in every frame
           b.warnings.push_back("object " + std::to_string(o.id) +
                                " is moved without a transform; wrote the centroid translation");
         }
@@ -97,7 +109,7 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
     }
     for (size_t i = 0; i < o.points.size(); ++i) {
       const uint32_t s = o.points.scan.at(i), idx = o.points.index.at(i);
-      if (taken[&cloud - b.clouds.data()].insert(key(s, idx)).second) push(cloud, o.points.xyz[i], s, idx, o.id);
+      if (taken[&cloud - b.clouds.data()].insert(key(s, idx)).second) push_point(cloud, o.points.xyz[i], s, idx, o.id);
     }
     r.objects.push_back(std::move(ro));
   }
@@ -114,7 +126,7 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
       const PointSet& p = changes->sets[k];
       p.check_consistent();
       for (size_t i = 0; i < p.size(); ++i)
-        if (seen.insert(key(p.scan[i], p.index[i])).second) push(cloud, p.xyz[i], p.scan[i], p.index[i], -1);
+        if (seen.insert(key(p.scan[i], p.index[i])).second) push_point(cloud, p.xyz[i], p.scan[i], p.index[i], -1);
     }
   }
   return b;

@@ -29,7 +29,7 @@ std::string motion_text(const ObjectView& v) {
   return fmt(t, 2) + " m, " + fmt(std::acos(cos_angle) * 180.0 / M_PI, 1) + "&deg;";
 }
 
-std::string vec(const Eigen::Vector3f& p) {
+std::string vec(const Eigen::Vector3d& p) {
   return fmt(p.x()) + ", " + fmt(p.y()) + ", " + fmt(p.z());
 }
 
@@ -80,7 +80,7 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
             std::to_string(v.object->id) + "</td><td class=\"text\">" + escape(model.missions[v.object->mission]) +
             "</td><td class=\"text " + status + "\">" + status + "</td><td>" +
             (v.group >= 0 ? std::to_string(v.group) : "") + "</td><td>" + fmt(v.confidence) + "</td><td>" +
-            (v.match >= 0 ? std::to_string(v.match) : "") + "</td><td>" + vec(v.object->centroid) + "</td><td>" +
+            (v.match >= 0 ? std::to_string(v.match) : "") + "</td><td>" + vec(v.object->centroid.cast<double>() + missions.origin) + "</td><td>" +
             std::to_string(v.object->points.size()) + "</td><td>" + motion_text(v) + "</td></tr>\n";
   }
   html += "</table>\n";
