@@ -13,6 +13,7 @@
 #include <lista_io/dataset.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 
 #include <chrono>
 #include <cstdio>
@@ -177,7 +178,7 @@ int main(int argc, char** argv) {
   app.add_option("--plugin-dir", plugin_dir, "folder of the built plugins");
   app.add_option("--positions", positions_dir,
                  "write DIR/<dataset>.<aligner>.txt (per scan, aligned and true pose) and .svg (top view, residuals x50)");
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench alignment")) return *code;
   try {
     core::Registry registry;
     for (const auto& name : stages) {

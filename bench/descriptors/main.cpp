@@ -23,6 +23,7 @@
 #include <lista_objfeat/views.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
@@ -201,7 +202,7 @@ int main(int argc, char** argv) {
   app.add_option("--json", json_out, "also write the results as JSON");
   app.add_option("--rows", rows_dir,
                  "write DIR/<plugin>.csv: per view (held-out views in index order) its label, point count and descriptor");
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench descriptors")) return *code;
 
   try {
     std::vector<Setting> settings;

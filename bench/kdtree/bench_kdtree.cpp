@@ -8,6 +8,7 @@
 #include <lista_pcl/fast_kdtree.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 #include <pcl/common/transforms.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/registration/gicp.h>
@@ -85,7 +86,7 @@ int main(int argc, char** argv) {
   app.add_option("--points", points, "indexed points (a box surface)")->check(CLI::Range(size_t{1}, size_t{100000000}));
   app.add_option("--queries", queries, "queries per pass")->check(CLI::Range(size_t{1}, size_t{100000000}));
   app.add_option("--repeats", repeats, "passes per timing")->check(CLI::Range(1, 100000));
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench kdtree")) return *code;
 
   // A LiSTA run has used OpenMP (volumetric ray casting) before ICP runs:
   // start libgomp's thread pool the same way.

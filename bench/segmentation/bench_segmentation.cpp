@@ -15,6 +15,7 @@
 #include <lista_io/pcd.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -74,7 +75,7 @@ int main(int argc, char** argv) {
   app.add_flag("!--no-mls", with_mls, "skip the (slow) MLS timing");
   app.add_option("--changes", changes_dir, "folder of real change clouds (*.pcd, one per mission) instead of synthetic ones")
       ->check(CLI::ExistingDirectory);
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench segmentation")) return *code;
 
   std::vector<PointSet> clouds;
   std::vector<std::vector<uint32_t>> labels;  // synthetic only

@@ -17,6 +17,7 @@
 #include <lista_raycast/synthetic_scene.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -203,7 +204,7 @@ int main(int argc, char** argv) {
   app.add_option("--max-range", o.max_range, "beam range cut, m (<= 0: none)");
   app.add_flag("--gt-poses", o.gt_poses, "use poses_gt.txt (true poses, common frame) instead of poses.txt: isolates the volumetric stage from SLAM drift");
   app.add_option("--out", o.out, "write <out>/<backend>/changes/<mission>.pcd (contract format) for lista-eval");
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench volumetric")) return *code;
   try {
     auto split = [](const std::string& s) {
       std::vector<std::string> v;

@@ -9,6 +9,7 @@
 #include <lista_core/text.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 
 #include <cerrno>
 #include <cstring>
@@ -194,7 +195,10 @@ int main(int argc, char** argv) {
   app.add_option("-j,--jobs", o.jobs, "stages run at once")->check(CLI::Range(1, 256));
   app.add_option("--threads", o.threads, "total thread budget (default: [pipeline].threads or all cores)")
       ->check(CLI::Range(1, 4096));
-  app.add_option("--seed", o.seed, "random seed (overrides [pipeline].seed)")->check(CLI::NonNegativeNumber);
+  app.add_option("--seed", o.seed, "random seed (overrides [pipeline].seed)")
+      ->check(CLI::Validator(
+          [](std::string& v) { return !v.empty() && v[0] != '-' ? std::string() : "must be >= 0, got " + v; },
+          "SEED >= 0"));
   app.add_flag("-q,--quiet", o.quiet, "warnings and errors only: no progress, no info lines");
   app.add_flag("-v,--verbose", o.verbose, "also debug messages");
   app.add_option("--plugin-dir", o.plugin_dirs, "extra folder with plugin libraries (repeatable)")
@@ -206,16 +210,9 @@ int main(int argc, char** argv) {
   app.add_flag("--list-plugins", o.list_plugins, "list the available plugins");
   app.add_option("--describe", o.describe, "describe a plugin: ports and parameters");
   app.add_flag("--json", o.json, "with --describe: JSON output");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    return fail(std::string(e.what()) + " (see --help)", exit_usage);
-  }
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-run")) return *code;
   if (o.validate && o.dry_run) return fail("--validate and --dry-run exclude each other", exit_usage);
+  if (o.json && o.describe.empty()) return fail("--json goes with --describe PLUGIN", exit_usage);
   try {
     return run(o);
   } catch (const std::exception& e) {

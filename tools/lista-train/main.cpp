@@ -7,6 +7,7 @@
 #include <lista/error.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 #include <cstdio>
 
 int main(int argc, char** argv) {
@@ -67,7 +68,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", cfg.threads, "torch threads")->check(CLI::Range(1, 256));
   app.add_option("--eval-every", cfg.eval_every, "steps between held-out evaluations")->check(CLI::Range(1, 1000000));
   app.add_option("--out", cfg.out, "weights file to write (a .sha256 sidecar is written next to it)");
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-train")) return *code;
   if (no_globals) cfg.globals = 0;
   cfg.floor = !no_floor;
   if (!widths.empty()) { cfg.w1 = widths[0]; cfg.w2 = widths[1]; cfg.w3 = widths[2]; cfg.head = widths[3]; }

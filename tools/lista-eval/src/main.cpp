@@ -10,6 +10,7 @@
 #include <lista_io/report.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 
 #include <filesystem>
 #include <iostream>
@@ -27,7 +28,7 @@ int main(int argc, char** argv) {
   app.add_flag("--json", json, "print the scores as JSON (per-object verdicts included)");
   app.add_flag("--objects", objects, "also list every truly changed object: its report, status, match and verdict");
   app.add_option("-j,--threads", threads, "threads for reading the dataset")->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-eval")) return *code;
   if (run.empty() && truth_out.empty()) {
     std::cerr << "lista-eval: error: give --run OUT (to score) or --truth OUT (to write the perfect run)\n";
     return 2;

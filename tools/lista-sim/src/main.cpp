@@ -10,6 +10,7 @@
 #include <lista/error.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/parse.hpp>
 
 #include <cstdio>
 #include <iostream>
@@ -70,8 +71,8 @@ int main(int argc, char** argv) {
   app.add_option("--preset", preset, "tiny, demo, exp1, exp2, exp3, hall or fsc");
   app.add_option("--out", out, "dataset folder to write");
   app.add_option("--seed", seed, "random seed (same seed, same dataset)");
-  app.add_option("--missions", missions, "number of missions (default: the preset's)");
-  app.add_option("--scans", scans, "scans per mission (default: the preset's)");
+  app.add_option("--missions", missions, "number of missions (default: the preset's)")->check(CLI::Range(1, 100))->default_str("preset");
+  app.add_option("--scans", scans, "scans per mission (default: the preset's)")->check(CLI::Range(1, 100000))->default_str("preset");
   app.add_option("--sensor", sensor, "os0-128, xt32, vlp16, os1-64 or hdl32 (default: the preset's)");
   app.add_option("--threads", threads, "worker threads")->check(CLI::PositiveNumber);
   app.add_flag("--overwrite", overwrite, "replace a dataset already in --out");
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
   bool no_procedural = false;
   views_cmd->add_flag("--no-procedural", no_procedural, "draw only the --furniture shapes");
   app.require_subcommand(0, 1);
-  CLI11_PARSE(app, argc, argv);
+  if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-sim")) return *code;
 
   try {
     if (views_cmd->parsed()) {

@@ -1,0 +1,46 @@
+// Parses a LiSTA program's command line so that every program behaves alike:
+// `--help` shows each option's default, the usage line names the program as
+// users type it ("lista-bench volumetric", not a build path), and a usage
+// error is one line, "<program>: error: <what> (see --help)", exit status 2.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+#include <optional>
+#include <string>
+
+namespace lista::cli {
+
+namespace detail {
+// Defaults as the options hold them before parsing; flags have none to show.
+inline void show_defaults(CLI::App& app) {
+  for (CLI::Option* o : app.get_options())
+    if (o->get_expected_min() > 0 && o->get_default_str().empty()) {
+      o->capture_default_str();
+      if (o->get_default_str() == "[]") o->default_str("");  // an empty list says nothing
+    }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) show_defaults(*sub);
+}
+}  // namespace detail
+
+// nullopt: parsed, go on. A value: the exit status to return now (0 after
+// --help, 2 after a usage error, which is printed to stderr).
+inline std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv,
+                                             const std::string& program) {
+  app.name(program);
+  detail::show_defaults(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << program << ": error: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+  return std::nullopt;
+}
+
+}  // namespace lista::cli

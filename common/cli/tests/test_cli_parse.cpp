@@ -1,0 +1,63 @@
+#include <lista_cli/parse.hpp>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <sstream>
+#include <vector>
+
+namespace {
+
+struct Parsed {
+  std::optional<int> code;
+  std::string err, help;
+};
+
+Parsed parse(std::vector<const char*> args, int& count, bool& flag) {
+  CLI::App app{"a test program"};
+  app.add_option("--count", count, "how many")->check(CLI::PositiveNumber);
+  app.add_flag("--flag", flag, "a switch");
+  args.insert(args.begin(), "/some/build/path/prog");
+  std::ostringstream err;
+  auto* old = std::cerr.rdbuf(err.rdbuf());
+  Parsed p;
+  p.code = lista::cli::parse_command_line(app, int(args.size()), args.data(), "lista-prog");
+  std::cerr.rdbuf(old);
+  p.err = err.str();
+  p.help = app.help();
+  return p;
+}
+
+}  // namespace
+
+TEST(CliParse, GoodArgumentsGoOn) {
+  int count = 3;
+  bool flag = false;
+  const Parsed p = parse({"--count", "5", "--flag"}, count, flag);
+  EXPECT_FALSE(p.code.has_value());
+  EXPECT_EQ(count, 5);
+  EXPECT_TRUE(flag);
+}
+
+TEST(CliParse, HelpShowsTheProgramNameAndDefaults) {
+  int count = 3;
+  bool flag = false;
+  const Parsed p = parse({}, count, flag);
+  EXPECT_NE(p.help.find("Usage: lista-prog"), std::string::npos) << p.help;
+  EXPECT_NE(p.help.find("=3"), std::string::npos) << p.help;
+  EXPECT_EQ(p.help.find("{false}"), std::string::npos) << p.help;  // no default printed for a flag
+  EXPECT_EQ(p.help.find("=0"), std::string::npos) << p.help;
+}
+
+TEST(CliParse, AUsageErrorIsOneLineAndExitStatus2) {
+  int count = 3;
+  bool flag = false;
+  const Parsed bad = parse({"--count", "-1"}, count, flag);
+  ASSERT_TRUE(bad.code.has_value());
+  EXPECT_EQ(*bad.code, 2);
+  EXPECT_EQ(bad.err.rfind("lista-prog: error: --count: ", 0), 0u) << bad.err;
+  EXPECT_NE(bad.err.find("(see --help)\n"), std::string::npos) << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1);
+  const Parsed unknown = parse({"--nope"}, count, flag);
+  EXPECT_EQ(unknown.code.value_or(0), 2);
+}
