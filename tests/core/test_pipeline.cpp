@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 using namespace lista::core;
 using lista_test::plan_of;
 
@@ -268,6 +270,26 @@ TEST(PipelineFile, AMissingFileSuggestsTheNearestPipeline) {
       EXPECT_NE(std::string(e.what()).find("(did you mean '" + (dir.path / suggested).string() + "'?)"),
                 std::string::npos)
           << e.what();
+    }
+  }
+}
+
+// The TOML mistakes people make most read plainly, at their line.
+TEST(PipelineFile, CommonTomlMistakesAreSaidPlainly) {
+  for (const auto& [text, where, message] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"[stages.a]\nplugin = \"test.source\"\n[stages.a]\nplugin = \"test.source\"\n", "p.toml:3:",
+            "stage 'a' is defined twice; stage ids are unique, rename one"},
+           {"[pipeline]\nname = \"x\"\nname = \"y\"\n", "p.toml:3:", "key 'name' is given twice in its table"},
+           {"[pipeline]\nname = \"x\n", "p.toml:2:", "a string is not closed"},
+           {"[pipeline]\nname = x y\n", "p.toml:2:", "not a TOML value (text needs quotes"}}) {
+    Diagnostics d;
+    try {
+      parse_pipeline_text(text, "p.toml", d);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const lista::Error& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind(where, 0), 0u) << m;
+      EXPECT_NE(m.find("TOML syntax error: " + message), std::string::npos) << m;
     }
   }
 }

@@ -107,6 +107,25 @@ std::string first_line(const std::string& what) {
   return s;
 }
 
+// The mistakes people make most, said plainly instead of in toml11's words (the parser's
+// own text is kept for everything else).
+std::string plain_syntax_message(const std::string& toml_text) {
+  static const std::vector<std::pair<std::regex, std::string>> known = {
+      {std::regex(R"re(toml::insert_value: table \("stages\.([^"]+)"\) already exists.*)re"),
+       "stage '$1' is defined twice; stage ids are unique, rename one"},
+      {std::regex(R"re(toml::insert_value: table \("([^"]+)"\) already exists.*)re"), "table [$1] is defined twice"},
+      {std::regex(R"re(toml::insert_value: value \("([^"]+)"\) already exists.*)re"),
+       "key '$1' is given twice in its table"},
+      {std::regex(R"re(toml::parse_basic_string: the next token is not a valid string.*)re"),
+       "a string is not closed (a missing \" before the end of the line?)"},
+      {std::regex(R"re((bad format: unknown value appeared|toml::parse_boolean:).*)re"),
+       "not a TOML value (text needs quotes: key = \"text\"; lists need brackets: [1.0, 2.0])"},
+  };
+  for (const auto& [pattern, plain] : known)
+    if (std::regex_match(toml_text, pattern)) return std::regex_replace(toml_text, pattern, plain);
+  return toml_text;
+}
+
 // A table's entries in the order the file has them (toml11 keeps a hash
 // map), so diagnostics come out line by line.
 std::vector<std::pair<const std::string*, const toml::value*>> in_file_order(const toml::value& table) {
@@ -260,7 +279,7 @@ PipelineSpec parse_stream(std::istream& in, const std::string& file, Diagnostics
     root = toml::parse(in, file);
   } catch (const toml::syntax_error& e) {
     const auto& loc = e.location();
-    throw Error("TOML syntax error: " + first_line(e.what()))
+    throw Error("TOML syntax error: " + plain_syntax_message(first_line(e.what())))
         .at({file, static_cast<int>(loc.line()), caret_column(e.what(), static_cast<int>(loc.column()))});
   } catch (const toml::exception& e) {
     const auto& loc = e.location();
