@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -306,4 +307,32 @@ TEST_F(TinyScene, FarFromZeroGivesTheSameReportMoved) {
     EXPECT_EQ(s_far.at("objects")[m].at("match_accuracy"), s_near.at("objects")[m].at("match_accuracy"));
     EXPECT_EQ(s_far.at("objects")[m].at("status_accuracy"), s_near.at("objects")[m].at("status_accuracy"));
   }
+}
+
+// Poses that do not belong to their scans (here mission A's poses moved by
+// three lines) cannot be aligned; with poses_gt.txt the run says so instead
+// of reporting changes that are not there in silence.
+TEST_F(TinyScene, AFailedAlignmentIsWarnedAbout) {
+  require_run();
+  const std::filesystem::path shifted = dir_->path() / "shifted";
+  std::filesystem::copy(data_, shifted, std::filesystem::copy_options::recursive);
+  std::istringstream in(e2e::read_file(shifted / "A" / "poses.txt"));
+  std::vector<std::string> stamps, rest;
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty()) {
+      stamps.push_back(line.substr(0, line.find(' ')));
+      rest.push_back(line.substr(line.find(' ')));
+    }
+  ASSERT_GT(rest.size(), 3u);
+  std::rotate(rest.begin(), rest.begin() + 3, rest.end());
+  std::ofstream out(shifted / "A" / "poses.txt");
+  for (size_t i = 0; i < rest.size(); ++i) out << stamps[i] << rest[i] << "\n";
+  out.close();
+  const auto r = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                          shifted.string() + " --out " + (dir_->path() / "shifted-out").string() + " --threads 2 -q 2>&1");
+  EXPECT_NE(r.output.find("warning: align: the aligned poses are "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("from poses_gt.txt: the alignment has probably failed"), std::string::npos) << r.output;
+  // The unchanged scene aligns: no such warning.
+  EXPECT_EQ(run_.output.find("alignment has probably failed"), std::string::npos) << run_.output;
 }

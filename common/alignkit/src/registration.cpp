@@ -2,6 +2,7 @@
 
 #include <lista/error.hpp>
 #include <lista_pcl/fast_kdtree.hpp>
+#include <lista_pcl/quiet.hpp>
 
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
@@ -94,7 +95,10 @@ Eigen::Isometry3d run_stage(const Level& source, const Level& target, const Eige
   reg->setTransformationEpsilon(gicp ? 1e-4 : 1e-8);
   reg->setEuclideanFitnessEpsilon(1e-8);
   PclCloud aligned;
-  reg->align(aligned, guess.matrix().cast<float>());
+  {
+    pcl_convert::QuietPcl quiet;  // "not enough correspondences" is judged below, not printed
+    reg->align(aligned, guess.matrix().cast<float>());
+  }
   converged = reg->hasConverged();
   Eigen::Isometry3d result(reg->getFinalTransformation().cast<double>());
   // Re-orthonormalise: float accumulation leaves a slightly skewed rotation.

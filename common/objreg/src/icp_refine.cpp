@@ -5,6 +5,7 @@
 
 #include <lista/error.hpp>
 #include <lista_pcl/fast_kdtree.hpp>
+#include <lista_pcl/quiet.hpp>
 
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/registration/gicp.h>
@@ -114,7 +115,10 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
       reg.setMaxCorrespondenceDistance(max_correspondence);
       reg.setMaximumIterations(cfg.max_iterations);
       reg.setTransformationEpsilon(1e-8);
-      reg.align(aligned, guess.matrix().cast<float>());
+      {
+        pcl_convert::QuietPcl quiet;  // "not enough correspondences" is judged below, not printed
+        reg.align(aligned, guess.matrix().cast<float>());
+      }
       if (reg.hasConverged()) {
         Eigen::Matrix4d m = reg.getFinalTransformation().template cast<double>();
         // Re-orthonormalise: float accumulation drifts slightly from SO(3).

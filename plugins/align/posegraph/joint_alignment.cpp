@@ -189,6 +189,12 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   if (scan_report.tried > 0)
     ctx.info(std::to_string(scan_report.accepted) + " of " + std::to_string(scan_report.tried) +
              " scan-to-scan registrations accepted after " + elapsed());
+  // Neighbouring scans that do not register where their poses put them
+  // mostly mean the poses do not belong to the scans.
+  if (scan_report.tried >= 8 && 2 * scan_report.accepted < scan_report.tried)
+    ctx.warn("only " + std::to_string(scan_report.accepted) + " of " + std::to_string(scan_report.tried) +
+             " neighbouring scans register where poses.txt puts them: check that it has one pose per scan in "
+             "file-name order (scan_10.pcd sorts before scan_2.pcd) and that scans are in the sensor frame");
 
   // First solve without the robust loss: the vetted closures start far from
   // their optimum (the drift), where a robust loss would hardly pull.

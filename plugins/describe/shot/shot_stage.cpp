@@ -7,7 +7,7 @@
 #include <lista_pcl/convert.hpp>
 #include <lista_pcl/fast_kdtree.hpp>
 
-#include <pcl/console/print.h>
+#include <lista_pcl/quiet.hpp>
 #include <pcl/features/normal_3d_omp.h>
 #include <pcl/features/shot_omp.h>
 #include <pcl/filters/voxel_grid.h>
@@ -89,11 +89,7 @@ class ShotStage : public Stage {
       // SHOT prints a warning per keypoint with NaN normals or no valid frame,
       // routine on sparse partial scans (100k lines per benchmark run). Those
       // keypoints are dropped below anyway: keep PCL quiet meanwhile.
-      struct Quiet {
-        pcl::console::VERBOSITY_LEVEL before = pcl::console::getVerbosityLevel();
-        Quiet() { pcl::console::setVerbosityLevel(pcl::console::L_ERROR); }
-        ~Quiet() { pcl::console::setVerbosityLevel(before); }
-      } quiet;
+      pcl_convert::QuietPcl quiet;
       se.compute(shots);
     }
 

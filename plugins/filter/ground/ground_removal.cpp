@@ -4,7 +4,7 @@
 #include <lista_pcl/convert.hpp>
 
 #include <pcl/ModelCoefficients.h>
-#include <pcl/console/print.h>
+#include <lista_pcl/quiet.hpp>
 #include <pcl/sample_consensus/method_types.h>
 #include <pcl/sample_consensus/model_types.h>
 #include <pcl/segmentation/sac_segmentation.h>
@@ -137,11 +137,7 @@ std::vector<uint32_t> find_ground(const PointSet& points, const GroundConfig& c,
   // A tile with no horizontal plane (only walls or objects) is an expected
   // outcome here, but PCL prints it as an error on stderr once per tile.
   // PCL has only a process-wide switch: quiet it while this call runs.
-  struct QuietPcl {
-    pcl::console::VERBOSITY_LEVEL before = pcl::console::getVerbosityLevel();
-    QuietPcl() { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); }
-    ~QuietPcl() { pcl::console::setVerbosityLevel(before); }
-  } quiet;
+  pcl_convert::QuietPcl quiet;
   std::map<Cell, std::vector<uint32_t>> tiles;  // ordered: deterministic
   for (uint32_t i = 0; i < points.size(); ++i) tiles[cell_of(points.xyz[i], c.tile_size)].push_back(i);
   std::vector<const std::vector<uint32_t>*> list;

@@ -2,7 +2,9 @@
 #include <lista/lista.hpp>
 #include <lista_io/dataset.hpp>
 
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 
 namespace lista::io {
 
@@ -18,6 +20,26 @@ Eigen::Vector3d local_origin(const MissionSet& set) {
       return (t / 1000.0).array().round().matrix() * 1000.0;
     }
   return Eigen::Vector3d::Zero();
+}
+
+// "scan_2.pcd", "scan_10.pcd": numbers of different widths sort by character,
+// not by value, and poses.txt pairs its lines with scans in file-name order.
+// The first pair out of numeric order, or "" when the names agree.
+std::string misordered_scan_names(const Mission& m) {
+  long long last = -1;
+  std::string last_name;
+  for (const auto& scan : m.scans) {
+    const std::string name = std::filesystem::path(scan.file).filename().string();
+    const std::string stem = std::filesystem::path(scan.file).stem().string();
+    size_t end = stem.size(), begin = end;
+    while (begin > 0 && std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) --begin;
+    if (begin == end || end - begin > 18) return {};  // no number to judge by
+    const long long value = std::stoll(stem.substr(begin));
+    if (value < last) return last_name + " sorts before " + name;
+    last = value;
+    last_name = name;
+  }
+  return {};
 }
 
 class MissionsStage : public Stage {
@@ -60,6 +82,9 @@ class MissionsStage : public Stage {
     }
     size_t points = 0, skipped = 0, scans = 0;
     for (const auto& m : set.missions) {
+      if (const std::string pair = misordered_scan_names(m); !pair.empty())
+        ctx.warn("mission '" + m.name + "': " + pair +
+                 " by name, and scans take their poses in file-name order: zero-pad the numbers (scan_002.pcd)");
       const size_t n = m.point_count();
       ctx.info("mission '" + m.name + "': " + std::to_string(m.scans.size()) + " scans, " + std::to_string(n) +
                " points" + (m.skipped_nonfinite ? ", " + std::to_string(m.skipped_nonfinite) + " non-finite skipped" : "") +

@@ -90,6 +90,34 @@ TEST(IoMissions, AMissionWithScansButNoPosesIsAnError) {
   }
 }
 
+// scan_0 .. scan_11 without zero padding sort scan_10 before scan_2, and
+// poses.txt pairs poses with scans in name order: a warning says so.
+TEST(IoMissions, UnpaddedScanNumbersAreWarnedAbout) {
+  const fs::path root = io::testing::scratch_path("io_missions_unpadded");
+  for (const char* m : {"A", "B"}) {
+    fs::create_directories(root / m / "scans");
+    std::vector<io::PoseRecord> poses(12);
+    for (int s = 0; s < 12; ++s) {
+      PointSet p;
+      p.xyz.emplace_back(1.f, float(s), 0.f);
+      io::write_scan_pcd((root / m / "scans" / ("scan_" + std::to_string(s) + ".pcd")).string(), p);
+      poses[s].timestamp = s;
+    }
+    io::write_poses((root / m / "poses.txt").string(), poses);
+  }
+  BasicContext ctx;
+  ctx.info.dataset = root.string();
+  io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  std::string all;
+  for (const auto& m : ctx.messages) all += m + "\n";
+  EXPECT_NE(all.find("mission 'A': scan_11.pcd sorts before scan_2.pcd by name"), std::string::npos) << all;
+
+  BasicContext padded;
+  padded.info.dataset = make_dataset("padded").string();
+  io_test::make_stage("io.missions")->run(Inputs{}, padded);
+  for (const auto& m : padded.messages) EXPECT_EQ(m.find("sorts before"), std::string::npos) << m;
+}
+
 // One mission whose scans use every contract format (binary_compressed PCD,
 // ASCII PLY, KITTI .bin) with KITTI poses: the stage reads all of them, keeps
 // file indices across a skipped non-finite point and records the count.

@@ -26,10 +26,12 @@ class SvdStage : public Stage {
       return svd_transform(fs, ft);
     }, ctx);
     out.method = matches.method + "+register.svd";
+    // Information, not a warning: pipelines/lista.toml refines these with
+    // register.icp, which tries every flip; alone, the count is in the metrics.
     if (ambiguous > 0)
-      ctx.warn(std::to_string(ambiguous.load()) +
-               " moved pairs have near-symmetric shapes; their SVD orientation may be off by a flip "
-               "(use register.icp)");
+      ctx.info(std::to_string(ambiguous.load()) +
+               " moved pairs have near-symmetric shapes; their SVD orientation may be off by a flip, which a "
+               "register.icp stage after this one resolves");
     ctx.record("ambiguous_pairs", ambiguous.load());
     Outputs o;
     o.put("matches", std::move(out));
