@@ -336,3 +336,16 @@ TEST_F(TinyScene, AFailedAlignmentIsWarnedAbout) {
   // The unchanged scene aligns: no such warning.
   EXPECT_EQ(run_.output.find("alignment has probably failed"), std::string::npos) << run_.output;
 }
+
+// Scoring a run against a dataset other than the one it was made from is
+// allowed (a copy of it, say) but said, with the folder the run names.
+TEST_F(TinyScene, EvaluatorWarnsWhenTheRunWasMadeFromAnotherDataset) {
+  require_run();
+  const std::filesystem::path copy = dir_->path() / "copy-of-data";
+  std::filesystem::copy(data_, copy, std::filesystem::copy_options::recursive);
+  const auto other = e2e::run(e2e::bin("lista-eval") + " --dataset " + copy.string() + " --run " + out_ + " 2>&1 >/dev/null");
+  EXPECT_EQ(other.status, 0) << other.output;
+  EXPECT_NE(other.output.find("warning: the run was made from " + data_), std::string::npos) << other.output;
+  const auto same = e2e::run(e2e::bin("lista-eval") + " --dataset " + data_ + " --run " + out_ + " 2>&1 >/dev/null");
+  EXPECT_EQ(same.output.find("warning"), std::string::npos) << same.output;
+}

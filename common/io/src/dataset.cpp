@@ -27,6 +27,8 @@ std::vector<std::string> files_in(const fs::path& dir, bool pcd_only) {
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     if (!it->is_regular_file()) continue;
     const fs::path& p = it->path();
+    // Hidden files are not scans: macOS leaves "._000001.pcd" metadata beside copied files.
+    if (p.filename().string().front() == '.') continue;
     if (pcd_only ? p.extension() == ".pcd" : is_scan_file(p)) out.push_back(p.string());
   }
   if (ec) throw Error(dir.string() + ": cannot list (" + ec.message() + ")");

@@ -4,6 +4,9 @@
 #include "lzf.hpp"
 #include "text_util.hpp"
 
+#include <cctype>
+
+#include <cctype>
 #include <lista/error.hpp>
 #include <lista_io/pcd.hpp>
 
@@ -127,7 +130,12 @@ void load_pcd(const std::string& path, PcdData& d) {
       d.encoding = tok[0];
       break;
     } else {
-      throw fail("unknown PCD header keyword '" + key + "'");
+      // A file that is not a PCD at all: say so, without its bytes on the terminal.
+      std::string shown;
+      for (char c : key.substr(0, 24)) shown += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
+      const bool binary = shown != key.substr(0, 24);
+      throw fail(binary ? "not a PCD file (binary data where the header should be)"
+                        : "unknown PCD header keyword '" + shown + "'");
     }
   }
   if (names.empty()) throw fail("no FIELDS in the header");

@@ -16,7 +16,8 @@ constexpr double kOrthoTolerance = 1e-3;
 }
 
 std::vector<PoseRecord> read_poses(const std::string& path) {
-  const std::string text = detail::read_whole_file(path);
+  std::string text = detail::read_whole_file(path);
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // a UTF-8 byte-order mark some editors add
   std::vector<PoseRecord> out;
   int layout = 0;  // fields per line, fixed by the first pose line
   int line_no = 0;
@@ -36,7 +37,8 @@ std::vector<PoseRecord> read_poses(const std::string& path) {
     };
     const int n = static_cast<int>(tok.size());
     if (n != 8 && n != 12)
-      throw fail("expected 8 fields (TUM: t tx ty tz qx qy qz qw) or 12 (KITTI: 3x4 [R|t]), got " + std::to_string(n));
+      throw fail("expected 8 fields (TUM: t tx ty tz qx qy qz qw) or 12 (KITTI: 3x4 [R|t]), got " + std::to_string(n) +
+                 (line.find(',') != std::string::npos ? "; fields are separated by spaces, not commas" : ""));
     if (layout == 0) layout = n;
     if (n != layout)
       throw fail("mixed pose layouts: " + std::to_string(n) + " fields after lines of " + std::to_string(layout));
@@ -59,9 +61,10 @@ std::vector<PoseRecord> read_poses(const std::string& path) {
       R << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
       t = Eigen::Vector3d(v[3], v[7], v[11]);
       const double err = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
-      if (err > kOrthoTolerance || R.determinant() < 0)
-        throw fail("rotation is not orthonormal (|R^T R - I| = " + std::to_string(err) +
-                   (R.determinant() < 0 ? ", det < 0" : "") + ")");
+      if (err > kOrthoTolerance)
+        throw fail("rotation is not orthonormal (|R^T R - I| = " + std::to_string(err) + ")");
+      if (R.determinant() < 0)
+        throw fail("rotation is a reflection (det R = -1): a mirrored axis, e.g. a left-handed frame");
       // Re-orthonormalise: nearest rotation via SVD.
       Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
       R = svd.matrixU() * svd.matrixV().transpose();

@@ -1,5 +1,6 @@
 #include "test_util.hpp"
 
+#include <fstream>
 #include <lista_io/dataset.hpp>
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
@@ -53,6 +54,8 @@ TEST(Dataset, ReadsMissionsSortedWithProvenanceInParallel) {
   make_mission(root / "a_first", 4, 5);
   fs::create_directories(root / "notes");  // not a mission: ignored
   EXPECT_EQ(list_missions(root.string()), (std::vector<std::string>{"a_first", "b_second"}));
+  // macOS metadata beside a copied scan is not a scan (the counts still agree).
+  std::ofstream(root / "a_first" / "scans" / "._000001.pcd") << "junk";
   DatasetOptions opt;
   opt.threads = 3;
   const MissionSet set = read_dataset(root.string(), opt);

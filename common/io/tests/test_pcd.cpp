@@ -175,6 +175,10 @@ TEST(PcdRead, MalformedFilesNameFileAndLine) {
   expect_error([&] { read_scan((dir / "lzf.pcd").string()); }, "corrupt binary_compressed");
   expect_error([&] { read_scan((dir / "missing.pcd").string()); }, "missing.pcd: cannot read");
   expect_error([&] { read_scan((dir / "x.las").string()); }, "unknown scan file type");
+  write_text(dir / "junk.pcd", std::string("\x8f\x01\xfe\x7f random bytes\n", 18));
+  expect_error([&] { read_scan((dir / "junk.pcd").string()); }, "junk.pcd:1: not a PCD file (binary data where");
+  write_text(dir / "key.pcd", "FIELDS x y z\nCOLOUR red\n");
+  expect_error([&] { read_scan((dir / "key.pcd").string()); }, "key.pcd:2: unknown PCD header keyword 'COLOUR'");
 }
 
 TEST(PcdWrite, RefusesBadColumnsAndLeavesNoFile) {

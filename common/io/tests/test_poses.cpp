@@ -58,8 +58,18 @@ TEST(Poses, MalformedLinesNameFileAndLine) {
   write_text(dir / "e.txt", "1 0 zero 0 0 0 0 1\n");
   expect_error([&] { read_poses((dir / "e.txt").string()); }, "e.txt:1: field 3 'zero' is not a finite number");
   write_text(dir / "f.txt", "-1 0 0 0 0 1 0 0 0 0 1 0\n");  // a reflection
-  expect_error([&] { read_poses((dir / "f.txt").string()); }, "f.txt:1: rotation is not orthonormal");
+  expect_error([&] { read_poses((dir / "f.txt").string()); }, "f.txt:1: rotation is a reflection (det R = -1)");
+  write_text(dir / "g.txt", "1,0,0,0,0,0,0,1\n");
+  expect_error([&] { read_poses((dir / "g.txt").string()); }, "got 1; fields are separated by spaces, not commas");
   expect_error([&] { read_poses((dir / "none.txt").string()); }, "none.txt: cannot read");
+}
+
+TEST(Poses, AByteOrderMarkIsSkipped) {
+  const auto dir = temp_dir("poses");
+  write_text(dir / "bom.txt", "\xEF\xBB\xBF" "0 1 2 3 0 0 0 1\n");
+  const auto p = read_poses((dir / "bom.txt").string());
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].pose.translation(), Eigen::Vector3d(1, 2, 3));
 }
 
 TEST(Poses, SlightlyOffRotationIsReorthonormalised) {

@@ -2,6 +2,7 @@
 #include <lista/lista.hpp>
 #include <lista_io/dataset.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -82,6 +83,12 @@ class MissionsStage : public Stage {
     }
     size_t points = 0, skipped = 0, scans = 0;
     for (const auto& m : set.missions) {
+      // Map-frame .pcd scans carry their pose in VIEWPOINT; PCL writes an
+      // identity there by default, so identity everywhere means no poses.
+      if (m.scans.size() > 1 && !std::filesystem::exists(std::filesystem::path(m.dir) / "poses.txt") &&
+          std::all_of(m.scans.begin(), m.scans.end(), [](const Scan& s) { return s.pose.isApprox(Eigen::Isometry3d::Identity()); }))
+        ctx.warn("mission '" + m.name + "': every scan's VIEWPOINT is the identity; if the scans are in the sensor "
+                 "frame, give their poses in poses.txt and put them in scans/ (docs/formats.md)");
       if (const std::string pair = misordered_scan_names(m); !pair.empty())
         ctx.warn("mission '" + m.name + "': " + pair +
                  " by name, and scans take their poses in file-name order: zero-pad the numbers (scan_002.pcd)");

@@ -118,6 +118,26 @@ TEST(IoMissions, UnpaddedScanNumbersAreWarnedAbout) {
   for (const auto& m : padded.messages) EXPECT_EQ(m.find("sorts before"), std::string::npos) << m;
 }
 
+// Sensor-frame scans dropped into mission folders without poses.txt read
+// as map-frame scans whose VIEWPOINT (PCL's default) is the identity.
+TEST(IoMissions, ScansWithoutPosesAreWarnedAbout) {
+  const fs::path root = io::testing::scratch_path("io_missions_no_poses");
+  for (const char* m : {"A", "B"}) {
+    fs::create_directories(root / m);
+    for (int s = 0; s < 3; ++s) {
+      PointSet p;
+      p.xyz.emplace_back(1.f, float(s), 0.f);
+      io::write_scan_pcd((root / m / ("00" + std::to_string(s) + ".pcd")).string(), p);
+    }
+  }
+  BasicContext ctx;
+  ctx.info.dataset = root.string();
+  io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  std::string all;
+  for (const auto& m : ctx.messages) all += m + "\n";
+  EXPECT_NE(all.find("mission 'A': every scan's VIEWPOINT is the identity"), std::string::npos) << all;
+}
+
 // One mission whose scans use every contract format (binary_compressed PCD,
 // ASCII PLY, KITTI .bin) with KITTI poses: the stage reads all of them, keeps
 // file indices across a skipped non-finite point and records the count.
