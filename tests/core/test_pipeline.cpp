@@ -220,6 +220,7 @@ TEST(Overrides, ApplyAfterFileAndAreValidated) {
   expect_one_error(source, 1, "must be in", {"src.missions=1000"});
   expect_one_error(source, 1, "unknown parameter 'cout'", {"src.cout=1"});
   expect_one_error(source, 0, "no stage 'srx'", {"srx.count=1"});
+  expect_one_error(source, 0, "[pipeline] settings have their own options: --seed", {"pipeline.seed=3"});
 }
 
 TEST(Plan, ResolvedTomlRoundTrips) {
@@ -292,4 +293,8 @@ TEST(PipelineFile, CommonTomlMistakesAreSaidPlainly) {
       EXPECT_NE(m.find("TOML syntax error: " + message), std::string::npos) << m;
     }
   }
+}
+
+TEST(PipelineFile, ADotInAStageIdIsNamed) {
+  expect_one_error("[stages.a.b]\nplugin = \"test.source\"\n", 1, "[stages.a.b]: a stage id cannot hold a dot; write [stages.a_b]");
 }

@@ -59,6 +59,8 @@ void load_plugin_library(Registry& registry, const std::string& path) {
     } else {
       dlclose(h);
     }
+    // dlerror() starts with the path itself; say it once.
+    if (cause.rfind(path + ": ", 0) == 0) cause.erase(0, path.size() + 2);
     throw Error(path + ": cannot load plugin library: " + cause);
   }
   if (!lib.has("lista_plugin_manifest"))

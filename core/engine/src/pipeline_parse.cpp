@@ -230,8 +230,17 @@ void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& 
       s.params.push_back(std::move(p));
     }
   }
-  if (s.plugin.empty() && !table.as_table().count("plugin"))
-    d.error(s.where, id, "stage has no plugin = \"<kind>.<name>\"");
+  if (s.plugin.empty() && !table.as_table().count("plugin")) {
+    // [stages.a.b] makes stage 'a' holding a table 'b': a dot in the id.
+    std::string sub;
+    for (const auto& [key, v] : table.as_table())
+      if (v.is_table()) sub = key;
+    if (!sub.empty())
+      d.error(s.where, id, "[stages." + id + "." + sub + "]: a stage id cannot hold a dot; write [stages." + id + "_" +
+                               sub + "]");
+    else
+      d.error(s.where, id, "stage has no plugin = \"<kind>.<name>\"");
+  }
   auto by_line = [](const auto& a, const auto& b) {
     return std::make_pair(a.where.line, a.where.column) < std::make_pair(b.where.line, b.where.column);
   };

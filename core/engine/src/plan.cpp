@@ -169,6 +169,11 @@ Plan build_plan(const PipelineSpec& spec, const std::vector<Override>& overrides
     if (!s) {
       std::vector<std::string> ids;
       for (const auto& st : spec.stages) ids.push_back(st.id);
+      if (o.stage == "pipeline") {
+        d.error({spec.file, 0, 0}, "", "--set " + o.text + ": [pipeline] settings have their own options: --seed, "
+                                           "--threads, --dataset, --out");
+        continue;
+      }
       d.error({spec.file, 0, 0}, "", "--set " + o.text + ": no stage '" + o.stage + "' in the pipeline" +
                                          did_you_mean(o.stage, ids));
     }
