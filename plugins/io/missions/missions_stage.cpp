@@ -89,6 +89,12 @@ class MissionsStage : public Stage {
           std::all_of(m.scans.begin(), m.scans.end(), [](const Scan& s) { return s.pose.isApprox(Eigen::Isometry3d::Identity()); }))
         ctx.warn("mission '" + m.name + "': every scan's VIEWPOINT is the identity; if the scans are in the sensor "
                  "frame, give their poses in poses.txt and put them in scans/ (docs/formats.md)");
+      std::vector<std::string> empty;
+      for (const auto& scan : m.scans)
+        if (scan.points && scan.points->empty()) empty.push_back(std::filesystem::path(scan.file).filename().string());
+      if (!empty.empty())
+        ctx.warn("mission '" + m.name + "': " + std::to_string(empty.size()) + " scan" + (empty.size() > 1 ? "s" : "") +
+                 " with no finite point (" + empty.front() + (empty.size() > 1 ? ", ..." : "") + ")");
       if (const std::string pair = misordered_scan_names(m); !pair.empty())
         ctx.warn("mission '" + m.name + "': " + pair +
                  " by name, and scans take their poses in file-name order: zero-pad the numbers (scan_002.pcd)");

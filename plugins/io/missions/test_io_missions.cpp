@@ -138,6 +138,19 @@ TEST(IoMissions, ScansWithoutPosesAreWarnedAbout) {
   EXPECT_NE(all.find("mission 'A': every scan's VIEWPOINT is the identity"), std::string::npos) << all;
 }
 
+// A scan with no finite point (a sensor dropout, a bad export) is named.
+TEST(IoMissions, ScansWithoutPointsAreWarnedAbout) {
+  const fs::path root = make_dataset("empty_scan");
+  io::write_scan_pcd((root / "t0" / "scans" / "001.pcd").string(), PointSet{});
+  BasicContext ctx;
+  ctx.info.dataset = root.string();
+  io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  std::string all;
+  for (const auto& m : ctx.messages) all += m + "\n";
+  EXPECT_NE(all.find("mission 't0': 1 scan with no finite point (001.pcd)"), std::string::npos) << all;
+  EXPECT_EQ(all.find("mission 't1': 1 scan"), std::string::npos) << all;
+}
+
 // One mission whose scans use every contract format (binary_compressed PCD,
 // ASCII PLY, KITTI .bin) with KITTI poses: the stage reads all of them, keeps
 // file indices across a skipped non-finite point and records the count.

@@ -4,6 +4,7 @@
 #include <lista_io/pcd.hpp>
 
 #include <filesystem>
+#include <set>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -13,7 +14,9 @@ namespace lista::report {
 void write_output(const std::string& out_dir, const Built& built) {
   std::error_code ec;
   fs::create_directories(out_dir, ec);
-  if (ec || !fs::is_directory(out_dir)) throw Error(out_dir + ": cannot create the output folder");
+  if (ec || !fs::is_directory(out_dir))
+    throw Error(out_dir + ": cannot create the output folder (" +
+                (ec ? ec.message() : std::string("it exists and is not a folder")) + ")");
   const fs::path out(out_dir);
   // An older report must not survive a failed run looking current.
   fs::remove(out / "report.json", ec);
@@ -33,8 +36,16 @@ void write_output(const std::string& out_dir, const Built& built) {
     fs::create_directories(out / "changes", ec);
     if (ec || !fs::is_directory(out / "changes"))
       throw Error((out / "changes").string() + ": cannot create the change cloud folder");
-    for (const ChangeCloud& c : built.clouds)
+    std::set<std::string> written;
+    for (const ChangeCloud& c : built.clouds) {
       io::commit_file((tmp / "changes" / (c.mission + ".pcd")).string(), (out / "changes" / (c.mission + ".pcd")).string());
+      written.insert(c.mission + ".pcd");
+    }
+    // Change clouds of missions an earlier run had and this one has not would
+    // read as this run's.
+    for (const auto& entry : fs::directory_iterator(out / "changes", ec))
+      if (entry.path().extension() == ".pcd" && !written.count(entry.path().filename().string()))
+        fs::remove(entry.path(), ec);
     io::commit_file((tmp / "report.json").string(), (out / "report.json").string());
   } catch (...) {
     fs::remove_all(tmp, ec);

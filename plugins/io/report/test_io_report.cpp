@@ -123,6 +123,23 @@ TEST(IoReport, WritesTheContractAndReadsBack) {
     EXPECT_TRUE(e.path().filename() == "report.json" || e.path().filename() == "changes") << e.path();
 }
 
+// An earlier run with a mission C left changes/C.pcd: a run over A and B
+// must not leave it there looking like its own.
+TEST(IoReport, ChangeCloudsOfMissionsNotInTheRunAreRemoved) {
+  Fixture f;
+  const fs::path out = out_dir("stale");
+  fs::create_directories(out / "changes");
+  std::ofstream(out / "changes" / "C.pcd") << "old";
+  std::ofstream(out / "changes" / "notes.txt") << "the user's own";
+  BasicContext ctx("report");
+  ctx.info.output_dir = out.string();
+  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  EXPECT_TRUE(fs::exists(out / "changes" / "A.pcd"));
+  EXPECT_TRUE(fs::exists(out / "changes" / "B.pcd"));
+  EXPECT_FALSE(fs::exists(out / "changes" / "C.pcd"));
+  EXPECT_TRUE(fs::exists(out / "changes" / "notes.txt"));
+}
+
 TEST(IoReport, WithoutMatchesStatusFollowsMissionOrder) {
   Fixture f;
   const fs::path out = out_dir("nomatch");
