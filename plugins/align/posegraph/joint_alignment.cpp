@@ -183,7 +183,8 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
     }
   }
   ScanEdgeReport scan_report;
-  const std::vector<PoseGraphEdge> scan_edges = scan_registration_edges(set, g.offset, o.scan_edges, threads, scan_report);
+  const std::vector<PoseGraphEdge> scan_edges = scan_registration_edges(
+      set, g.offset, o.scan_edges, threads, scan_report, [&] { return ctx.cancelled(); }, [&] { ctx.throw_if_cancelled(); });
   g.within.insert(g.within.end(), scan_edges.begin(), scan_edges.end());
   report.scan_edges_tried = scan_report.tried;
   report.scan_edges = scan_report.accepted;

@@ -29,7 +29,10 @@ Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) {
 }  // namespace
 
 std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const std::vector<size_t>& offsets,
-                                                   const ScanEdgeOptions& o, int threads, ScanEdgeReport& report) {
+                                                   const ScanEdgeOptions& o, int threads, ScanEdgeReport& report,
+                                                   const std::function<bool()>& cancelled,
+                                                   const std::function<void()>& on_cancel) {
+  auto stop = [&] { return cancelled && cancelled(); };
   report = {};
   if (o.neighbours <= 0) return {};
   // Scans are prepared (k-d trees, GICP covariances: ~100 bytes a point)
@@ -39,6 +42,7 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   for (size_t m = 0; m < set.missions.size(); ++m) {
     const auto& scans = set.missions[m].scans;
     for (size_t first = 0; first < scans.size(); first += kBlock) {
+      if (stop() && on_cancel) on_cancel();
       const size_t last = std::min(scans.size(), first + kBlock + size_t(o.neighbours));  // exclusive
       std::vector<PreparedCloud> clouds(last - first);
       // Prepared once: each scan is registered up to 2 x neighbours times.
@@ -50,6 +54,7 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
       const size_t offset = edges.size();
       edges.resize(offset + pairs.size());
       parallel_for(pairs.size(), threads, [&](size_t i) {
+        if (stop()) return;
         const auto [from, to] = pairs[i];
         const Eigen::Isometry3d odometry = scans[from].pose.inverse() * scans[to].pose;
         const RegistrationResult r = register_prepared(clouds[to - first], clouds[from - first], odometry, o.registration);
@@ -70,6 +75,7 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
       });
     }
   }
+  if (stop() && on_cancel) on_cancel();
   std::vector<PoseGraphEdge> out;
   for (auto& e : edges)
     if (e) out.push_back(*e);

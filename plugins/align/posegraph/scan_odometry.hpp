@@ -9,6 +9,8 @@
 #include <lista/missions.hpp>
 #include <lista_alignkit/registration.hpp>
 
+#include <functional>
+
 #include <vector>
 
 namespace lista::align {
@@ -36,8 +38,12 @@ struct ScanEdgeReport {
 };
 
 // Edges between graph nodes: node of scan s of mission m is offsets[m] + s.
+// `cancelled` is polled between registrations (the loop takes seconds per
+// mission); once it says true the rest is skipped and `on_cancel` throws.
 std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& missions, const std::vector<size_t>& offsets,
                                                    const ScanEdgeOptions& options, int threads,
-                                                   ScanEdgeReport& report);
+                                                   ScanEdgeReport& report,
+                                                   const std::function<bool()>& cancelled = {},
+                                                   const std::function<void()>& on_cancel = {});
 
 }  // namespace lista::align

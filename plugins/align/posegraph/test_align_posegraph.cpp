@@ -2,6 +2,7 @@
 #include "pose_graph.hpp"
 #include "posegraph_stage.hpp"
 #include "scan_context.hpp"
+#include "scan_odometry.hpp"
 
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>
@@ -285,4 +286,21 @@ TEST(TrajectoryError, ReportsTheRigidFitItUsed) {
   ASSERT_TRUE(e);
   EXPECT_LT(e->rmse, 1e-9);
   EXPECT_TRUE(e->fit.isApprox(moved.inverse(), 1e-9));
+}
+
+// Ctrl-C during the scan-to-scan registrations (seconds per mission) stops
+// them at once rather than after the whole loop.
+TEST(ScanEdges, StopWhenCancelled) {
+  const MissionSet set = drifted_pair();
+  std::vector<size_t> offsets = {0, set.missions[0].scans.size()};
+  ScanEdgeOptions o;
+  o.neighbours = 2;
+  ScanEdgeReport report;
+  std::atomic<int> polls{0};
+  EXPECT_THROW(scan_registration_edges(
+                   set, offsets, o, 1, report, [&] { return ++polls > 3; }, [] { throw lista::Cancelled(); }),
+               lista::Cancelled);
+  EXPECT_LT(report.tried, 1u);  // nothing reported: the loop did not finish
+  scan_registration_edges(set, offsets, o, 1, report);
+  EXPECT_GT(report.tried, 3u);
 }
