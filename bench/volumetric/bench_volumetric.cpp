@@ -99,7 +99,12 @@ void run_backend(const std::string& backend, const MissionSet& missions, const O
     const auto cfg = raycast::volumetric_config(params_for(volumetric::volumetric_octomap_info(), o));
     double seconds = 0, visits = 0, rays = 0, scans = 0;
     for (const Mission& m : missions.missions) {
-      const StockResult r = run_stock_octomap(m, cfg, o.stock_scans);
+      // Stock OctoMap takes minutes on a full mission: show where it is on a terminal.
+      const StockResult r = run_stock_octomap(m, cfg, o.stock_scans, [&](size_t done, size_t total) {
+        if (isatty(STDERR_FILENO))
+          std::fprintf(stderr, "\rstock octomap: mission %s, scan %zu/%zu%s", m.name.c_str(), done, total,
+                       done == total ? "\n" : "");
+      });
       seconds += r.seconds;
       visits += static_cast<double>(r.voxel_visits);
       rays += static_cast<double>(r.rays);

@@ -8,7 +8,7 @@
 #include <chrono>
 
 StockResult run_stock_octomap(const lista::Mission& mission, const lista::raycast::VolumetricConfig& c,
-                              size_t max_scans) {
+                              size_t max_scans, const std::function<void(size_t, size_t)>& progress) {
   using namespace lista::raycast;
   octomap::OcTree tree(c.resolution);
   tree.setProbHit(c.prob_hit);
@@ -39,6 +39,7 @@ StockResult run_stock_octomap(const lista::Mission& mission, const lista::raycas
       r.voxel_visits += walk_ray(oi, e, [](const Voxel&) {});
     }
     r.rays += pts.size();
+    if (progress) progress(i + 1, r.scans);
   }
   r.leaf_nodes = tree.getNumLeafNodes();
   return r;

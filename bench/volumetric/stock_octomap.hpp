@@ -6,6 +6,7 @@
 #include <lista_raycast/volumetric_config.hpp>
 
 #include <cstdint>
+#include <functional>
 
 struct StockResult {
   size_t scans = 0;
@@ -14,6 +15,7 @@ struct StockResult {
   size_t leaf_nodes = 0;
 };
 
-// Inserts the first `max_scans` scans (0 = all) of one mission.
+// Inserts the first `max_scans` scans (0 = all) of one mission; `progress`
+// (if set) hears (scans done, scans to do) after each scan.
 StockResult run_stock_octomap(const lista::Mission& mission, const lista::raycast::VolumetricConfig& c,
-                              size_t max_scans);
+                              size_t max_scans, const std::function<void(size_t, size_t)>& progress = {});
