@@ -115,6 +115,17 @@ TEST(Executor, PlainExceptionBecomesError) {
   }
 }
 
+// Running `plan` fails in stage `stage` with a message holding `text`.
+void expect_stage_failure(const Plan& plan, const std::string& stage, const std::string& text) {
+  try {
+    run(plan, 1);
+    ADD_FAILURE() << "accepted; expected: " << text;
+  } catch (const lista::Error& e) {
+    EXPECT_EQ(e.stage_id(), stage) << e.what();
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+  }
+}
+
 TEST(Executor, OutputsMustMatchTheDeclaration) {
   const std::string base = "[stages.src]\nplugin = \"test.source\"\n"
                            "[stages.bad]\nplugin = \"test.bad_output\"\ninputs = { missions = \"src.missions\" }\n";
@@ -122,13 +133,7 @@ TEST(Executor, OutputsMustMatchTheDeclaration) {
            {"missing", "declared output 'missions' was not produced"},
            {"undeclared", "does not declare"},
            {"wrong_type", "is 'points' but is declared 'missions'"}}) {
-    try {
-      run(checked_plan(base, {"bad.mode=" + mode}), 1);
-      ADD_FAILURE() << mode << " accepted";
-    } catch (const lista::Error& e) {
-      EXPECT_EQ(e.stage_id(), "bad");
-      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-    }
+    expect_stage_failure(checked_plan(base, {"bad.mode=" + mode}), "bad", text);
   }
 }
 
@@ -146,13 +151,7 @@ TEST(Executor, DescriptorsMustKeepTheirContract) {
            {"twice", "descriptors name object 0 twice"},
            {"not_finite", "the descriptor of object 0 holds a NaN"},
            {"not_unit", "descriptors are marked normalized but the row of object 0 has norm 2"}}) {
-    try {
-      run(checked_plan(base, {"desc.mode=" + mode}), 1);
-      ADD_FAILURE() << mode << " accepted";
-    } catch (const lista::Error& e) {
-      EXPECT_EQ(e.stage_id(), "desc") << mode;
-      EXPECT_NE(std::string(e.what()).find("output 'descriptors': " + text), std::string::npos) << e.what();
-    }
+    expect_stage_failure(checked_plan(base, {"desc.mode=" + mode}), "desc", "output 'descriptors': " + text);
   }
 }
 

@@ -31,6 +31,16 @@ fs::path make_dataset(const std::string& tag) {
   return root;
 }
 
+// Every message io.missions logs while reading the dataset at `root`.
+std::string messages_reading(const fs::path& root) {
+  BasicContext ctx;
+  ctx.info.dataset = root.string();
+  io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  std::string all;
+  for (const auto& m : ctx.messages) all += m + "\n";
+  return all;
+}
+
 Eigen::Isometry3d poses_of_scan2() {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(2, 0, 0);
@@ -105,17 +115,11 @@ TEST(IoMissions, UnpaddedScanNumbersAreWarnedAbout) {
     }
     io::write_poses((root / m / "poses.txt").string(), poses);
   }
-  BasicContext ctx;
-  ctx.info.dataset = root.string();
-  io_test::make_stage("io.missions")->run(Inputs{}, ctx);
-  std::string all;
-  for (const auto& m : ctx.messages) all += m + "\n";
+  const std::string all = messages_reading(root);
   EXPECT_NE(all.find("mission 'A': scan_11.pcd sorts before scan_2.pcd by name"), std::string::npos) << all;
 
-  BasicContext padded;
-  padded.info.dataset = make_dataset("padded").string();
-  io_test::make_stage("io.missions")->run(Inputs{}, padded);
-  for (const auto& m : padded.messages) EXPECT_EQ(m.find("sorts before"), std::string::npos) << m;
+  const std::string padded = messages_reading(make_dataset("padded"));
+  EXPECT_EQ(padded.find("sorts before"), std::string::npos) << padded;
 }
 
 // Sensor-frame scans dropped into mission folders without poses.txt read
@@ -130,11 +134,7 @@ TEST(IoMissions, ScansWithoutPosesAreWarnedAbout) {
       io::write_scan_pcd((root / m / ("00" + std::to_string(s) + ".pcd")).string(), p);
     }
   }
-  BasicContext ctx;
-  ctx.info.dataset = root.string();
-  io_test::make_stage("io.missions")->run(Inputs{}, ctx);
-  std::string all;
-  for (const auto& m : ctx.messages) all += m + "\n";
+  const std::string all = messages_reading(root);
   EXPECT_NE(all.find("mission 'A': every scan's VIEWPOINT is the identity"), std::string::npos) << all;
 }
 
@@ -142,11 +142,7 @@ TEST(IoMissions, ScansWithoutPosesAreWarnedAbout) {
 TEST(IoMissions, ScansWithoutPointsAreWarnedAbout) {
   const fs::path root = make_dataset("empty_scan");
   io::write_scan_pcd((root / "t0" / "scans" / "001.pcd").string(), PointSet{});
-  BasicContext ctx;
-  ctx.info.dataset = root.string();
-  io_test::make_stage("io.missions")->run(Inputs{}, ctx);
-  std::string all;
-  for (const auto& m : ctx.messages) all += m + "\n";
+  const std::string all = messages_reading(root);
   EXPECT_NE(all.find("mission 't0': 1 scan with no finite point (001.pcd)"), std::string::npos) << all;
   EXPECT_EQ(all.find("mission 't1': 1 scan"), std::string::npos) << all;
 }
