@@ -80,7 +80,7 @@ Breakdown by_coverage(const objfeat::ViewSet& views) {
 std::vector<BinScore> score_bins(const Breakdown& b, const std::vector<int>& top1_hits) {
   std::vector<BinScore> out(b.bins.size());
   for (size_t i = 0; i < b.bin_of.size() && i < top1_hits.size(); ++i)
-    if (b.bin_of[i] >= 0) {
+    if (b.bin_of[i] >= 0 && top1_hits[i] >= 0) {  // a view alone with its shape is no query
       ++out[size_t(b.bin_of[i])].views;
       out[size_t(b.bin_of[i])].hits += size_t(top1_hits[i] != 0);
     }

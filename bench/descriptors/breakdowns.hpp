@@ -37,7 +37,8 @@ struct BinScore {
   double top1() const { return views ? double(hits) / double(views) : 0.0; }
 };
 // Per bin, how many views and how many of them found their own shape first
-// (`top1_hits`: objfeat::RetrievalScores, one per view).
+// (`top1_hits`: objfeat::RetrievalScores, one per view; views whose shape
+// has no other view, -1 there, are left out as top-1 leaves them out).
 std::vector<BinScore> score_bins(const Breakdown& b, const std::vector<int>& top1_hits);
 
 }  // namespace lista::bench

@@ -298,7 +298,7 @@ int main(int argc, char** argv) {
         for (size_t k = 0; k < b.bins.size(); ++k) {
           const bench::BinScore& sc = scores[k];
           sc.views ? std::printf(" %.3f (%zu) |", sc.top1(), sc.views) : std::printf(" - |");
-          bins.push_back({{"bin", b.bins[k]}, {"views", sc.views}, {"top1", sc.top1()}});
+          bins.push_back({{"bin", b.bins[k]}, {"views", sc.views}, {"top1", sc.views ? nlohmann::json(sc.top1()) : nlohmann::json(nullptr)}});
         }
         std::printf("\n");
         for (auto& e : j)

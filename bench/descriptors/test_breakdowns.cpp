@@ -53,6 +53,11 @@ TEST(BenchBreakdowns, SizeSensorAndDistanceBins) {
   EXPECT_EQ(scores[0].hits, 0u);
   EXPECT_EQ(scores[1].views, 2u);  // the sensor-less view counts nowhere
   EXPECT_DOUBLE_EQ(scores[1].top1(), 0.5);
+  // A view alone with its shape (-1: no query) counts in no bin, as top-1
+  // leaves it out.
+  const auto lone = lista::bench::score_bins(sensor, {1, -1, 0, 1});
+  EXPECT_EQ(lone[0].views, 0u);
+  EXPECT_EQ(lone[1].views, 2u);
 }
 
 TEST(BenchBreakdowns, AFolderThatSaysNothingGivesAnEmptyBreakdown) {

@@ -67,14 +67,16 @@ int main(int argc, char** argv) {
   app.add_option("--seed", cfg.seed, "seed (same seed, same weights)");
   app.add_option("--threads", cfg.threads, "torch threads")->check(CLI::Range(1, 256));
   app.add_option("--eval-every", cfg.eval_every, "steps between held-out evaluations")->check(CLI::Range(1, 1000000));
-  app.add_option("--out", cfg.out, "weights file to write (a .sha256 sidecar is written next to it)");
+  bool overwrite = false;
+  app.add_option("--out", cfg.out, "weights file to write (a .sha256 sidecar is written next to it)")->required();
+  app.add_flag("--overwrite", overwrite, "replace --out if it exists (e.g. the shipped models/describe-learned.bin)");
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-train")) return *code;
   if (no_globals) cfg.globals = 0;
   cfg.floor = !no_floor;
   if (!widths.empty()) { cfg.w1 = widths[0]; cfg.w2 = widths[1]; cfg.w3 = widths[2]; cfg.head = widths[3]; }
 
   try {
-    prepare_output(cfg.out);
+    prepare_output(cfg.out, overwrite);
     ViewSet all;
     if (!views_dirs.empty()) all = read_views(views_dirs, ViewChannels::xyz_only);  // training reads xyz alone
     else if (synthetic > 0) all = synthetic_views(synthetic, per_instance, cfg.seed);

@@ -53,4 +53,4 @@ make_views furniture-single-5 5 --furniture "$shapes" --no-procedural
 # training run, not a reproduction.
 for seed in 15 17; do make_views "single-$seed" "$seed"; done
 "$build/bin/lista-train" --views "${folders[@]}" \
-  --out "$out" --globals 10 --floor-dropout 0.2 --loss triplet --margin 0.5 --ema 0.999 --steps 16000 --eval-every 2000 --seed 1 --threads 1
+  --out "$out" --overwrite --globals 10 --floor-dropout 0.2 --loss triplet --margin 0.5 --ema 0.999 --steps 16000 --eval-every 2000 --seed 1 --threads 1

@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
+
+#include <limits>
 #include <sstream>
 #include <unistd.h>
 
@@ -165,17 +167,44 @@ TEST(ListaTrain, OutputFolderIsMadeAndAnUnwritableOutIsAnErrorBeforeTraining) {
   const fs::path dir = fs::temp_directory_path() / ("lista-train-out-" + std::to_string(getpid()));
   fs::remove_all(dir);
   const std::string nested = (dir / "a" / "b" / "w.bin").string();
-  lista::train::prepare_output(nested);
+  lista::train::prepare_output(nested, false);
   EXPECT_TRUE(fs::is_directory(dir / "a" / "b"));
   EXPECT_FALSE(fs::exists(nested + ".tmp"));  // the probe is gone
   // A regular file where a folder should be: one clear error naming the path.
   std::ofstream(dir / "file") << "x";
-  try {
-    lista::train::prepare_output((dir / "file" / "w.bin").string());
-    FAIL() << "expected an error";
-  } catch (const lista::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("file/w.bin"), std::string::npos) << e.what();
+  auto refused = [](const std::string& out, bool overwrite, const std::string& text) {
+    try {
+      lista::train::prepare_output(out, overwrite);
+      ADD_FAILURE() << "accepted " << out;
+    } catch (const lista::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
+  };
+  refused((dir / "file" / "w.bin").string(), false, "file/w.bin");
+  // An existing weights file (the shipped model, say) only with --overwrite;
+  // a folder or a device never.
+  refused((dir / "file").string(), false, "exists; add --overwrite to replace it");
+  EXPECT_NO_THROW(lista::train::prepare_output((dir / "file").string(), true));
+  refused((dir / "a").string(), true, "exists and is not a regular file");
+  refused("/dev/null", true, "exists and is not a regular file");
+  refused("", true, "names no file");
+  fs::remove_all(dir);
+}
+
+// A diverged network (NaN weights) is not saved: training fails instead of
+// shipping a model every pipeline would then run on; nothing is left behind.
+TEST(ListaTrain, NonFiniteWeightsAreNotSaved) {
+  const fs::path dir = fs::temp_directory_path() / ("lista-train-nan-" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  lista::objfeat::NetConfig c;
+  lista::objfeat::DescriptorNet net(c);
+  {
+    torch::NoGradGuard no_grad;
+    net->named_parameters().begin()->value().fill_(std::numeric_limits<float>::quiet_NaN());
   }
+  const std::string out = (dir / "w.bin").string();
+  EXPECT_THROW(lista::objfeat::save_weights(net, out), lista::Error);
+  EXPECT_TRUE(fs::is_empty(dir)) << "no weights, sidecar or .tmp";
   fs::remove_all(dir);
 }
 

@@ -194,9 +194,17 @@ TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewS
   return result;
 }
 
-void prepare_output(const std::string& out) {
+void prepare_output(const std::string& out, bool overwrite) {
   const std::filesystem::path path(out);
   std::error_code ec;
+  if (out.empty() || !path.has_filename()) throw Error("--out '" + out + "' names no file; give the weights file to write");
+  if (std::filesystem::exists(path, ec)) {
+    if (!std::filesystem::is_regular_file(path, ec))
+      throw Error("--out " + out + " exists and is not a regular file; choose another --out");
+    if (!overwrite) throw Error("--out " + out + " exists; add --overwrite to replace it (and its .sha256)");
+  }
+  if (std::filesystem::exists(out + ".sha256", ec) && !std::filesystem::is_regular_file(out + ".sha256", ec))
+    throw Error(out + ".sha256 exists and is not a regular file; choose another --out");
   if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path(), ec);
   if (ec) throw Error("cannot make the folder of '" + out + "': " + ec.message() + "; choose another --out");
   const std::string probe = out + ".tmp";

@@ -65,7 +65,7 @@ struct TrainConfig {
   uint64_t seed = 1;
   int threads = 1;
   int eval_every = 500;
-  std::string out = "models/describe-learned.bin";
+  std::string out;  // required: the shipped model is replaced only on purpose
 };
 
 struct TrainResult {
@@ -76,8 +76,10 @@ struct TrainResult {
 TrainResult train_descriptor(const objfeat::ViewSet& train, const objfeat::ViewSet& test, const TrainConfig& config);
 
 // Makes the weights file's folder and checks that the file can be written,
-// so that a bad --out fails before minutes of training, not after. Throws
-// lista::Error naming the path.
-void prepare_output(const std::string& out);
+// so that a bad --out fails before minutes of training, not after. An
+// existing file is replaced only with `overwrite`; a folder, a device or
+// anything else that is not a regular file never is. Throws lista::Error
+// naming the path.
+void prepare_output(const std::string& out, bool overwrite);
 
 }  // namespace lista::train

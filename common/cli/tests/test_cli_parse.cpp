@@ -61,3 +61,22 @@ TEST(CliParse, AUsageErrorIsOneLineAndExitStatus2) {
   const Parsed unknown = parse({"--nope"}, count, flag);
   EXPECT_EQ(unknown.code.value_or(0), 2);
 }
+
+// A range check passes NaN (every comparison with it is false): every
+// floating-point option refuses NaN and infinity itself.
+TEST(CliParse, FloatOptionsRefuseNanAndInfinity) {
+  for (const char* bad : {"nan", "NaN", "inf", "-inf"}) {
+    CLI::App app{"a test program"};
+    double margin = 0.5;
+    app.add_option("--margin", margin, "a margin")->check(CLI::Range(0.0, 2.0));
+    const char* args[] = {"prog", "--margin", bad};
+    std::ostringstream err;
+    auto* old = std::cerr.rdbuf(err.rdbuf());
+    const auto code = lista::cli::parse_command_line(app, 3, args, "lista-prog");
+    std::cerr.rdbuf(old);
+    EXPECT_EQ(code.value_or(0), 2) << bad;
+    if (std::string(bad).find("inf") == std::string::npos) {  // infinity: the range check says it first
+      EXPECT_NE(err.str().find("must be a finite number, got "), std::string::npos) << err.str();
+    }
+  }
+}

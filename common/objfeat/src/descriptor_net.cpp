@@ -102,20 +102,34 @@ void save_weights(DescriptorNet& net, const std::string& path) {
     put_u32(buf, uint32_t(p.key().size()));
     buf += p.key();
     torch::Tensor t = p.value().detach().to(torch::kFloat32).contiguous();
+    if (!torch::isfinite(t).all().item<bool>())
+      throw Error("the network's tensor '" + p.key() + "' holds NaN or infinite values (training diverged); nothing written");
     put_u32(buf, uint32_t(t.numel()));
     buf.append(reinterpret_cast<const char*>(t.data_ptr<float>()), size_t(t.numel()) * 4);
   }
+  // Both files are written under temporary names first and renamed only when
+  // both exist, so a failure leaves neither a .tmp nor a half-replaced pair.
+  const std::string tmp = path + ".tmp", sidecar_tmp = path + ".sha256.tmp";
   auto write = [](const std::string& file, const std::string& data) {
-    std::string tmp = file + ".tmp";
-    {
-      std::ofstream out(tmp, std::ios::binary);
-      out.write(data.data(), std::streamsize(data.size()));
-      if (!out) throw Error("cannot write '" + tmp + "'");
-    }
-    std::filesystem::rename(tmp, file);
+    std::ofstream out(file, std::ios::binary);
+    out.write(data.data(), std::streamsize(data.size()));
+    if (!out) throw Error("cannot write '" + file + "'");
   };
-  write(path, buf);
-  write(path + ".sha256", sha256_hex(buf) + "  " + std::filesystem::path(path).filename().string() + "\n");
+  std::error_code ec;
+  try {
+    write(tmp, buf);
+    write(sidecar_tmp, sha256_hex(buf) + "  " + std::filesystem::path(path).filename().string() + "\n");
+    std::filesystem::rename(tmp, path);
+    std::filesystem::rename(sidecar_tmp, path + ".sha256");
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::filesystem::remove(tmp, ec);
+    std::filesystem::remove(sidecar_tmp, ec);
+    throw Error("cannot put the weights at '" + path + "': " + e.code().message());
+  } catch (...) {
+    std::filesystem::remove(tmp, ec);
+    std::filesystem::remove(sidecar_tmp, ec);
+    throw;
+  }
 }
 
 DescriptorNet load_weights(const std::string& path) {
@@ -184,6 +198,8 @@ DescriptorNet load_weights(const std::string& path) {
     r.need(size_t(n) * 4);
     std::memcpy(t->data_ptr<float>(), buf.data() + r.pos, size_t(n) * 4);
     r.pos += size_t(n) * 4;
+    if (!torch::isfinite(*t).all().item<bool>())
+      throw Error("model weights '" + path + "': tensor '" + name + "' holds NaN or infinite values");
   }
   if (r.pos != buf.size()) throw Error("model weights '" + path + "' have trailing bytes");
   net->eval();

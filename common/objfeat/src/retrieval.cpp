@@ -52,7 +52,7 @@ RetrievalScores score_retrieval(const Rows& x, const std::vector<int>& labels, u
   for (int l : labels) ++count[l];
 
   double top1 = 0.0, map = 0.0;
-  s.top1_hits.assign(size_t(n), 0);
+  s.top1_hits.assign(size_t(n), -1);
   std::vector<std::pair<float, int>> ranked;
   for (int q = 0; q < n; ++q) {
     if (count[labels[q]] < 2) continue;

@@ -192,7 +192,7 @@ TEST(Retrieval, PerfectAndShuffledLabels) {
   EXPECT_EQ(bad.top1_hits, std::vector<int>(6, 0));  // every nearest row has another label
   // A row whose label occurs once is no query and never a hit.
   RetrievalScores lone = score_retrieval(x, {1, 1, 2, 2, 3, 4});
-  EXPECT_EQ(lone.top1_hits, (std::vector<int>{1, 1, 1, 1, 0, 0}));
+  EXPECT_EQ(lone.top1_hits, (std::vector<int>{1, 1, 1, 1, -1, -1}));
   EXPECT_EQ(lone.queries, 4);
   EXPECT_THROW(score_retrieval(x, {1, 2}), lista::Error);
 }

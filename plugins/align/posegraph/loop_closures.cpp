@@ -9,6 +9,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <unordered_set>
 
 namespace lista::align {
 
@@ -159,6 +160,37 @@ std::vector<Closure> verify_candidates(const std::vector<Keyframe>& keyframes,
   return out;
 }
 
+namespace {
+
+// Share of mission `query`'s keyframe points that land, moved by
+// `query_to_reference`, in a voxel mission `reference` occupies. Walls fit
+// a symmetric room turned by half a turn as well as unturned; the furniture
+// standing in it does not, and this counts all of it at once.
+double map_agreement(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
+                     const Eigen::Isometry3d& query_to_reference, double voxel) {
+  auto key = [voxel](const Eigen::Vector3d& p) {
+    const Eigen::Vector3i k = (p / voxel).array().floor().cast<int>();
+    return (uint64_t(uint32_t(k.x()) & 0x1fffff) << 42) | (uint64_t(uint32_t(k.y()) & 0x1fffff) << 21) |
+           uint64_t(uint32_t(k.z()) & 0x1fffff);
+  };
+  std::unordered_set<uint64_t> occupied;
+  for (const Keyframe& kf : keyframes)
+    if (kf.mission == reference)
+      for (const auto& p : kf.submap) occupied.insert(key(kf.frame * p.cast<double>()));
+  size_t hits = 0, total = 0;
+  for (const Keyframe& kf : keyframes)
+    if (kf.mission == query) {
+      const Eigen::Isometry3d to_reference = query_to_reference * kf.frame;
+      for (const auto& p : kf.submap) {
+        hits += occupied.count(key(to_reference * p.cast<double>()));
+        ++total;
+      }
+    }
+  return total ? double(hits) / double(total) : 0.0;
+}
+
+}  // namespace
+
 Eigen::Isometry3d implied_map_transform(const std::vector<Keyframe>& keyframes, const Closure& c) {
   return keyframes[c.reference].frame * c.reference_T_query * keyframes[c.query].frame.inverse();
 }
@@ -180,13 +212,38 @@ std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
              rotation_angle(maps[i].linear().transpose() * maps[j].linear()) <= o.angle;
     };
     size_t best = 0, best_support = 0;
+    std::vector<size_t> support(list.size(), 0);
     for (size_t i = 0; i < list.size(); ++i) {
-      size_t support = 0;
-      for (size_t j = 0; j < list.size(); ++j) support += agree(i, j) ? 1 : 0;
-      if (support > best_support ||
-          (support == best_support && closures[list[i]].rmse < closures[list[best]].rmse)) {
+      for (size_t j = 0; j < list.size(); ++j) support[i] += agree(i, j) ? 1 : 0;
+      if (support[i] > best_support ||
+          (support[i] == best_support && closures[list[i]].rmse < closures[list[best]].rmse)) {
         best = i;
-        best_support = support;
+        best_support = support[i];
+      }
+    }
+    // A rival hypothesis (disagreeing with the best) wins if the whole maps
+    // agree clearly better under it: in a symmetric room the closures split
+    // between the true and the half-turned fit, and the count alone may pick
+    // the wrong one.
+    if (o.rival_margin > 0 && pair.first != pair.second) {
+      std::vector<size_t> order(list.size());
+      for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+      std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return support[a] > support[b]; });
+      std::vector<size_t> rivals;  // the best-backed closure of each distinct rival hypothesis
+      for (size_t i : order) {
+        if (agree(best, i) || support[i] < size_t(o.rival_min_support)) continue;
+        if (std::none_of(rivals.begin(), rivals.end(), [&](size_t r) { return agree(r, i); })) rivals.push_back(i);
+      }
+      if (!rivals.empty()) {
+        auto agreement = [&](size_t i) {
+          return map_agreement(keyframes, pair.first, pair.second, maps[i], o.agreement_voxel);
+        };
+        double best_agreement = agreement(best);
+        for (size_t r : rivals)
+          if (const double a = agreement(r); a > best_agreement + o.rival_margin) {
+            best = r;
+            best_agreement = a;
+          }
       }
     }
     for (size_t j = 0; j < list.size(); ++j)
@@ -199,3 +256,4 @@ std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
 }
 
 }  // namespace lista::align
+

@@ -80,9 +80,21 @@ Eigen::Isometry3d implied_map_transform(const std::vector<Keyframe>& keyframes, 
 struct ConsistencyOptions {
   double distance = 2.0;  // m: where two closures put the same point may differ by this
   double angle = 0.17;    // rad
+  // A rival hypothesis backed by at least `rival_min_support` closures
+  // replaces the best-supported one when it puts this much more of the query
+  // mission's keyframe points into voxels the reference mission occupies
+  // (0: the count alone decides). In symmetric rooms the true and the
+  // half-turned fit differ by 3-4 % of points (the furniture); fits of one
+  // hypothesis by well under 1 %. One closure is enough: the whole-map
+  // check, not the count, vouches for it (a wrong lone closure puts far
+  // fewer points on the reference map).
+  double rival_margin = 0.02;
+  int rival_min_support = 1;
+  double agreement_voxel = 0.3;  // m
 };
 
-// Per mission pair, keeps the closures that agree with the best-supported one.
+// Per mission pair, keeps the closures that agree with the best-supported
+// one, or with a rival that the whole maps clearly favour.
 std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
                                          const std::vector<Closure>& closures,
                                          const ConsistencyOptions& options);

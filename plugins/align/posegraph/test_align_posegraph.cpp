@@ -304,3 +304,44 @@ TEST(ScanEdges, StopWhenCancelled) {
   scan_registration_edges(set, offsets, o, 1, report);
   EXPECT_GT(report.tried, 3u);
 }
+
+// A room that is the same turned by half a turn, with one cabinet in a
+// corner: three closures vote for the half-turned fit, one for the true
+// one. The count picks the half turn; the whole-map check (the cabinet
+// lands on nothing when turned) picks the truth.
+TEST(LoopClosures, TheWholeMapsDecideBetweenASymmetricRoomsTwoFits) {
+  Cloud room;
+  for (float t = -5.f; t <= 5.f; t += 0.1f)
+    for (float z = 0.f; z <= 2.f; z += 0.25f) {
+      room.emplace_back(t, -4.f, z);
+      room.emplace_back(t, 4.f, z);
+      if (t >= -4.f && t <= 4.f) {
+        room.emplace_back(-5.f, t, z);
+        room.emplace_back(5.f, t, z);
+      }
+    }
+  for (float x = 3.5f; x <= 4.5f; x += 0.1f)
+    for (float y = 2.5f; y <= 3.5f; y += 0.1f)
+      for (float z = 0.f; z <= 1.5f; z += 0.1f) room.emplace_back(x, y, z);  // the cabinet
+  std::vector<Keyframe> keyframes(2);
+  for (size_t m = 0; m < 2; ++m) {
+    keyframes[m].mission = m;
+    keyframes[m].frame = Eigen::Isometry3d::Identity();
+    keyframes[m].submap = room;
+  }
+  Eigen::Isometry3d half_turn = Eigen::Isometry3d::Identity();
+  half_turn.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::vector<Closure> closures(4);
+  for (size_t i = 0; i < closures.size(); ++i) {
+    closures[i].reference = 0;
+    closures[i].query = 1;
+    closures[i].reference_T_query = i == 0 ? Eigen::Isometry3d::Identity() : half_turn;
+    closures[i].rmse = 0.05;
+  }
+  ConsistencyOptions o;
+  const auto kept = consistent_closures(keyframes, closures, o);
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_TRUE(kept[0].reference_T_query.isApprox(Eigen::Isometry3d::Identity()));
+  o.rival_margin = 0.0;  // the count alone
+  EXPECT_EQ(consistent_closures(keyframes, closures, o).size(), 3u);
+}

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cctype>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -13,14 +14,26 @@
 namespace lista::cli {
 
 namespace detail {
-// Defaults as the options hold them before parsing; flags have none to show.
-inline void show_defaults(CLI::App& app) {
-  for (CLI::Option* o : app.get_options())
+// Defaults as the options hold them before parsing (flags have none to
+// show), and no NaN or infinity for a number: a range check lets NaN through.
+inline void prepare_options(CLI::App& app) {
+  for (CLI::Option* o : app.get_options()) {
     if (o->get_expected_min() > 0 && o->get_default_str().empty()) {
       o->capture_default_str();
       if (o->get_default_str() == "[]") o->default_str("");  // an empty list says nothing
     }
-  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) show_defaults(*sub);
+    if (o->get_type_name().rfind("FLOAT", 0) == 0)
+      o->check(CLI::Validator(
+          [](std::string& v) {
+            std::string lower;
+            for (char c : v) lower += char(std::tolower(static_cast<unsigned char>(c)));
+            return lower.find("nan") == std::string::npos && lower.find("inf") == std::string::npos
+                       ? std::string()
+                       : "must be a finite number, got " + v;
+          },
+          ""));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) prepare_options(*sub);
 }
 }  // namespace detail
 
@@ -29,7 +42,7 @@ inline void show_defaults(CLI::App& app) {
 inline std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv,
                                              const std::string& program) {
   app.name(program);
-  detail::show_defaults(app);
+  detail::prepare_options(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

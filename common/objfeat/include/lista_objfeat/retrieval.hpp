@@ -16,7 +16,9 @@ struct RetrievalScores {
   double map = 0.0;     // mean average precision over queries
   double purity = 0.0;  // k-means (k = number of labels) cluster purity
   int queries = 0;      // rows whose label occurs at least twice
-  std::vector<int> top1_hits;  // per row: 1 when its nearest other row has its label (0 if its label is unique)
+  // Per row: 1 when its nearest other row has its label, 0 when not, -1
+  // when its label is unique (no query: nothing to find, as in top1).
+  std::vector<int> top1_hits;
 };
 
 // Throws lista::Error if rows and labels differ in count.
