@@ -20,6 +20,8 @@ std::string change_ply(const ReportModel& model) {
   for (const auto& v : model.objects) n += v.object->points.size();
   std::string out =
       "ply\nformat binary_little_endian 1.0\ncomment LiSTA change cloud: colour by status\n"
+      "comment object = report.json id; mission = index into report.json missions; "
+      "status 0 removed, 1 added, 2 moved\n"
       "element vertex " + std::to_string(n) +
       "\nproperty float x\nproperty float y\nproperty float z\n"
       "property uchar red\nproperty uchar green\nproperty uchar blue\n"

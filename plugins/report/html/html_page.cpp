@@ -21,12 +21,16 @@ svg.topdown{width:100%;height:auto;border:1px solid #ccc;background:#fff}
 .legend span{margin-right:16px} pre{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}
 </style>)";
 
+// How far the object went and how much it turned: T moves its centroid by
+// T c - c (the translation part of T alone depends on where the frame's
+// origin lies); the turn is signed about z, the way objects on floors turn.
 std::string motion_text(const ObjectView& v) {
   if (!v.transform) return "";
   const Eigen::Matrix4d& T = *v.transform;
-  const double t = T.block<3, 1>(0, 3).norm();
-  const double cos_angle = std::clamp((T.block<3, 3>(0, 0).trace() - 1.0) / 2.0, -1.0, 1.0);
-  return fmt(t, 2) + " m, " + fmt(std::acos(cos_angle) * 180.0 / M_PI, 1) + "&deg;";
+  const Eigen::Vector3d c = v.object->centroid.cast<double>();
+  const double moved = (T.block<3, 3>(0, 0) * c + T.block<3, 1>(0, 3) - c).norm();
+  const double yaw = std::atan2(T(1, 0), T(0, 0)) * 180.0 / M_PI;
+  return fmt(moved, 2) + " m, " + fmt(yaw, 1) + "&deg;";
 }
 
 std::string vec(const Eigen::Vector3d& p) {

@@ -229,3 +229,20 @@ TEST(ReportHtml, RendersInHeadlessChromium) {
   EXPECT_NE(dom.find("data-objects=\"4\""), std::string::npos);
   fs::remove_all(dir);
 }
+
+// The table's motion is how far the object went (T c - c) and its signed
+// turn, not the size of T's translation, which depends on where the
+// frame's origin lies: here T turns about the origin only.
+TEST(ReportHtml, MotionIsTheCentroidsDisplacementAndTheSignedTurn) {
+  Scene s = make_scene();
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  T.block<3, 3>(0, 0) = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  s.matches.objects[2].transform = T;
+  const Eigen::Vector3d c = s.objects.objects[2].centroid.cast<double>();
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "%.2f m, -90.0&deg;", (T.block<3, 3>(0, 0) * c - c).norm());
+  const fs::path dir = write_report(s, "motion");
+  const std::string html = read(dir / "report.html");
+  EXPECT_NE(html.find(expected), std::string::npos) << expected;
+  fs::remove_all(dir);
+}
