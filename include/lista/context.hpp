@@ -48,6 +48,9 @@ struct RunInfo {
   std::vector<StageRecord> finished;  // stages finished so far, in finishing order
   // Numbers stages chose to record (Context::record), by stage id then key.
   std::map<std::string, std::map<std::string, double>> metrics;
+  // Every warning stages logged so far, "<stage id>: <message>", in order:
+  // the report keeps them, since a log scrolls away.
+  std::vector<std::string> warnings;
 };
 
 class Context {

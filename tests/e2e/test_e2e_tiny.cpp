@@ -333,8 +333,15 @@ TEST_F(TinyScene, AFailedAlignmentIsWarnedAbout) {
                           shifted.string() + " --out " + (dir_->path() / "shifted-out").string() + " --threads 2 -q 2>&1");
   EXPECT_NE(r.output.find("warning: align: the aligned poses are "), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("from poses_gt.txt: the alignment has probably failed"), std::string::npos) << r.output;
+  // The report keeps it where a reader looks: report.json and the page's top.
+  const std::filesystem::path run_out = dir_->path() / "shifted-out";
+  const json warnings = json::parse(e2e::read_file(run_out / "report.json")).at("warnings");
+  ASSERT_FALSE(warnings.empty());
+  EXPECT_NE(warnings[0].get<std::string>().find("align: the aligned poses are "), std::string::npos) << warnings.dump();
+  EXPECT_NE(e2e::read_file(run_out / "report.html").find("Warnings during the run"), std::string::npos);
   // The unchanged scene aligns: no such warning.
   EXPECT_EQ(run_.output.find("alignment has probably failed"), std::string::npos) << run_.output;
+  EXPECT_TRUE(report().at("warnings").is_array());
 }
 
 // Scoring a run against a dataset other than the one it was made from is

@@ -13,6 +13,10 @@ const char* level_name(LogLevel level) {
 }
 
 void RunContext::log(LogLevel level, const std::string& message) {
+  if (level >= LogLevel::warning) {
+    std::lock_guard<std::mutex> lock(run_.mutex);
+    run_.info.warnings.push_back(stage_id_ + ": " + message);
+  }
   if (level < run_.min_level) return;
   run_.display->line(std::string(level_name(level)) + ": " + stage_id_ + ": " + message);
 }

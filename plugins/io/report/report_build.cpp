@@ -159,6 +159,7 @@ std::string provenance_json(const RunInfo& run) {
   json root;
   root["provenance"] = prov;
   root["metrics"] = metrics;
+  root["warnings"] = run.warnings;
   return root.dump();
 }
 

@@ -18,7 +18,8 @@ h1{font-size:24px;margin-bottom:4px} h2{font-size:18px;margin-top:32px;border-bo
 table{border-collapse:collapse;font-size:13px} td,th{border:1px solid #ddd;padding:3px 8px;text-align:right}
 th{background:#f4f4f4} td.text{text-align:left}
 svg.topdown{width:100%;height:auto;border:1px solid #ccc;background:#fff}
-.legend span{margin-right:16px} pre{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}
+.legend span{margin-right:16px}
+.warnings{background:#fff4e5;border:1px solid #f0b45b;padding:6px 12px;font-size:14px} .warnings ul{margin:4px 0} pre{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}
 </style>)";
 
 // How far the object went and how much it turned: T moves its centroid by
@@ -53,6 +54,14 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
           "</span><span class=\"added\">added: " + std::to_string(counts["added"]) +
           "</span><span class=\"moved\">moved: " + std::to_string(counts["moved"]) +
           "</span><span>objects: " + std::to_string(model.objects.size()) + "</span></p>\n";
+  // What went wrong on the way (a failed alignment, say) belongs at the top,
+  // not in a log that scrolled away.
+  if (!run.warnings.empty()) {
+    html += "<div class=\"warnings\"><b>Warnings during the run (" + std::to_string(run.warnings.size()) +
+            ")</b><ul>\n";
+    for (const auto& w : run.warnings) html += "<li>" + escape(w) + "</li>\n";
+    html += "</ul></div>\n";
+  }
 
   for (size_t a = 0; a + 1 < model.missions.size(); ++a) {
     const size_t b = a + 1;
