@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <tuple>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -244,5 +245,46 @@ TEST(ReportHtml, MotionIsTheCentroidsDisplacementAndTheSignedTurn) {
   const fs::path dir = write_report(s, "motion");
   const std::string html = read(dir / "report.html");
   EXPECT_NE(html.find(expected), std::string::npos) << expected;
+  fs::remove_all(dir);
+}
+
+// Three missions: a box moved A -> B -> C (objects 2, 3, 4) and an object
+// of B gone in C (5). Each map shows its own pair's changes only: the A -> B
+// map has no 4 or 5, the B -> C map no 0, 1 or 2.
+TEST(ReportHtml, EachChangeMapShowsOnlyItsPairsChanges) {
+  Scene s = make_scene();
+  lista::Mission c = s.missions.missions[1];
+  c.name = "C";
+  s.missions.missions.push_back(c);
+  s.objects.missions = {"A", "B", "C"};
+  std::mt19937 rng(3);
+  for (const auto& [id, mission, centre] : std::vector<std::tuple<int, uint32_t, Eigen::Vector3f>>{
+           {4, 2, {3, -3, 0.4f}}, {5, 1, {-3, 3, 0.4f}}}) {
+    lista::Object o;
+    o.id = id;
+    o.mission = mission;
+    o.points = box_points(centre, 0.3f, 200, rng);
+    o.update_geometry();
+    s.objects.objects.push_back(o);
+  }
+  s.groups.object_ids = {0, 1, 2, 3, 4, 5};
+  s.groups.group = {0, 1, 2, 2, 2, 3};
+  s.groups.confidence = {0.9, 0.8, 0.95, 0.95, 0.95, 0.9};
+  s.matches.objects[3].match = 4;  // B's box moves on to C
+  s.matches.objects.push_back({4, lista::ChangeStatus::moved, 3, 0.1, 0.95, true});
+  s.matches.objects.push_back({5, lista::ChangeStatus::removed});
+  const fs::path dir = write_report(s, "three", false);
+  const std::string html = read(dir / "report.html");
+  const size_t second = html.find("<svg class=\"topdown\"", html.find("<svg class=\"topdown\"") + 1);
+  ASSERT_NE(second, std::string::npos) << "one map per consecutive pair";
+  const std::string ab = html.substr(0, second), bc = html.substr(second);
+  auto labelled = [](const std::string& map, int id) {
+    return map.find("class=\"object-label\">" + std::to_string(id) + "</text>") != std::string::npos;
+  };
+  for (int id : {0, 2, 3}) EXPECT_TRUE(labelled(ab, id)) << id;  // A's removal, the A -> B move
+  EXPECT_TRUE(labelled(ab, 1));                                   // B's arrival
+  for (int id : {4, 5}) EXPECT_FALSE(labelled(ab, id)) << id;
+  for (int id : {3, 4, 5}) EXPECT_TRUE(labelled(bc, id)) << id;  // the B -> C move, B's removal
+  for (int id : {0, 2}) EXPECT_FALSE(labelled(bc, id)) << id;
   fs::remove_all(dir);
 }

@@ -11,6 +11,23 @@ namespace lista::report_html {
 
 namespace {
 
+// The changes between missions a and b (= a + 1) and no others: what left
+// a, what arrived in b, and the moves from one to the other. With three or
+// more missions an object of b may also move on to c, or leave before c;
+// that belongs to the next map.
+bool belongs_to_pair(const ObjectView& v, const ReportModel& model, size_t a, size_t b) {
+  const size_t m = v.object->mission;
+  if (m != a && m != b) return false;
+  if (v.status == ChangeStatus::removed) return m == a;
+  if (v.status == ChangeStatus::added) return m == b;
+  const size_t other = m == a ? b : a;
+  if (const ObjectView* p = v.match >= 0 ? model.find(v.match) : nullptr; p && p->object->mission == other)
+    return true;
+  for (const auto& o : model.objects)  // its partner may name it while its own match points on
+    if (o.match == v.object->id && o.object->mission == other) return true;
+  return false;
+}
+
 struct Raster {
   int width = 1, height = 1;
   double x0 = 0, y1 = 0, res = 0.05;  // x of column 0, y of row 0, metres per pixel
@@ -76,7 +93,7 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
   for (const auto& p : map) grow(p);
   std::vector<const ObjectView*> shown;
   for (const auto& v : model.objects)
-    if (v.object->mission == a || v.object->mission == b) {
+    if (belongs_to_pair(v, model, a, b)) {
       shown.push_back(&v);
       grow(v.object->bbox_min);
       grow(v.object->bbox_max);
