@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <vector>
 
 namespace lista::objfeat {
@@ -99,7 +100,14 @@ ViewSet read_views(const std::vector<std::string>& folders, ViewChannels channel
   if (folders.empty()) throw Error("no views folder given");
   ViewSet out;
   std::map<std::string, int> labels, variants;
-  for (const auto& f : folders) append_views(f, channels, labels, variants, out);
+  std::set<std::string> seen;
+  for (const auto& f : folders) {
+    // The same views twice would be each other's nearest neighbours.
+    std::error_code ec;
+    const std::string key = std::filesystem::weakly_canonical(f, ec).string();
+    if (!seen.insert(ec ? f : key).second) throw Error(f + ": views folder given twice");
+    append_views(f, channels, labels, variants, out);
+  }
   return out;
 }
 

@@ -54,6 +54,10 @@ TEST(ReadViews, ShapesKeepOneLabelAcrossFolders) {
   EXPECT_EQ(set.views[1].split, 1);
   EXPECT_EQ(set.views[3].split, 1);  // val is held out too
   EXPECT_EQ(lista::objfeat::read_views(a.string()).views.size(), 2u);
+  // One folder twice (here once through "x/../a") would make every view its
+  // own copy's nearest neighbour: an error.
+  const std::string again = (a.parent_path() / "x" / ".." / a.filename()).string();
+  EXPECT_THROW(lista::objfeat::read_views(std::vector<std::string>{a.string(), b.string(), again}), lista::Error);
   fs::remove_all(a.parent_path());
 }
 
