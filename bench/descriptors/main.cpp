@@ -201,7 +201,8 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0))->excludes("--no-floor");
   app.add_option("--json", json_out, "also write the results as JSON");
   app.add_option("--rows", rows_dir,
-                 "write DIR/<plugin>.csv: per view (held-out views in index order) its label, point count and descriptor");
+                 "write DIR/<plugin>.csv: per view (held-out views in index order) its label (the shape's number in "
+                 "order of first appearance in index.json, every split counted), point count and descriptor");
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench descriptors")) return *code;
 
   try {
