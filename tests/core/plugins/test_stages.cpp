@@ -1,15 +1,27 @@
 // Small stages on SDK types for the core's tests: sources, pass-throughs,
 // sinks and stages that misbehave on purpose. Never installed.
-#include <lista/plugin.hpp>
-
 #include <chrono>
 #include <limits>
+#include <lista/plugin.hpp>
 #include <random>
 #include <thread>
 
 namespace {
 
 using namespace lista;
+
+// A test stage's declaration: version 1.0.0, the given ports and parameters.
+StageInfo declare(std::string name, std::string summary, std::vector<PortSpec> inputs, std::vector<PortSpec> outputs,
+                  std::vector<ParamSpec> params = {}) {
+  StageInfo i;
+  i.name = std::move(name);
+  i.version = "1.0.0";
+  i.summary = std::move(summary);
+  i.inputs = std::move(inputs);
+  i.outputs = std::move(outputs);
+  i.params = std::move(params);
+  return i;
+}
 
 double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -42,19 +54,14 @@ class Source : public Stage {
  public:
   explicit Source(const Params& p) : p_(p) {}
   static StageInfo info() {
-    StageInfo i;
-    i.name = "test.source";
-    i.version = "1.0.0";
-    i.summary = "synthetic missions of random points";
-    i.outputs = {{"missions", "missions", "the missions"}};
-    i.params = {ParamSpec::integer("count", 100, "points per mission").at_least(0),
-                ParamSpec::integer("missions", 2, "how many missions").range(1, 100),
-                ParamSpec::real("scale", 1.0, "edge length").range(0.001, 1000).unit("m"),
-                ParamSpec::text("mode", "fast", "how to work").one_of({"fast", "exact"}),
-                ParamSpec::boolean("verbose", false, "log more"),
-                ParamSpec::real_list("weights", {1.0, 2.0}, "weights").at_least(0),
-                ParamSpec::text_list("tags", {}, "free tags")};
-    return i;
+    return declare("test.source", "synthetic missions of random points", {}, {{"missions", "missions", "the missions"}},
+                   {ParamSpec::integer("count", 100, "points per mission").at_least(0),
+                    ParamSpec::integer("missions", 2, "how many missions").range(1, 100),
+                    ParamSpec::real("scale", 1.0, "edge length").range(0.001, 1000).unit("m"),
+                    ParamSpec::text("mode", "fast", "how to work").one_of({"fast", "exact"}),
+                    ParamSpec::boolean("verbose", false, "log more"),
+                    ParamSpec::real_list("weights", {1.0, 2.0}, "weights").at_least(0),
+                    ParamSpec::text_list("tags", {}, "free tags")});
   }
   Outputs run(const Inputs&, Context& ctx) override {
     ctx.record("start_ms", now_ms());
@@ -76,16 +83,11 @@ class Passthrough : public Stage {
  public:
   explicit Passthrough(const Params& p) : p_(p) {}
   static StageInfo info() {
-    StageInfo i;
-    i.name = "test.passthrough";
-    i.version = "1.0.0";
-    i.summary = "missions in, the same missions out";
-    i.inputs = {{"missions", "missions", "any missions"}};
-    i.outputs = {{"missions", "missions", "the same missions"}};
-    i.params = {ParamSpec::integer("sleep_ms", 0, "time to spend").range(0, 60000),
-                ParamSpec::boolean("fail", false, "throw a lista::Error"),
-                ParamSpec::boolean("fail_std", false, "throw a std::runtime_error")};
-    return i;
+    return declare("test.passthrough", "missions in, the same missions out", {{"missions", "missions", "any missions"}},
+                   {{"missions", "missions", "the same missions"}},
+                   {ParamSpec::integer("sleep_ms", 0, "time to spend").range(0, 60000),
+                    ParamSpec::boolean("fail", false, "throw a lista::Error"),
+                    ParamSpec::boolean("fail_std", false, "throw a std::runtime_error")});
   }
   Outputs run(const Inputs& in, Context& ctx) override {
     ctx.record("start_ms", now_ms());
@@ -108,13 +110,9 @@ class Join : public Stage {
  public:
   explicit Join(const Params&) {}
   static StageInfo info() {
-    StageInfo i;
-    i.name = "test.join";
-    i.version = "1.0.0";
-    i.summary = "concatenates missions";
-    i.inputs = {{"a", "missions", "first"}, {"b", "missions", "second"}, {"c", "missions", "third", true}};
-    i.outputs = {{"missions", "missions", "all missions"}};
-    return i;
+    return declare("test.join", "concatenates missions",
+                   {{"a", "missions", "first"}, {"b", "missions", "second"}, {"c", "missions", "third", true}},
+                   {{"missions", "missions", "all missions"}});
   }
   Outputs run(const Inputs& in, Context& ctx) override {
     ctx.record("start_ms", now_ms());
@@ -132,13 +130,8 @@ class ToPoints : public Stage {
  public:
   explicit ToPoints(const Params&) {}
   static StageInfo info() {
-    StageInfo i;
-    i.name = "test.to_points";
-    i.version = "1.0.0";
-    i.summary = "all points of each mission";
-    i.inputs = {{"missions", "missions", "missions"}};
-    i.outputs = {{"points", "points", "points per mission"}};
-    return i;
+    return declare("test.to_points", "all points of each mission", {{"missions", "missions", "missions"}},
+                   {{"points", "points", "points per mission"}});
   }
   Outputs run(const Inputs& in, Context&) override {
     MissionPoints mp;
@@ -158,14 +151,7 @@ class ToPoints : public Stage {
 class Sink : public Stage {
  public:
   explicit Sink(const Params&) {}
-  static StageInfo info() {
-    StageInfo i;
-    i.name = "test.sink";
-    i.version = "1.0.0";
-    i.summary = "counts points";
-    i.inputs = {{"points", "points", "points"}};
-    return i;
-  }
+  static StageInfo info() { return declare("test.sink", "counts points", {{"points", "points", "points"}}, {}); }
   Outputs run(const Inputs& in, Context& ctx) override {
     ctx.record("points", double(in.get<MissionPoints>("points").total()));
     ctx.record("seed", double(ctx.seed()));
@@ -181,14 +167,9 @@ class WaitCancel : public Stage {
  public:
   explicit WaitCancel(const Params& p) : p_(p) {}
   static StageInfo info() {
-    StageInfo i;
-    i.name = "test.wait_cancel";
-    i.version = "1.0.0";
-    i.summary = "runs until Ctrl-C";
-    i.inputs = {{"missions", "missions", "missions"}};
-    i.outputs = {{"missions", "missions", "the same missions"}};
-    i.params = {ParamSpec::integer("timeout_ms", 10000, "give up after").at_least(0)};
-    return i;
+    return declare("test.wait_cancel", "runs until Ctrl-C", {{"missions", "missions", "missions"}},
+                   {{"missions", "missions", "the same missions"}},
+                   {ParamSpec::integer("timeout_ms", 10000, "give up after").at_least(0)});
   }
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(p_.get<int>("timeout_ms"));
@@ -210,14 +191,9 @@ class BadOutput : public Stage {
  public:
   explicit BadOutput(const Params& p) : mode_(p.get<std::string>("mode")) {}
   static StageInfo info() {
-    StageInfo i;
-    i.name = "test.bad_output";
-    i.version = "1.0.0";
-    i.summary = "misbehaves";
-    i.inputs = {{"missions", "missions", "missions"}};
-    i.outputs = {{"missions", "missions", "missions"}};
-    i.params = {ParamSpec::text("mode", "missing", "how to misbehave").one_of({"missing", "undeclared", "wrong_type"})};
-    return i;
+    return declare(
+        "test.bad_output", "misbehaves", {{"missions", "missions", "missions"}}, {{"missions", "missions", "missions"}},
+        {ParamSpec::text("mode", "missing", "how to misbehave").one_of({"missing", "undeclared", "wrong_type"})});
   }
   Outputs run(const Inputs& in, Context&) override {
     Outputs out;
@@ -239,13 +215,8 @@ class ToObjects : public Stage {
  public:
   explicit ToObjects(const Params&) {}
   static StageInfo info() {
-    StageInfo i;
-    i.name = "test.to_objects";
-    i.version = "1.0.0";
-    i.summary = "one object per mission";
-    i.inputs = {{"missions", "missions", "missions"}};
-    i.outputs = {{"objects", "objects", "one object per mission"}};
-    return i;
+    return declare("test.to_objects", "one object per mission", {{"missions", "missions", "missions"}},
+                   {{"objects", "objects", "one object per mission"}});
   }
   Outputs run(const Inputs& in, Context&) override {
     ObjectSet set;
@@ -270,15 +241,10 @@ class Describe : public Stage {
  public:
   explicit Describe(const Params& p) : mode_(p.get<std::string>("mode")) {}
   static StageInfo info() {
-    StageInfo i;
-    i.name = "test.describe";
-    i.version = "1.0.0";
-    i.summary = "unit rows, or a broken contract";
-    i.inputs = {{"objects", "objects", "objects"}};
-    i.outputs = {{"descriptors", "descriptors", "one row per object"}};
-    i.params = {ParamSpec::text("mode", "ok", "how to misbehave")
-                    .one_of({"ok", "missing_row", "extra_id", "unknown_id", "twice", "not_finite", "not_unit"})};
-    return i;
+    return declare("test.describe", "unit rows, or a broken contract", {{"objects", "objects", "objects"}},
+                   {{"descriptors", "descriptors", "one row per object"}},
+                   {ParamSpec::text("mode", "ok", "how to misbehave")
+                        .one_of({"ok", "missing_row", "extra_id", "unknown_id", "twice", "not_finite", "not_unit"})});
   }
   Outputs run(const Inputs& in, Context&) override {
     DescriptorSet d;
