@@ -19,9 +19,12 @@ int main(int argc, char** argv) {
   double holdout = 0.2;
   TrainConfig cfg;
   app.add_option("--views", views_dirs, "lista-sim views folder(s) (docs/datasets.md); several are one set, by shape");
-  app.add_option("--synthetic", synthetic, "use N built-in synthetic shapes instead of --views");
+  app.add_option("--synthetic", synthetic, "use N built-in synthetic shapes instead of --views")
+      ->check(CLI::Range(1, 100000));
   app.add_option("--views-per-instance", per_instance, "synthetic views per instance")->check(CLI::Range(2, 100));
-  app.add_option("--holdout", holdout, "fraction of shapes held out for evaluation")->check(CLI::Range(0.0, 0.9));
+  app.add_option("--holdout", holdout,
+                 "fraction of shapes held out for evaluation (--synthetic; a views folder keeps its own split)")
+      ->check(CLI::Range(0.0, 0.9));
   app.add_option("--steps", cfg.steps, "optimisation steps")->check(CLI::Range(1, 1000000));
   app.add_option("--batch-instances", cfg.instances_per_batch, "instances per batch (P)")->check(CLI::Range(2, 1024));
   app.add_option("--batch-views", cfg.views_per_instance, "views per instance per batch (K)")->check(CLI::Range(2, 64));
@@ -85,6 +88,9 @@ int main(int argc, char** argv) {
     split_by_shape(all, holdout, cfg.seed, train, test);
     std::fprintf(stderr, "%zu views: %zu for training, %zu held out (by shape)\n", all.views.size(),
                  train.views.size(), test.views.size());
+    if (test.views.empty())
+      std::fprintf(stderr, "lista-train: warning: no held-out views (index.json split 'val' or 'test'); the "
+                           "held-out scores printed are not measurements\n");
     TrainResult r = train_descriptor(train, test, cfg);
     std::printf("wrote %s in %.0f s; held-out top1 %.3f mAP %.3f\n", cfg.out.c_str(), r.seconds, r.test_top1,
                 r.test_map);

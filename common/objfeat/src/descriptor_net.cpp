@@ -133,6 +133,9 @@ void save_weights(DescriptorNet& net, const std::string& path) {
 }
 
 DescriptorNet load_weights(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw Error("model weights '" + path + "' is a folder; give the weights file (e.g. <folder>/describe-learned.bin)");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw Error("model weights '" + path + "' not found (set the 'weights' parameter or LISTA_MODEL_DIR)");

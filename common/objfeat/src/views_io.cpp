@@ -37,14 +37,26 @@ void append_views(const std::string& folder, ViewChannels channels, std::map<std
   } catch (const std::exception& e) {
     throw Error(index_path.string() + ": not valid JSON: " + e.what());
   }
-  if (index.value("format", "") != "lista-views/1") throw Error(index_path.string() + ": format is not 'lista-views/1'");
+  const std::string where = index_path.string();
+  if (!index.is_object())
+    throw Error(where + ": must be a JSON object with \"format\": \"lista-views/1\" and a \"views\" list");
+  if (index.value("format", "") != "lista-views/1") throw Error(where + ": format is not 'lista-views/1'");
+  if (!index.contains("views") || !index.at("views").is_array()) throw Error(where + ": \"views\" must be a list of views");
+  if (index.contains("shapes") && !index.at("shapes").is_array()) throw Error(where + ": \"shapes\" must be a list");
+  // A view's or shape's field, of the kind it must be, or an error naming it.
+  auto text = [&](const nlohmann::json& j, const char* what, size_t k, const char* key) {
+    if (!j.is_object() || !j.contains(key) || !j.at(key).is_string())
+      throw Error(where + ": " + what + " " + std::to_string(k) + " needs \"" + key + "\" as text");
+    return j.at(key).get<std::string>();
+  };
   const size_t before = out.views.size();
   try {
     std::map<std::string, int> source_of;  // shape id -> source index
     std::map<std::string, std::array<float, 3>> extent_of;
     if (index.contains("shapes"))
-      for (const auto& s : index.at("shapes")) {
-        const std::string id = s.at("id").get<std::string>();
+      for (size_t k = 0; k < index.at("shapes").size(); ++k) {
+        const auto& s = index.at("shapes")[k];
+        const std::string id = text(s, "shape", k, "id");
         source_of[id] = source_index(s.value("source", "unknown"));
         if (s.contains("extent")) {
           const auto& j = s.at("extent");
@@ -55,9 +67,12 @@ void append_views(const std::string& folder, ViewChannels channels, std::map<std
           extent_of[id] = {e[0], e[1], e[2]};
         }
       }
-    for (const auto& v : index.at("views")) {
+    for (size_t k = 0; k < index.at("views").size(); ++k) {
+      const auto& v = index.at("views")[k];
       View view;
-      const std::string shape = v.at("shape").get<std::string>();
+      const std::string shape = text(v, "view", k, "shape"), file = text(v, "view", k, "file");
+      if (!v.contains("instance") || !v.at("instance").is_number_integer())
+        throw Error(where + ": view " + std::to_string(k) + " needs \"instance\" as a whole number");
       view.label = labels.emplace(shape, int(labels.size())).first->second;
       view.variant = variants.emplace(v.value("variant", shape), int(variants.size())).first->second;
       view.instance = v.at("instance").get<int>();
@@ -68,10 +83,10 @@ void append_views(const std::string& folder, ViewChannels channels, std::map<std
       view.sensor = v.value("sensor", "");
       if (v.contains("distance")) {
         if (!v.at("distance").is_number())
-          throw Error(index_path.string() + ": view '" + v.at("file").get<std::string>() + "' distance must be a number (metres)");
+          throw Error(index_path.string() + ": view '" + file + "' distance must be a number (metres)");
         view.distance = v.at("distance").get<float>();
       }
-      view.points = io::read_scan((fs::path(folder) / v.at("file").get<std::string>()).string()).points;
+      view.points = io::read_scan((fs::path(folder) / file).string()).points;
       if (view.points.empty()) continue;
       // Ground truth must not reach a descriptor; swapping frees the memory
       // (clear() would keep it).

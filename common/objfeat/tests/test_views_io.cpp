@@ -187,6 +187,19 @@ TEST(ReadViews, MissingOrMalformedFoldersAreErrorsNamingTheFile) {
   expect_error({}, "no views folder");
   std::ofstream(a / "index.json") << "{\"format\": \"lista-views/9\"}";
   expect_error({a.string()}, "format is not");
+  // A hand-made index with a field missing or of the wrong kind: the field
+  // and the view named in plain words, never the JSON library's.
+  const std::string head = "{\"format\": \"lista-views/1\", ";
+  for (const auto& [index, words] : std::vector<std::pair<std::string, std::string>>{
+           {"[1, 2]", "index.json: must be a JSON object"},
+           {head + "\"views\": \"x\"}", "index.json: \"views\" must be a list of views"},
+           {head + "\"views\": [{\"file\": \"0.pcd\", \"instance\": 0}]}", "view 0 needs \"shape\" as text"},
+           {head + "\"views\": [{\"file\": \"0.pcd\", \"shape\": 5, \"instance\": 0}]}", "view 0 needs \"shape\" as text"},
+           {head + "\"views\": [{\"file\": \"0.pcd\", \"shape\": \"s\"}]}", "view 0 needs \"instance\" as a whole number"},
+           {head + "\"shapes\": [{\"class\": \"box\"}], \"views\": []}", "shape 0 needs \"id\" as text"}}) {
+    std::ofstream(a / "index.json") << index;
+    expect_error({a.string()}, words);
+  }
   fs::remove_all(a.parent_path());
 }
 

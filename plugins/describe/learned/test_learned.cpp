@@ -95,6 +95,7 @@ TEST_F(LearnedTest, MissingCorruptOrUncheckedWeightsAreClearErrors) {
     }
   };
   expect_error((dir_ / "absent.bin").string(), "not found");
+  expect_error(dir_.string(), "is a folder; give the weights file");
   EXPECT_NO_THROW(stage(weights_));
   {  // one flipped byte: the checksum must catch it
     std::fstream f(weights_, std::ios::in | std::ios::out | std::ios::binary);
