@@ -162,32 +162,44 @@ std::vector<Closure> verify_candidates(const std::vector<Keyframe>& keyframes,
 
 namespace {
 
-// Share of mission `query`'s keyframe points that land, moved by
-// `query_to_reference`, in a voxel mission `reference` occupies. Walls fit
-// a symmetric room turned by half a turn as well as unturned; the furniture
-// standing in it does not, and this counts all of it at once.
-double map_agreement(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
-                     const Eigen::Isometry3d& query_to_reference, double voxel) {
-  auto key = [voxel](const Eigen::Vector3d& p) {
-    const Eigen::Vector3i k = (p / voxel).array().floor().cast<int>();
+// How well one mission's map lies on another's under a candidate
+// map-to-map transform. Walls fit a symmetric room turned by half a turn as
+// well as unturned; the furniture standing in it does not, and this counts
+// all of it at once. The reference mission's occupied voxels are gathered
+// once and serve every hypothesis of the pair.
+class MapAgreement {
+ public:
+  MapAgreement(const std::vector<Keyframe>& keyframes, size_t reference, double voxel)
+      : keyframes_(keyframes), voxel_(voxel) {
+    for (const Keyframe& kf : keyframes)
+      if (kf.mission == reference)
+        for (const auto& p : kf.submap) occupied_.insert(key(kf.frame * p.cast<double>()));
+  }
+  // Share of mission `query`'s keyframe points that land, moved by
+  // `query_to_reference`, in a voxel the reference mission occupies.
+  double operator()(size_t query, const Eigen::Isometry3d& query_to_reference) const {
+    size_t hits = 0, total = 0;
+    for (const Keyframe& kf : keyframes_)
+      if (kf.mission == query) {
+        const Eigen::Isometry3d to_reference = query_to_reference * kf.frame;
+        for (const auto& p : kf.submap) {
+          hits += occupied_.count(key(to_reference * p.cast<double>()));
+          ++total;
+        }
+      }
+    return total ? double(hits) / double(total) : 0.0;
+  }
+
+ private:
+  uint64_t key(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3i k = (p / voxel_).array().floor().cast<int>();
     return (uint64_t(uint32_t(k.x()) & 0x1fffff) << 42) | (uint64_t(uint32_t(k.y()) & 0x1fffff) << 21) |
            uint64_t(uint32_t(k.z()) & 0x1fffff);
-  };
-  std::unordered_set<uint64_t> occupied;
-  for (const Keyframe& kf : keyframes)
-    if (kf.mission == reference)
-      for (const auto& p : kf.submap) occupied.insert(key(kf.frame * p.cast<double>()));
-  size_t hits = 0, total = 0;
-  for (const Keyframe& kf : keyframes)
-    if (kf.mission == query) {
-      const Eigen::Isometry3d to_reference = query_to_reference * kf.frame;
-      for (const auto& p : kf.submap) {
-        hits += occupied.count(key(to_reference * p.cast<double>()));
-        ++total;
-      }
-    }
-  return total ? double(hits) / double(total) : 0.0;
-}
+  }
+  const std::vector<Keyframe>& keyframes_;
+  double voxel_;
+  std::unordered_set<uint64_t> occupied_;
+};
 
 }  // namespace
 
@@ -235,9 +247,8 @@ std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
         if (std::none_of(rivals.begin(), rivals.end(), [&](size_t r) { return agree(r, i); })) rivals.push_back(i);
       }
       if (!rivals.empty()) {
-        auto agreement = [&](size_t i) {
-          return map_agreement(keyframes, pair.first, pair.second, maps[i], o.agreement_voxel);
-        };
+        const MapAgreement on_reference(keyframes, pair.first, o.agreement_voxel);
+        auto agreement = [&](size_t i) { return on_reference(pair.second, maps[i]); };
         double best_agreement = agreement(best);
         for (size_t r : rivals)
           if (const double a = agreement(r); a > best_agreement + o.rival_margin) {
