@@ -15,23 +15,22 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <thread>
 
 namespace {
 
 // A run scored against a dataset other than the one it was made from gives
-// numbers that mean nothing; say so when report.json's provenance names
-// another folder that exists (a moved dataset is not flagged).
-void warn_if_other_dataset(const std::string& report_path, const std::string& dataset) {
+// numbers that mean nothing; say so when the report's provenance (kept in
+// `extra_json` by read_report) names another folder that exists (a moved
+// dataset is not flagged).
+void warn_if_other_dataset(const lista::io::Report& report, const std::string& dataset) {
   namespace fs = std::filesystem;
-  std::ifstream in(report_path);
-  const nlohmann::json report = nlohmann::json::parse(in, nullptr, false);
-  if (report.is_discarded() || !report.contains("provenance") || !report["provenance"].contains("dataset") ||
-      !report["provenance"]["dataset"].is_string())
+  const nlohmann::json extra = nlohmann::json::parse(report.extra_json, nullptr, false);
+  if (!extra.is_object() || !extra.contains("provenance") || !extra["provenance"].contains("dataset") ||
+      !extra["provenance"]["dataset"].is_string())
     return;
-  const std::string made_from = report["provenance"]["dataset"];
+  const std::string made_from = extra["provenance"]["dataset"];
   std::error_code ec;
   if (made_from.empty() || !fs::is_directory(made_from, ec) || fs::equivalent(made_from, dataset, ec)) return;
   std::cerr << "lista-eval: warning: the run was made from " << made_from << " (report.json provenance), not "
@@ -68,7 +67,7 @@ int main(int argc, char** argv) {
     const std::string report_path = (std::filesystem::path(run) / "report.json").string();
     if (!std::filesystem::exists(report_path)) throw lista::Error(report_path + ": missing");
     const lista::io::Report report = lista::io::read_report(report_path);
-    warn_if_other_dataset(report_path, dataset);
+    warn_if_other_dataset(report, dataset);
     const lista::eval::Truth truth = lista::eval::load_truth(dataset, report.missions, threads);
     const lista::eval::Score score = lista::eval::score_run(truth, run);
     std::cout << (json ? lista::eval::format_json(score) : lista::eval::format_table(score, objects));
