@@ -67,8 +67,8 @@ int main(int argc, char** argv) {
     const std::string report_path = (std::filesystem::path(run) / "report.json").string();
     if (!std::filesystem::exists(report_path)) throw lista::Error(report_path + ": missing");
     const lista::io::Report report = lista::io::read_report(report_path);
-    warn_if_other_dataset(report, dataset);
     const lista::eval::Truth truth = lista::eval::load_truth(dataset, report.missions, threads);
+    warn_if_other_dataset(report, dataset);  // a dataset that cannot be read is an error, not this warning
     const lista::eval::Score score = lista::eval::score_run(truth, run);
     std::cout << (json ? lista::eval::format_json(score) : lista::eval::format_table(score, objects));
     return 0;
