@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -42,7 +43,10 @@ namespace {
 using namespace lista;
 
 struct Row {
+  std::string name;    // the entry's name: the plugin's, or the one given in --plugins
   std::string plugin;
+  // The table's first column: `mine (describe.learned)` for a renamed entry.
+  std::string title() const { return name == plugin ? name : name + " (" + plugin + ")"; }
   int dim = 0;
   double median_ms = 0, p95_ms = 0;
   objfeat::RetrievalScores scores;
@@ -95,12 +99,32 @@ Setting parse_setting(const std::string& text) {
   return s;
 }
 
-// The plugin's defaults with the settings that name it; a setting for an
-// undeclared parameter or with a value the declaration refuses is an error.
-Params params_of(const StageInfo& info, const std::vector<Setting>& settings) {
+// One compared entry: `describe.learned`, or `mine=describe.learned` to run a
+// plugin a second time under another name (other weights, other
+// parameters); settings and output rows use the name.
+struct Entry {
+  std::string name, plugin;
+};
+
+Entry parse_entry(const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos) return {text, text};
+  Entry e{text.substr(0, eq), text.substr(eq + 1)};
+  const bool plain = !e.name.empty() && std::all_of(e.name.begin(), e.name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+  });
+  if (!plain || e.plugin.empty())
+    throw Error("--plugins entry '" + text + "' is not <plugin> or <name>=<plugin> with a name of letters, digits, "
+                "'_' and '-' (e.g. mine=describe.learned)");
+  return e;
+}
+
+// The plugin's defaults with the settings that name the entry; a setting for
+// an undeclared parameter or with a value the declaration refuses is an error.
+Params params_of(const Entry& entry, const StageInfo& info, const std::vector<Setting>& settings) {
   Params params = Params::defaults(info.params);
   for (const auto& s : settings) {
-    if (s.plugin != info.name) continue;
+    if (s.plugin != entry.name) continue;
     const ParamSpec* spec = info.param(s.param);
     if (!spec) throw Error("--set " + s.text + ": " + info.name + " has no parameter '" + s.param + "'");
     if (!s.parsed.value) throw Error("--set " + s.text + ": " + s.parsed.problem);
@@ -130,11 +154,12 @@ auto guarded(const core::RegisteredStage& s, F&& call) -> decltype(call()) {
   }
 }
 
-Row run_plugin(const core::RegisteredStage& s, const ObjectSet& objects, const std::vector<int>& labels,
+Row run_plugin(const std::string& name, const core::RegisteredStage& s, const ObjectSet& objects, const std::vector<int>& labels,
                const std::vector<int>& variants, const Params& params) {
   std::unique_ptr<Stage> stage = guarded(s, [&] { return s.factory(params); });
   if (!stage) plugin_failed(s, "the plugin's factory returned no stage");
   Row row;
+  row.name = name;
   row.plugin = s.info.name;
   objfeat::Rows values;
   std::vector<double> ms;
@@ -159,7 +184,7 @@ Row run_plugin(const core::RegisteredStage& s, const ObjectSet& objects, const s
       plugin_failed(s, "gave " + std::to_string(d.dim()) + "-d descriptors after " + std::to_string(values.cols()) +
                            "-d ones (one width for every object)");
     values.row(long(i)) = d.values.row(0);
-    if (isatty(2)) std::fprintf(stderr, "\r%s: %zu/%zu", row.plugin.c_str(), i + 1, objects.objects.size());
+    if (isatty(2)) std::fprintf(stderr, "\r%s: %zu/%zu", row.name.c_str(), i + 1, objects.objects.size());
   }
   if (isatty(2)) std::fprintf(stderr, "\n");
   row.dim = int(values.cols());
@@ -187,12 +212,16 @@ int main(int argc, char** argv) {
   app.add_option("--synthetic", synthetic, "use N built-in synthetic shapes (4 views each) instead");
   app.add_flag("--all-splits", all_splits, "use every view, not only held-out shapes");
   app.add_option("--max-views", max_views, "use at most this many views (first ones), 0 = all");
-  app.add_option("--plugins", plugins, "stages to compare")->delimiter(',');
+  app.add_option("--plugins", plugins,
+                 "stages to compare; <name>=<plugin> runs a plugin again under another name (e.g. "
+                 "mine=describe.learned with --set mine.weights=my.bin)")
+      ->delimiter(',');
   app.add_option("--plugin-dir", plugin_dirs,
                  "extra folder of plugin libraries, searched before the shipped ones (repeatable; LISTA_PLUGIN_PATH too)")
       ->allow_extra_args(false)
       ->check(CLI::ExistingDirectory);
-  app.add_option("--set", set_texts, "<plugin>.<param>=<value>: a parameter other than the default (repeatable)");
+  app.add_option("--set", set_texts,
+                 "<plugin or name>.<param>=<value>: a parameter other than the default (repeatable)");
   app.add_option("--seed", seed, "seed of the random poses");
   app.add_flag("--no-floor", no_floor, "do not give the objects their floor height (floor_z), as a pipeline without segment.complete");
   app.add_option("--floor-error", floor_error,
@@ -206,10 +235,18 @@ int main(int argc, char** argv) {
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench descriptors")) return *code;
 
   try {
+    std::vector<Entry> entries;
+    for (const auto& text : plugins) {
+      entries.push_back(parse_entry(text));
+      for (size_t k = 0; k + 1 < entries.size(); ++k)
+        if (entries[k].name == entries.back().name)
+          throw Error("--plugins names '" + entries.back().name + "' twice: give the second one its own name, e.g. " +
+                      "b=" + entries.back().plugin);
+    }
     std::vector<Setting> settings;
     for (const auto& t : set_texts) {
       settings.push_back(parse_setting(t));
-      if (std::find(plugins.begin(), plugins.end(), settings.back().plugin) == plugins.end())
+      if (std::none_of(entries.begin(), entries.end(), [&](const Entry& e) { return e.name == settings.back().plugin; }))
         throw Error("--set " + t + ": '" + settings.back().plugin + "' is not among the plugins compared");
     }
     objfeat::ViewSet all, train, test;
@@ -246,8 +283,14 @@ int main(int argc, char** argv) {
     std::vector<Row> rows;
     // Every plugin loaded and every setting checked before the first one runs.
     const bench::StageFinder finder(plugin_dirs);
-    std::vector<std::pair<const core::RegisteredStage*, Params>> stages;
-    for (const auto& name : plugins) {
+    struct Compared {
+      const Entry* entry;
+      const core::RegisteredStage* stage;
+      Params params;
+    };
+    std::vector<Compared> stages;
+    for (const Entry& entry : entries) {
+      const std::string& name = entry.plugin;
       const core::RegisteredStage& stage = finder.find(name);
       if (stage.info.outputs.size() != 1 || stage.info.outputs[0].type != "descriptors" ||
           stage.info.inputs.size() != 1 || stage.info.inputs[0].type != "objects")
@@ -255,10 +298,10 @@ int main(int argc, char** argv) {
       for (const auto& other : finder.refused(name))
         std::fprintf(stderr, "lista-bench-descriptors: warning: plugin '%s' is provided twice: using %s, not %s\n",
                      name.c_str(), stage.library.c_str(), other.c_str());
-      stages.emplace_back(&stage, params_of(stage.info, settings));
+      stages.push_back({&entry, &stage, params_of(entry, stage.info, settings)});
     }
-    for (const auto& [stage, params] : stages)
-      rows.push_back(run_plugin(*stage, objects, labels, variants, params));
+    for (const Compared& c : stages)
+      rows.push_back(run_plugin(c.entry->name, *c.stage, objects, labels, variants, c.params));
 
     std::string floor_text = no_floor ? "withheld" : "given";
     if (floor_error > 0) floor_text += ", off by " + std::to_string(std::lround(floor_error * 1000)) + " mm (sigma)";
@@ -272,15 +315,15 @@ int main(int argc, char** argv) {
     std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
     nlohmann::json j = nlohmann::json::array();
     for (const auto& r : rows) {
-      std::printf("| %s | %d | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f |\n", r.plugin.c_str(), r.dim, r.median_ms,
+      std::printf("| %s | %d | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f |\n", r.title().c_str(), r.dim, r.median_ms,
                   r.p95_ms, r.scores.top1, r.scores.map, r.scores.purity, r.variant_top1);
-      j.push_back({{"plugin", r.plugin}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
+      j.push_back({{"name", r.name}, {"plugin", r.plugin}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
                    {"top1", r.scores.top1}, {"map", r.scores.map}, {"purity", r.scores.purity},
                    {"top1_variants", r.variant_top1}, {"objects", objects.objects.size()},
                    {"shapes", per_label.size()}, {"variants", per_variant.size()}, {"floor_given", !no_floor},
                    {"floor_error_m", floor_error}});
       for (const auto& st : settings)
-        if (st.plugin == r.plugin) j.back()["set"].push_back(st.text);
+        if (st.plugin == r.name) j.back()["set"].push_back(st.text);
     }
     // Where each plugin misses: top-1 by what the views are; a breakdown the
     // folder gives no data for (synthetic views have no sensor) is left out.
@@ -293,7 +336,7 @@ int main(int argc, char** argv) {
       for (size_t k = 0; k < b.bins.size(); ++k) std::printf("---:|");
       std::printf("\n");
       for (const auto& r : rows) {
-        std::printf("| %s |", r.plugin.c_str());
+        std::printf("| %s |", r.title().c_str());
         nlohmann::json bins = nlohmann::json::array();
         const std::vector<bench::BinScore> scores = bench::score_bins(b, r.scores.top1_hits);
         for (size_t k = 0; k < b.bins.size(); ++k) {
@@ -303,7 +346,7 @@ int main(int argc, char** argv) {
         }
         std::printf("\n");
         for (auto& e : j)
-          if (e["plugin"] == r.plugin) e[b.json_key] = bins;
+          if (e["name"] == r.name) e[b.json_key] = bins;
       }
     }
     if (!json_out.empty()) {
@@ -316,7 +359,7 @@ int main(int argc, char** argv) {
     }
     if (!rows_dir.empty()) {
       for (const auto& r : rows) {
-        const std::string path = rows_dir + "/" + r.plugin + ".csv";
+        const std::string path = rows_dir + "/" + r.name + ".csv";
         {
           std::ofstream out(path + ".tmp");
           out << "label,points";

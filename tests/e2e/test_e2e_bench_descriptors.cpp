@@ -79,6 +79,44 @@ TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
   }
 }
 
+// One plugin twice, under two names (a user's own weights beside the
+// shipped ones): each entry gets the settings that name it, its own row in
+// the table, the JSON and --rows, and the name appears everywhere the
+// plugin's would. Two entries of one name are refused before any run.
+TEST(BenchDescriptors, APluginComparedWithItselfUnderAnotherName) {
+  e2e::TempDir dir("bench_descriptors_named");
+  const std::string views = (dir.path() / "views").string(), out = (dir.path() / "named.json").string(),
+                    rows_dir = (dir.path() / "rows").string();
+  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 30 --views-per-object 3 --seed 3 --out " +
+                            views + " 2>&1");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  const std::string bench = e2e::bin("lista-bench-descriptors") + " --views " + views + " --all-splits --max-views 12";
+  const auto r = e2e::run(bench + " --plugins describe.shot,coarse=describe.shot --set coarse.voxel=0.08 --json " +
+                          out + " --rows " + rows_dir + " 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("| describe.shot | 352 |"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| coarse (describe.shot) | 352 |"), std::string::npos) << r.output;
+  const json rows = json::parse(e2e::read_file(out));
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].at("name"), "describe.shot");
+  EXPECT_EQ(rows[1].at("name"), "coarse");
+  EXPECT_EQ(rows[1].at("plugin"), "describe.shot");
+  EXPECT_FALSE(rows[0].contains("set"));
+  EXPECT_EQ(rows[1].at("set"), json::array({"coarse.voxel=0.08"}));
+  EXPECT_TRUE(rows[1].contains("top1_by_sensor")) << "breakdowns go to the entry by its name";
+  const std::string fine = e2e::read_file(rows_dir + "/describe.shot.csv"), coarse = e2e::read_file(rows_dir + "/coarse.csv");
+  EXPECT_FALSE(fine.empty());
+  EXPECT_FALSE(coarse.empty());
+  EXPECT_NE(fine, coarse) << "the voxel setting reached the second entry only";
+
+  for (const char* bad : {"describe.esf,describe.esf", "two words=describe.esf", "=describe.esf", "a="}) {
+    const auto refused = e2e::run(bench + " --plugins '" + std::string(bad) + "' 2>&1");
+    EXPECT_NE(refused.status, 0) << bad;
+    EXPECT_NE(refused.output.find("--plugins"), std::string::npos) << refused.output;
+    EXPECT_EQ(refused.output.find("| describe.esf |"), std::string::npos) << refused.output;
+  }
+}
+
 TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
   const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views /nonexistent/views 2>&1");
   EXPECT_NE(r.status, 0);
