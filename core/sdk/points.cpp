@@ -9,12 +9,14 @@ void PointSet::reserve(size_t n) {
   index.reserve(n);
   if (has_intensity()) intensity.reserve(n);
   if (has_label()) label.reserve(n);
+  if (has_changed_against()) changed_against.reserve(n);
 }
 
 void PointSet::clear() {
   xyz.clear();
   intensity.clear();
   label.clear();
+  changed_against.clear();
   scan.clear();
   index.clear();
 }
@@ -26,6 +28,10 @@ void PointSet::push_back_from(const PointSet& other, size_t i) {
   else intensity.clear();
   if (other.has_label() && (first || has_label())) label.push_back(other.label[i]);
   else label.clear();
+  if (other.has_changed_against() && (first || has_changed_against()))
+    changed_against.push_back(other.changed_against[i]);
+  else
+    changed_against.clear();
   scan.push_back(other.scan.empty() ? 0u : other.scan[i]);
   index.push_back(other.index.empty() ? 0u : other.index[i]);
 }
@@ -42,6 +48,10 @@ void PointSet::append(const PointSet& other) {
     label.insert(label.end(), other.label.begin(), other.label.end());
   else
     label.clear();
+  if (other.has_changed_against() && (first || has_changed_against()))
+    changed_against.insert(changed_against.end(), other.changed_against.begin(), other.changed_against.end());
+  else
+    changed_against.clear();
   if (other.scan.size() == other.size()) scan.insert(scan.end(), other.scan.begin(), other.scan.end());
   else scan.resize(size(), 0u);
   if (other.index.size() == other.size()) index.insert(index.end(), other.index.begin(), other.index.end());
@@ -56,6 +66,7 @@ PointSet PointSet::select(const std::vector<uint32_t>& indices) const {
     out.xyz.push_back(xyz[i]);
     if (has_intensity()) out.intensity.push_back(intensity[i]);
     if (has_label()) out.label.push_back(label[i]);
+    if (has_changed_against()) out.changed_against.push_back(changed_against[i]);
     out.scan.push_back(keep_scan ? scan[i] : 0u);
     out.index.push_back(keep_index ? index[i] : 0u);
   }
@@ -70,8 +81,16 @@ void PointSet::check_consistent() const {
   };
   if (!intensity.empty() && intensity.size() != n) bad("intensity", intensity.size());
   if (!label.empty() && label.size() != n) bad("label", label.size());
+  if (!changed_against.empty() && changed_against.size() != n) bad("changed_against", changed_against.size());
   if (scan.size() != n) bad("scan", scan.size());
   if (index.size() != n) bad("index", index.size());
+}
+
+uint8_t PointSet::changed_against_all() const {
+  if (!has_changed_against()) return changed_against_either;
+  uint8_t bits = 0;
+  for (uint8_t b : changed_against) bits |= b;
+  return bits;
 }
 
 Eigen::Vector3f PointSet::centroid() const {

@@ -9,10 +9,24 @@
 
 namespace lista {
 
+// Bits of PointSet::changed_against.
+enum ChangedAgainst : uint8_t {
+  changed_against_previous = 1,  // changed against the mission before
+  changed_against_next = 2,      // changed against the mission after
+  changed_against_either = 3,    // both, or (for a set without the channel) not known
+};
+
 struct PointSet {
   std::vector<Eigen::Vector3f> xyz;
   std::vector<float> intensity;  // empty, or one per point
   std::vector<uint32_t> label;   // empty, or one per point (ground-truth id)
+  // Change points only: empty (not known), or one per point, the
+  // ChangedAgainst bits naming the neighbouring missions (previous, next)
+  // against which the point was found changed. Matching pairs an object of
+  // mission m with one of m+1 only if it changed against m+1 and the other
+  // against m, and calls an unpaired middle-mission object added or removed
+  // by them.
+  std::vector<uint8_t> changed_against;
   std::vector<uint32_t> scan;    // index of the scan in its mission's poses.txt order
   std::vector<uint32_t> index;   // index of the point in its scan file (non-finite ones counted)
 
@@ -20,6 +34,7 @@ struct PointSet {
   bool empty() const { return xyz.empty(); }
   bool has_intensity() const { return !intensity.empty(); }
   bool has_label() const { return !label.empty(); }
+  bool has_changed_against() const { return !changed_against.empty(); }
 
   void reserve(size_t n);
   void clear();
@@ -33,6 +48,10 @@ struct PointSet {
   // Throws lista::Error if the optional channels and provenance do not have
   // one entry per point.
   void check_consistent() const;
+
+  // The ChangedAgainst bits of all points together; changed_against_either
+  // when the channel is empty (not known: either neighbour).
+  uint8_t changed_against_all() const;
 
   Eigen::Vector3f centroid() const;
   // Axis-aligned bounds; (0,0,0) for an empty set.

@@ -39,17 +39,19 @@ struct Decider {
     return true;
   }
 
-  bool changed(OccupancyReader& own, OccupancyReader* const* others, int n_others, const Voxel& v) const {
+  // The ChangedAgainst bits of voxel v of the own map against the previous
+  // and the next mission's (either may be null); 0 = not changed.
+  uint8_t changed(OccupancyReader& own, OccupancyReader* previous, OccupancyReader* next, const Voxel& v) const {
     float l_own;
-    if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return false;
+    if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return 0;
     const double p_own = probability(l_own);
-    for (int k = 0; k < n_others; ++k) {
+    auto against = [&](OccupancyReader* other) {
       float l_other;
-      if (!others[k]->logodds(v, l_other)) continue;  // unobserved there: unknown, not change
-      if (p_own - probability(l_other) <= c.change_threshold) continue;
-      if (clear_around(*others[k], v)) return true;
-    }
-    return false;
+      if (!other || !other->logodds(v, l_other)) return false;  // unobserved there: unknown, not change
+      if (p_own - probability(l_other) <= c.change_threshold) return false;
+      return clear_around(*other, v);
+    };
+    return uint8_t((against(previous) ? changed_against_previous : 0) | (against(next) ? changed_against_next : 0));
   }
 };
 
@@ -68,17 +70,14 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
     const Mission& mission = missions.missions[m];
     const size_t scans = mission.scans.size();
     std::vector<std::vector<uint32_t>> changed(scans);  // per scan: point positions in the PointSet
+    std::vector<std::vector<uint8_t>> against(scans);   // per scan: their ChangedAgainst bits
     std::vector<std::vector<uint64_t>> changed_voxels(scans);
 
 #pragma omp parallel num_threads(std::max(1, threads))
     {
       auto own = maps[m]->reader();
-      std::vector<std::unique_ptr<OccupancyReader>> other_readers;
-      if (m > 0) other_readers.push_back(maps[m - 1]->reader());
-      if (m + 1 < n) other_readers.push_back(maps[m + 1]->reader());
-      OccupancyReader* others[2] = {other_readers[0].get(),
-                                    other_readers.size() > 1 ? other_readers[1].get() : nullptr};
-      const int n_others = static_cast<int>(other_readers.size());
+      std::unique_ptr<OccupancyReader> previous = m > 0 ? maps[m - 1]->reader() : nullptr;
+      std::unique_ptr<OccupancyReader> next = m + 1 < n ? maps[m + 1]->reader() : nullptr;
 #pragma omp for schedule(dynamic, 1)
       for (long i = 0; i < static_cast<long>(scans); ++i) {
         const PointSet& pts = *mission.scans[i].points;
@@ -86,8 +85,9 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
             Eigen::Scaling(inv_res) * mission.sensor_to_common(static_cast<size_t>(i));
         for (size_t j = 0; j < pts.size(); ++j) {
           const Voxel v = voxel_of(to_index * pts.xyz[j].cast<double>());
-          if (decide.changed(*own, others, n_others, v)) {
+          if (const uint8_t bits = decide.changed(*own, previous.get(), next.get(), v)) {
             changed[i].push_back(static_cast<uint32_t>(j));
+            against[i].push_back(bits);
             changed_voxels[i].push_back(pack(v));
           }
         }
@@ -98,16 +98,21 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
     size_t total = 0;
     for (const auto& c : changed) total += c.size();
     set.reserve(total);
+    std::vector<uint8_t> bits;  // the scans have no such channel: set after the points
+    bits.reserve(total);
     for (size_t i = 0; i < scans; ++i) {
       const PointSet& pts = *mission.scans[i].points;
       const Eigen::Isometry3f to_common = mission.sensor_to_common(i).cast<float>();
-      for (uint32_t j : changed[i]) {
+      for (size_t k = 0; k < changed[i].size(); ++k) {
+        const uint32_t j = changed[i][k];
         set.push_back_from(pts, j);
+        bits.push_back(against[i][k]);
         set.xyz.back() = to_common * pts.xyz[j];
         set.scan.back() = static_cast<uint32_t>(i);  // provenance follows the mission's scan order
         if (pts.index.empty()) set.index.back() = j;
       }
     }
+    set.changed_against = std::move(bits);
     if (stats) {
       std::vector<uint64_t> all;
       for (auto& c : changed_voxels) all.insert(all.end(), c.begin(), c.end());

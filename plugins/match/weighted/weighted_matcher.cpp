@@ -178,11 +178,21 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
   UnionFind chains(n_obj);
   const double desc_scale = cfg.normalization == "max" ? descriptor_scale(objects, descriptors) : 0.0;
 
+  // Against which neighbouring missions each object changed (both when the
+  // changes carry no such channel).
+  std::vector<uint8_t> against(n_obj);
+  for (size_t i = 0; i < n_obj; ++i) against[i] = objects.objects[i].points.changed_against_all();
+
   for (size_t m = 0; m + 1 < n_missions; ++m) {
+    // A move from m to m+1 leaves change in both against each other: an
+    // object found only against m-1 (or m+2) is no candidate, or an object
+    // seen in two missions with no change between them would pair with a
+    // different one across the gap.
     std::vector<const Object*> a, b;
-    for (const Object& o : objects.objects) {
-      if (o.mission == m) a.push_back(&o);
-      if (o.mission == m + 1) b.push_back(&o);
+    for (size_t i = 0; i < n_obj; ++i) {
+      const Object& o = objects.objects[i];
+      if (o.mission == m && (against[i] & changed_against_next)) a.push_back(&o);
+      if (o.mission == m + 1 && (against[i] & changed_against_previous)) b.push_back(&o);
     }
     if (a.empty() || b.empty()) continue;
     PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale, fit);
@@ -260,11 +270,13 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
       c.cost = next[i] >= 0 ? next_cost[i] : prev_cost[i];
       c.confidence = 0.5 * (1.0 - ambiguity[i]) + 0.5 * g;
     } else {
-      // Gone by the next mission (or only in the first): removed; otherwise
-      // it appeared: added. A middle-mission object with no partner is
-      // reported as removed when a later mission exists.
-      c.status = o.mission + 1 < n_missions ? ChangeStatus::removed : ChangeStatus::added;
-      if (n_missions == 1) c.status = ChangeStatus::added;
+      // Changed against the next mission: gone by then, removed; else
+      // changed against the previous one only: it appeared, added. Without
+      // the channel (either), a middle-mission object counts as removed.
+      const bool gone_later = o.mission + 1 < n_missions && (against[i] & changed_against_next);
+      const bool new_here = o.mission > 0 && (against[i] & changed_against_previous);
+      c.status = gone_later || !new_here ? ChangeStatus::removed : ChangeStatus::added;
+      if (n_missions == 1 || o.mission + 1 == n_missions) c.status = ChangeStatus::added;
       // Unmatched: sure when no candidate came near, less so when one was
       // rejected only narrowly.
       const double alone = had_candidate[i] ? std::clamp(best_rejected[i] / max_cost, 0.0, 1.0) : 1.0;

@@ -37,6 +37,21 @@ using geometry::box_gap;
 
 uint64_t point_key(uint32_t scan, uint32_t index) { return (uint64_t(scan) << 32) | index; }
 
+// Appends the mission cloud's points `add` to an object. They carry no
+// change channel (they are the mission's points, not change points); they
+// are part of the same changed object, so they take its ChangedAgainst bits.
+void add_points(Object& o, const PointSet& cloud, const std::vector<uint32_t>& add) {
+  const bool known = o.points.has_changed_against();
+  const uint8_t bits = o.points.changed_against_all();
+  std::vector<uint8_t> against = std::move(o.points.changed_against);
+  o.points.changed_against.clear();
+  for (uint32_t i : add) o.points.push_back_from(cloud, i);
+  if (known) {
+    against.resize(o.points.size(), bits);
+    o.points.changed_against = std::move(against);
+  }
+}
+
 // Voxel coordinates packed into 64 bits (21 bits each, offset so that
 // +-100 km at 0.1 m fits).
 uint64_t voxel_key(const Eigen::Vector3i& v) {
@@ -387,10 +402,8 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     }
     ++st.completed;
     for (auto [o, add, cloud] : {std::tuple{&a, &ga.added, &ca}, std::tuple{&b, &gb.added, &cb}}) {
-      for (uint32_t i : *add) {
-        o->points.push_back_from(cloud->points, i);
-        owned[o->mission].insert(point_key(cloud->points.scan[i], cloud->points.index[i]));
-      }
+      add_points(*o, cloud->points, *add);
+      for (uint32_t i : *add) owned[o->mission].insert(point_key(cloud->points.scan[i], cloud->points.index[i]));
       st.points_added += add->size();
       o->update_geometry();
     }
@@ -429,10 +442,8 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       }
       if (add.empty()) continue;
       ++st.self_completed;
-      for (uint32_t i : add) {
-        o.points.push_back_from(cloud.points, i);
-        owned[o.mission].insert(point_key(cloud.points.scan[i], cloud.points.index[i]));
-      }
+      add_points(o, cloud.points, add);
+      for (uint32_t i : add) owned[o.mission].insert(point_key(cloud.points.scan[i], cloud.points.index[i]));
       st.points_added += add.size();
       o.update_geometry();
     }

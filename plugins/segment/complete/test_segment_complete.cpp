@@ -119,6 +119,25 @@ TEST(SegmentComplete, ShortMoveSliversGrowIntoWholeBoxes) {
   EXPECT_EQ(out.objects[1].id, 1);
 }
 
+// The points a completion adds are the mission's, not change points: they
+// take the object's ChangedAgainst bits, so matching still knows against
+// which mission each grown object changed.
+TEST(SegmentComplete, GrownPointsKeepTheObjectsChangedAgainstBits) {
+  const Scene s = make_scene();
+  ObjectSet in = slivers(s);
+  in.objects[0].points.changed_against.assign(in.objects[0].points.size(), changed_against_next);
+  in.objects[1].points.changed_against.assign(in.objects[1].points.size(), changed_against_previous);
+  const ObjectSet out = seg::complete_objects(in, s.missions, {}, nullptr);
+  ASSERT_EQ(out.objects.size(), 2u);
+  for (size_t k = 0; k < 2; ++k) {
+    const PointSet& p = out.objects[k].points;
+    EXPECT_GT(p.size(), in.objects[k].points.size());
+    p.check_consistent();
+    ASSERT_EQ(p.changed_against.size(), p.size());
+    EXPECT_EQ(p.changed_against_all(), k == 0 ? changed_against_next : changed_against_previous);
+  }
+}
+
 TEST(SegmentComplete, DisagreeingShapesAreLeftAlone) {
   // A's sliver of the moved box paired with a sliver of a tall static cabinet
   // in B: no rigid object has both grown shapes, so nothing changes.

@@ -85,6 +85,39 @@ TEST(VolumetricOpenVdb, OutputsOriginalPointsInCommonFrame) {
   }
 }
 
+// Missions A, A2 (a copy of A) and B: A has nothing to tell from A2; A2's
+// removed box changed against the next mission only, B's added box against
+// the previous one only. Matching relies on these bits to pair an object
+// only with a neighbour it changed against.
+TEST(VolumetricOpenVdb, EachChangePointNamesTheNeighboursItChangedAgainst) {
+  MissionSet three;
+  three.missions = {scene().missions[0], scene().missions[0], scene().missions[1]};
+  three.missions[1].name = "A2";
+  const MissionPoints ch = run_stage(volumetric::make_volumetric_openvdb(defaults()), three, 2);
+  ASSERT_EQ(ch.sets.size(), 3u);
+  for (const PointSet& s : ch.sets) {
+    s.check_consistent();
+    EXPECT_EQ(s.changed_against.size(), s.size());
+  }
+  EXPECT_EQ(ch.sets[0].size(), 0u) << "A and its copy A2 are the same";
+  const auto removed = raycast::label_counts(ch.sets[1]), added = raycast::label_counts(ch.sets[2]);
+  ASSERT_GT(removed.count(1), 0u);
+  ASSERT_GT(added.count(3), 0u);
+  for (size_t i = 0; i < ch.sets[1].size(); ++i)
+    if (ch.sets[1].label[i] == 1) EXPECT_EQ(ch.sets[1].changed_against[i], changed_against_next);
+  for (size_t i = 0; i < ch.sets[2].size(); ++i)
+    if (ch.sets[2].label[i] == 3) EXPECT_EQ(ch.sets[2].changed_against[i], changed_against_previous);
+  // With B in the middle (A, B, A2), B's added box changed against both.
+  three.missions = {scene().missions[0], scene().missions[1], scene().missions[0]};
+  three.missions[2].name = "A2";
+  const MissionPoints mid = run_stage(volumetric::make_volumetric_openvdb(defaults()), three, 2);
+  size_t both = 0, box = 0;
+  for (size_t i = 0; i < mid.sets[1].size(); ++i)
+    if (mid.sets[1].label[i] == 3) ++box, both += mid.sets[1].changed_against[i] == changed_against_either;
+  ASSERT_GT(box, 0u);
+  EXPECT_EQ(both, box);
+}
+
 TEST(VolumetricOpenVdb, SameResultForAnyThreadCount) {
   const MissionPoints one = run_stage(volumetric::make_volumetric_openvdb(defaults()), scene(), 1);
   const MissionPoints three = run_stage(volumetric::make_volumetric_openvdb(defaults()), scene(), 3);
