@@ -99,12 +99,17 @@ void write_perfect_run(const Truth& truth, const std::string& out_dir) {
     for (size_t j = 0; j < nm; ++j)
       if (rid.count({true_id, j})) o.history.push_back(rid.at({true_id, j}));
     if (o.status == "moved") {
-      // Partner: the next mission it is seen in, else the previous one.
+      // Partner: the nearest mission, later ones first, where it is seen
+      // in another pose (with 3+ missions it may stand still in between).
+      auto moved_in = [&](size_t j) {
+        const auto& pose = t.poses.at(truth.labels[j].name);
+        return rid.count({true_id, j}) && pose && poses_differ(*pose, *t.poses.at(m));
+      };
       long partner = -1;
       for (size_t j = k + 1; j < nm && partner < 0; ++j)
-        if (rid.count({true_id, j})) partner = long(j);
+        if (moved_in(j)) partner = long(j);
       for (long j = long(k) - 1; j >= 0 && partner < 0; --j)
-        if (rid.count({true_id, size_t(j)})) partner = j;
+        if (moved_in(size_t(j))) partner = j;
       if (partner >= 0) {
         const std::string& pm = truth.labels[size_t(partner)].name;
         o.match = rid.at({true_id, size_t(partner)});

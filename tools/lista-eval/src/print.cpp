@@ -44,15 +44,15 @@ std::string format_table(const Score& s, bool objects) {
   out += "  (t_err_m, r_err_deg: medians over correctly matched moved objects)\n";
   if (objects) {
     out += "per truly changed object (report -1: none paired; match: the report's / the right one)\n";
-    std::snprintf(line, sizeof line, "  %-12s %6s %-16s %-8s %7s %6s %5s %-8s %13s %8s %9s  %s\n", "mission",
+    std::snprintf(line, sizeof line, "  %-12s %6s %-16s %-14s %7s %6s %5s %-8s %13s %8s %9s  %s\n", "mission",
                   "truth", "class", "status", "points", "report", "iou", "reported", "match", "t_err_m", "r_err_deg",
                   "verdict");
     out += line;
     for (const auto& v : s.verdicts) {
-      const std::string match = v.truth_status == "moved"
+      const std::string match = v.moved_elsewhere || v.truth_status == "moved"
           ? std::to_string(v.report_match) + " / " + std::to_string(v.expected_match) : "-";
-      std::snprintf(line, sizeof line, "  %-12s %6u %-16.16s %-8s %7zu %6d %5s %-8s %13s %8s %9s  %s\n",
-                    v.mission.c_str(), v.truth_id, v.class_name.c_str(), v.truth_status.c_str(), v.truth_points,
+      std::snprintf(line, sizeof line, "  %-12s %6u %-16.16s %-14s %7zu %6d %5s %-8s %13s %8s %9s  %s\n",
+                    v.mission.c_str(), v.truth_id, v.class_name.c_str(), v.truth_statuses.c_str(), v.truth_points,
                     v.report_id, v.report_id >= 0 ? num(v.iou, "%.2f").c_str() : "-",
                     v.report_id >= 0 ? v.report_status.c_str() : "-", match.c_str(),
                     std::isnan(v.translation_error_m) ? "-" : num(v.translation_error_m, "%.3f").c_str(),
@@ -103,6 +103,7 @@ std::string format_json(const Score& s) {
                         {"truth_id", v.truth_id},
                         {"class", v.class_name},
                         {"truth_status", v.truth_status},
+                        {"truth_statuses", v.truth_statuses},
                         {"truth_points", v.truth_points},
                         {"report_id", v.report_id},
                         {"iou", v.iou},

@@ -107,6 +107,8 @@ std::vector<ObjectVerdict> verdicts(const Truth& truth, const std::map<std::pair
       v.truth_id = id;
       if (const io::TruthObject* o = truth.object(id)) v.class_name = o->class_name;
       v.truth_status = it->second;
+      for (const std::string& a : truth.accepted.at(id).at(m))
+        v.truth_statuses += (v.truth_statuses.empty() ? "" : "/") + a;
       v.truth_points = pts->second;
       if (auto r = report_of.find({k, id}); r != report_of.end()) {
         v.report_id = r->second;
@@ -129,9 +131,13 @@ std::vector<ObjectVerdict> verdicts(const Truth& truth, const std::map<std::pair
       const auto t = truth_of.find(v.report_match);
       v.match_right = v.report_id >= 0 && t != truth_of.end() && t->second == id &&
                       by_id.at(v.report_match)->mission != m;
-      v.moved_elsewhere = v.truth_status == "moved" && seen_elsewhere;
+      const std::set<std::string>& accepted = truth.accepted.at(id).at(m);
+      const bool status_right = accepted.count(v.report_status) > 0;
+      // A move is scored by its match unless the report rightly gave the
+      // object's other status (moved into C, then removed in D: 'removed').
+      v.moved_elsewhere = accepted.count("moved") && seen_elsewhere && (v.report_status == "moved" || !status_right);
       if (v.report_id < 0) v.verdict = "missed";
-      else if (v.report_status != v.truth_status) v.verdict = "status";
+      else if (!status_right) v.verdict = "status";
       else if (v.moved_elsewhere && v.expected_match < 0) v.verdict = "partner missed";
       else if (v.moved_elsewhere && !v.match_right) v.verdict = "match";
       else v.verdict = "ok";
@@ -209,7 +215,7 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
       report_of[{k, c.id}] = c.rep;
       pair_iou[{k, c.id}] = c.iou;
       ++os.paired;
-      if (by_id[c.rep]->status == truth.status.at(c.id).at(m)) ++os.status_correct;
+      if (truth.accepted.at(c.id).at(m).count(by_id[c.rep]->status)) ++os.status_correct;
     }
     score.objects.push_back(os);
   }
@@ -239,6 +245,8 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     v.rotation_error_deg = Eigen::AngleAxisd(rep_t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI;
     // Translation error at the object's centroid, so it does not grow with the distance to the origin.
     v.translation_error_m = (rep_t * r.centroid - truth_t * r.centroid).norm();
+    if (v.verdict == "ok" && (v.rotation_error_deg > kPoseOffDegrees || v.translation_error_m > kPoseOffMeters))
+      v.verdict = "pose off";
     os.translation_error_m.push_back(v.translation_error_m);
     os.rotation_error_deg.push_back(v.rotation_error_deg);
   }

@@ -36,6 +36,12 @@ struct ObjectScore {
   double match_accuracy() const;
 };
 
+// A correctly matched move whose transform is further than this from the
+// truth gets the verdict "pose off" (three times the contract's 5 degrees / 5 cm
+// that make a move).
+constexpr double kPoseOffDegrees = 15.0;
+constexpr double kPoseOffMeters = 0.15;
+
 // What became of one truly changed object in one mission: which report it
 // was paired with and whether status and match are right. For finding out
 // why a run scores as it does (lista-eval --objects).
@@ -44,6 +50,9 @@ struct ObjectVerdict {
   uint32_t truth_id = 0;
   std::string class_name;
   std::string truth_status;  // moved / removed / added
+  // Every status the truth accepts here (Truth::accepted), e.g.
+  // "moved/removed" for an object moved into this mission and gone in the next.
+  std::string truth_statuses;
   size_t truth_points = 0;   // the object's points in this mission
   int report_id = -1;        // -1: no report paired (IoU <= 0.5)
   double iou = 0.0;          // of the pair; 0 if none
@@ -56,7 +65,9 @@ struct ObjectVerdict {
   double translation_error_m = kUndefined, rotation_error_deg = kUndefined;
   // "ok", "missed" (no report paired), "status" (wrong status), "match"
   // (moved, its match names another report), "partner missed" (moved, the
-  // other view was not paired with any report).
+  // other view was not paired with any report), "pose off" (matched right,
+  // but its transform is more than kPoseOffDegrees or kPoseOffMeters from
+  // the truth: a symmetric object registered half-turned, say).
   std::string verdict;
 };
 

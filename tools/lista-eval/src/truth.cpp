@@ -84,10 +84,25 @@ Truth load_truth(const std::string& dataset, const std::vector<std::string>& wan
       }
       // Removed wins over added, added over moved (exact for two missions).
       const char* s = later_absent ? "removed" : earlier_absent ? "added" : moved ? "moved" : nullptr;
-      if (s) {
-        t.status[id][names[k]] = s;
-        t.changed.insert(id);
+      if (!s) continue;
+      std::set<std::string> by_neighbours;
+      if (k + 1 < names.size()) {
+        if (!pose[k + 1]) by_neighbours.insert("removed");
+        else if (poses_differ(*pose[k], *pose[k + 1])) by_neighbours.insert("moved");
       }
+      if (k > 0) {
+        if (!pose[k - 1]) by_neighbours.insert("added");
+        else if (poses_differ(*pose[k], *pose[k - 1])) by_neighbours.insert("moved");
+      }
+      if (by_neighbours.empty()) by_neighbours.insert(s);
+      for (const char* first : {"moved", "removed", "added"})
+        if (by_neighbours.count(first)) {
+          s = first;
+          break;
+        }
+      t.status[id][names[k]] = s;
+      t.accepted[id][names[k]] = std::move(by_neighbours);
+      t.changed.insert(id);
     }
   }
   return t;

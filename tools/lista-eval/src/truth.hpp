@@ -31,7 +31,17 @@ struct Truth {
   std::vector<MissionTruth> labels;  // same order as missions
   std::set<uint32_t> dynamic;        // ids whose points are left out of every score
   std::set<uint32_t> changed;        // ids added, removed or moved between the compared missions
-  // status[id][mission] = "moved" / "removed" / "added" for a changed object present there.
+  // accepted[id][mission]: the statuses a report may give a changed object
+  // present there. With 3+ missions an object can change against both
+  // neighbours (moved from B to C, then removed in D: in C it is moved and
+  // removed), and a report gives one status, so either is right. From the
+  // neighbouring missions: gone in the next one = removed, absent in the
+  // previous one = added, posed differently in either = moved. An object
+  // that changed only between missions further apart gets the status of
+  // the whole sequence (removed over added over moved).
+  std::map<uint32_t, std::map<std::string, std::set<std::string>>> accepted;
+  // status[id][mission]: the one status shown for it (the first accepted of
+  // moved, removed, added).
   std::map<uint32_t, std::map<std::string, std::string>> status;
 
   const io::TruthObject* object(uint32_t id) const;

@@ -30,6 +30,26 @@ Eigen::Matrix4d translation(double x, double y, double z) {
   return m;
 }
 
+// Writes mission `name` under `root`: one scan holding, per (label, n), n
+// points of that label (~0u: non-finite), and its true pose `gt`.
+void write_mission(const fs::path& root, const std::string& name, const std::vector<std::pair<uint32_t, int>>& runs,
+                 const Eigen::Matrix4d& gt) {
+  fs::create_directories(root / name / "scans");
+  PointSet p;
+  for (const auto& [label, n] : runs)
+    for (int i = 0; i < n; ++i) {
+      const float x = label == ~0u ? NAN : float(label) + 0.1f * float(i);
+      p.xyz.emplace_back(x, 1.f, 0.f);
+      p.intensity.push_back(1.f);
+      p.label.push_back(label == ~0u ? 0 : label);
+    }
+  io::write_scan_pcd((root / name / "scans" / "000000.pcd").string(), p);
+  io::PoseRecord r;
+  io::write_poses((root / name / "poses.txt").string(), {r});
+  r.pose.matrix() = gt;
+  io::write_poses((root / name / "poses_gt.txt").string(), {r});
+}
+
 // Mission A: 10 structure, obj 1 (static) x4, obj 2 (removed) x4, obj 4 (moved) x4,
 // obj 5 (dynamic) x2, one NaN point. Mission B: 10 structure, obj 1 x4, obj 3
 // (added) x4, obj 4 x4. File order is the order listed; the NaN point is index 10.
@@ -39,8 +59,8 @@ struct Dataset {
   // (B): structure 0-9, obj1 10-13, obj3 14-17, obj4 18-21
   Dataset() {
     root = io::testing::scratch_path("eval_ds");
-    write_mission("A", {{0, 10}, {~0u, 1}, {1, 4}, {2, 4}, {4, 4}, {5, 2}}, Eigen::Matrix4d::Identity());
-    write_mission("B", {{0, 10}, {1, 4}, {3, 4}, {4, 4}}, translation(0, 0.3, 0));
+    write_mission(root, "A", {{0, 10}, {~0u, 1}, {1, 4}, {2, 4}, {4, 4}, {5, 2}}, Eigen::Matrix4d::Identity());
+    write_mission(root, "B", {{0, 10}, {1, 4}, {3, 4}, {4, 4}}, translation(0, 0.3, 0));
     io::GroundTruth g;
     g.missions = {"A", "B"};
     g.mission_to_world = {{"A", Eigen::Matrix4d::Identity()}, {"B", Eigen::Matrix4d::Identity()}};
@@ -59,23 +79,6 @@ struct Dataset {
     obj(4, "cart", false, I, translation(1, 0, 0));
     obj(5, "person", true, I, std::nullopt);
     io::write_ground_truth((root / "ground_truth.json").string(), g);
-  }
-  void write_mission(const std::string& name, const std::vector<std::pair<uint32_t, int>>& runs,
-                     const Eigen::Matrix4d& gt) {
-    fs::create_directories(root / name / "scans");
-    PointSet p;
-    for (const auto& [label, n] : runs)
-      for (int i = 0; i < n; ++i) {
-        const float x = label == ~0u ? NAN : float(label) + 0.1f * float(i);
-        p.xyz.emplace_back(x, 1.f, 0.f);
-        p.intensity.push_back(1.f);
-        p.label.push_back(label == ~0u ? 0 : label);
-      }
-    io::write_scan_pcd((root / name / "scans" / "000000.pcd").string(), p);
-    io::PoseRecord r;
-    io::write_poses((root / name / "poses.txt").string(), {r});
-    r.pose.matrix() = gt;
-    io::write_poses((root / name / "poses_gt.txt").string(), {r});
   }
 };
 
@@ -159,6 +162,69 @@ TEST(Eval, TruthStatusesFollowTheContract) {
   EXPECT_EQ(t.status.at(4).at("B"), "moved");
   EXPECT_FALSE(t.status.count(1));
   EXPECT_EQ(t.labels[0].labels[0][10], eval::kNoPoint);
+}
+
+// Three missions: an object moved A->B and gone in C is in B moved and
+// removed at once, one that arrived in B and moved in C is added and moved;
+// a report may give either. One that stood still A->B and moved B->C
+// changed against A only through C: its one status is the sequence's.
+TEST(Eval, WithThreeMissionsEveryStatusOfANeighbouringChangeIsRight) {
+  const fs::path root = io::testing::scratch_path("eval_ds3");
+  const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
+  write_mission(root, "A", {{0, 10}, {6, 4}, {8, 4}}, I);
+  write_mission(root, "B", {{0, 10}, {6, 4}, {7, 4}, {8, 4}}, I);
+  write_mission(root, "C", {{0, 10}, {7, 4}, {8, 4}}, I);
+  io::GroundTruth g;
+  g.missions = {"A", "B", "C"};
+  g.mission_to_world = {{"A", I}, {"B", I}, {"C", I}};
+  auto obj = [&](int id, std::optional<Eigen::Matrix4d> a, std::optional<Eigen::Matrix4d> b,
+                 std::optional<Eigen::Matrix4d> c) {
+    io::TruthObject o;
+    o.id = id;
+    o.class_name = "box";
+    o.poses = {{"A", a}, {"B", b}, {"C", c}};
+    g.objects.push_back(o);
+  };
+  obj(6, I, translation(1, 0, 0), std::nullopt);
+  obj(7, std::nullopt, I, translation(0, 1, 0));
+  obj(8, I, I, translation(0, 0.5, 0));
+  io::write_ground_truth((root / "ground_truth.json").string(), g);
+  const eval::Truth t = eval::load_truth(root.string(), {}, 1);
+  using S = std::set<std::string>;
+  EXPECT_EQ(t.accepted.at(6).at("A"), S{"moved"});
+  EXPECT_EQ(t.accepted.at(6).at("B"), (S{"moved", "removed"}));
+  EXPECT_EQ(t.accepted.at(7).at("B"), (S{"added", "moved"}));
+  EXPECT_EQ(t.accepted.at(7).at("C"), S{"moved"});
+  EXPECT_EQ(t.accepted.at(8).at("A"), S{"moved"}) << "only through C";
+  EXPECT_EQ(t.status.at(6).at("B"), "moved");
+
+  // A run that calls B's object 6 removed and B's object 7 added has every
+  // status right; a perfect run from the truth too, with every move matched.
+  const fs::path run = run_dir("three");
+  write_changes(run, "A", {});
+  write_changes(run, "B", rows(range(10, 13, 0), range(14, 17, 1)));
+  write_changes(run, "C", {});
+  io::Report r;
+  r.missions = {"A", "B", "C"};
+  r.alignment = {{"A", I}, {"B", I}, {"C", I}};
+  r.objects = {robj(0, "B", "removed"), robj(1, "B", "added")};
+  io::write_report((run / "report.json").string(), r);
+  const eval::Score sc = eval::score_run(t, run.string());
+  const eval::ObjectScore& b = sc.objects.at(1);
+  EXPECT_EQ(b.paired, 2u);
+  EXPECT_EQ(b.status_correct, 2u);
+  // Of B's moves only object 8's (not reported) counts: 6 and 7 rightly
+  // got their other status, which is no missed match.
+  EXPECT_EQ(b.moved, 1u);
+  EXPECT_EQ(b.moved_matched, 0u);
+
+  const fs::path perfect = io::testing::scratch_path("eval_perfect3");
+  eval::write_perfect_run(t, perfect.string());
+  const eval::Score ps = eval::score_run(t, perfect.string());
+  const eval::ObjectScore& all = ps.objects.back();
+  EXPECT_EQ(all.status_correct, all.paired);
+  EXPECT_EQ(all.moved_matched, all.moved);
+  EXPECT_GT(all.moved, 0u);
 }
 
 TEST(Eval, PerfectRunScoresOneEverywhere) {
