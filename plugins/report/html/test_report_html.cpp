@@ -287,4 +287,33 @@ TEST(ReportHtml, EachChangeMapShowsOnlyItsPairsChanges) {
   for (int id : {3, 4, 5}) EXPECT_TRUE(labelled(bc, id)) << id;  // the B -> C move, B's removal
   for (int id : {0, 2}) EXPECT_FALSE(labelled(bc, id)) << id;
   fs::remove_all(dir);
+
+  // When the change points say B's object 5 changed against A as well (it
+  // arrived in B and left before C), it is A -> B's arrival, in green, and
+  // B -> C's removal, in red, though its one status is 'removed'.
+  for (auto& o : s.objects.objects)
+    if (o.id == 5) o.points.changed_against.assign(o.points.size(), lista::changed_against_either);
+  const fs::path both = write_report(s, "three_both", false);
+  const std::string html2 = read(both / "report.html");
+  const size_t second2 = html2.find("<svg class=\"topdown\"", html2.find("<svg class=\"topdown\"") + 1);
+  const std::string ab2 = html2.substr(0, second2), bc2 = html2.substr(second2);
+  EXPECT_TRUE(labelled(ab2, 5));
+  EXPECT_TRUE(labelled(bc2, 5));
+  auto label_colour = [](const std::string& map, int id) {
+    const size_t at = map.find("class=\"object-label\">" + std::to_string(id) + "</text>");
+    const size_t fill = map.rfind("fill=\"", at);
+    return map.substr(fill + 6, map.find('"', fill + 6) - fill - 6);
+  };
+  EXPECT_EQ(label_colour(ab2, 5), label_colour(ab2, 1)) << "arrival colour, as B's added object 1";
+  EXPECT_NE(label_colour(ab2, 5), label_colour(bc2, 5));
+  // Changed against C only: not in A -> B at all.
+  for (auto& o : s.objects.objects)
+    if (o.id == 5) o.points.changed_against.assign(o.points.size(), lista::changed_against_next);
+  const fs::path next = write_report(s, "three_next", false);
+  const std::string html3 = read(next / "report.html");
+  const size_t second3 = html3.find("<svg class=\"topdown\"", html3.find("<svg class=\"topdown\"") + 1);
+  EXPECT_FALSE(labelled(html3.substr(0, second3), 5));
+  EXPECT_TRUE(labelled(html3.substr(second3), 5));
+  fs::remove_all(both);
+  fs::remove_all(next);
 }

@@ -11,21 +11,33 @@ namespace lista::report_html {
 
 namespace {
 
-// The changes between missions a and b (= a + 1) and no others: what left
-// a, what arrived in b, and the moves from one to the other. With three or
+// What an object is in the map of missions a and b (= a + 1): what left a
+// ("removed"), what arrived in b ("added"), one end of a move from one to
+// the other ("moved"), or nothing ("": another pair's change). With three or
 // more missions an object of b may also move on to c, or leave before c;
-// that belongs to the next map.
-bool belongs_to_pair(const ObjectView& v, const ReportModel& model, size_t a, size_t b) {
+// that belongs to the next map. Which neighbour an unpaired object changed
+// against comes from its change points (PointSet::changed_against): a desk
+// that arrived in b and left before c is an arrival here, whatever its one
+// status says; without that channel the status decides.
+std::string status_in_pair(const ObjectView& v, const ReportModel& model, size_t a, size_t b) {
   const size_t m = v.object->mission;
-  if (m != a && m != b) return false;
-  if (v.status == ChangeStatus::removed) return m == a;
-  if (v.status == ChangeStatus::added) return m == b;
+  if (m != a && m != b) return "";
   const size_t other = m == a ? b : a;
-  if (const ObjectView* p = v.match >= 0 ? model.find(v.match) : nullptr; p && p->object->mission == other)
-    return true;
-  for (const auto& o : model.objects)  // its partner may name it while its own match points on
-    if (o.match == v.object->id && o.object->mission == other) return true;
-  return false;
+  if (v.status == ChangeStatus::moved) {
+    if (const ObjectView* p = v.match >= 0 ? model.find(v.match) : nullptr; p && p->object->mission == other)
+      return "moved";
+    for (const auto& o : model.objects)  // its partner may name it while its own match points on
+      if (o.match == v.object->id && o.object->mission == other) return "moved";
+  }
+  if (!v.object->points.has_changed_against()) {
+    if (v.status == ChangeStatus::removed && m == a) return "removed";
+    if (v.status == ChangeStatus::added && m == b) return "added";
+    return "";
+  }
+  const uint8_t bits = v.object->points.changed_against_all();
+  if (m == a && (bits & changed_against_next)) return "removed";
+  if (m == b && (bits & changed_against_previous)) return "added";
+  return "";
 }
 
 struct Raster {
@@ -76,8 +88,6 @@ void write_png(void* context, void* data, int size) {
   out->insert(out->end(), bytes, bytes + size);
 }
 
-std::string status_name(const ObjectView& v) { return to_string(v.status); }
-
 }  // namespace
 
 std::string render_topdown(const MissionSet& missions, const ReportModel& model, size_t a, size_t b,
@@ -91,10 +101,14 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
     hi = hi.cwiseMax(p.head<2>().cast<double>());
   };
   for (const auto& p : map) grow(p);
-  std::vector<const ObjectView*> shown;
+  struct Shown {
+    const ObjectView* view;
+    std::string status;  // in this pair (status_in_pair)
+  };
+  std::vector<Shown> shown;
   for (const auto& v : model.objects)
-    if (belongs_to_pair(v, model, a, b)) {
-      shown.push_back(&v);
+    if (std::string st = status_in_pair(v, model, a, b); !st.empty()) {
+      shown.push_back({&v, std::move(st)});
       grow(v.object->bbox_min);
       grow(v.object->bbox_max);
     }
@@ -134,9 +148,9 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
   }
   // Object points on top, coloured by status; the later mission of a moved
   // pair is drawn darker so both places can be told apart.
-  for (const ObjectView* v : shown) {
-    Rgb colour = status_colour(status_name(*v));
-    if (v->status == ChangeStatus::moved && v->object->mission == b)
+  for (const auto& [v, status] : shown) {
+    Rgb colour = status_colour(status);
+    if (status == "moved" && v->object->mission == b)
       colour = {uint8_t(colour.r / 2), uint8_t(colour.g / 2), uint8_t(colour.b / 2 + 60)};
     for (const auto& p : v->object->points.xyz) {
       const int c = r.col(p.x()), w = r.row(p.y());
@@ -162,17 +176,17 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
   svg += "<image width=\"" + std::to_string(r.width) + "\" height=\"" + std::to_string(r.height) +
          "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
   const double font = std::max(10.0, r.width / 70.0);
-  for (const ObjectView* v : shown) {
+  for (const auto& [v, status] : shown) {
     const auto [x0, y0] = px(Eigen::Vector3f(v->object->bbox_min.x(), v->object->bbox_max.y(), 0));
     const auto [x1, y1] = px(Eigen::Vector3f(v->object->bbox_max.x(), v->object->bbox_min.y(), 0));
-    const Rgb colour = status_colour(status_name(*v));
+    const Rgb colour = status_colour(status);
     svg += "<rect x=\"" + fmt(x0, 1) + "\" y=\"" + fmt(y0, 1) + "\" width=\"" + fmt(x1 - x0, 1) +
            "\" height=\"" + fmt(y1 - y0, 1) + "\" fill=\"none\" stroke=\"" + colour.css() +
            "\" stroke-width=\"" + fmt(font / 6, 1) + "\"/>\n";
     svg += "<text x=\"" + fmt(x1 + 2, 1) + "\" y=\"" + fmt(y0 + font * 0.8, 1) + "\" font-size=\"" +
            fmt(font, 1) + "\" fill=\"" + colour.css() + "\" class=\"object-label\">" +
            std::to_string(v->object->id) + "</text>\n";
-    if (v->status == ChangeStatus::moved && v->object->mission == a && v->match >= 0) {
+    if (status == "moved" && v->object->mission == a && v->match >= 0) {
       const ObjectView* partner = model.find(v->match);
       if (partner && partner->object->mission == b) {
         const auto [ax, ay] = px(v->object->centroid);
