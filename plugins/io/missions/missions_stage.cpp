@@ -23,24 +23,45 @@ Eigen::Vector3d local_origin(const MissionSet& set) {
   return Eigen::Vector3d::Zero();
 }
 
-// "scan_2.pcd", "scan_10.pcd": numbers of different widths sort by character,
-// not by value, and poses.txt pairs its lines with scans in file-name order.
-// The first pair out of numeric order, or "" when the names agree.
-std::string misordered_scan_names(const Mission& m) {
-  long long last = -1;
-  std::string last_name;
-  for (const auto& scan : m.scans) {
-    const std::string name = std::filesystem::path(scan.file).filename().string();
-    const std::string stem = std::filesystem::path(scan.file).stem().string();
-    size_t end = stem.size(), begin = end;
-    while (begin > 0 && std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) --begin;
-    if (begin == end || end - begin > 18) return {};  // no number to judge by
-    const long long value = std::stoll(stem.substr(begin));
-    if (value < last) return last_name + " sorts before " + name;
-    last = value;
-    last_name = name;
+// Natural order: runs of digits compare by value ("week2" before "week10",
+// "scan_2" before "scan_10"), everything else by character.
+bool natural_less(const std::string& a, const std::string& b) {
+  size_t i = 0, j = 0;
+  auto digit = [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; };
+  while (i < a.size() && j < b.size()) {
+    if (digit(a[i]) && digit(b[j])) {
+      size_t ei = i, ej = j;
+      while (ei < a.size() && digit(a[ei])) ++ei;
+      while (ej < b.size() && digit(b[ej])) ++ej;
+      // Compare values without overflow: strip leading zeros, then length, then digits.
+      size_t zi = i, zj = j;
+      while (zi + 1 < ei && a[zi] == '0') ++zi;
+      while (zj + 1 < ej && b[zj] == '0') ++zj;
+      if (ei - zi != ej - zj) return ei - zi < ej - zj;
+      if (int c = a.compare(zi, ei - zi, b, zj, ej - zj); c != 0) return c < 0;
+      i = ei, j = ej;
+    } else {
+      if (a[i] != b[j]) return a[i] < b[j];
+      ++i, ++j;
+    }
   }
+  return a.size() - i < b.size() - j;
+}
+
+// Names sorted by character whose numbers say otherwise ("scan_10" sorts
+// before "scan_2", "week10" before "week2"): the first such pair as
+// "<a> sorts before <b>", or "" when the two orders agree.
+std::string misordered(const std::vector<std::string>& sorted_names) {
+  for (size_t k = 1; k < sorted_names.size(); ++k)
+    if (natural_less(sorted_names[k], sorted_names[k - 1]))
+      return sorted_names[k - 1] + " sorts before " + sorted_names[k];
   return {};
+}
+
+std::string misordered_scan_names(const Mission& m) {
+  std::vector<std::string> names;
+  for (const auto& scan : m.scans) names.push_back(std::filesystem::path(scan.file).filename().string());
+  return misordered(names);
 }
 
 class MissionsStage : public Stage {
@@ -54,6 +75,11 @@ class MissionsStage : public Stage {
       throw Error("no dataset: set 'path' or give the run a dataset (lista-run --dataset DIR)");
     const std::vector<std::string> names = missions_.empty() ? list_missions(dataset) : missions_;
     if (names.size() < 2) ctx.warn(dataset + ": only one mission; change detection needs two or more");
+    // Missions are compared in sorted-name order (data contract) unless
+    // listed; week10 before week2 is rarely what was meant.
+    if (const std::string pair = missions_.empty() ? misordered(names) : ""; !pair.empty())
+      ctx.warn(dataset + ": mission " + pair + " by name, and missions are compared in name order: list them in " +
+               "the order they were recorded (--set " + ctx.stage_id() + ".missions=[...]) or zero-pad the numbers");
     DatasetOptions opt;
     opt.threads = ctx.threads();
     MissionSet set;
@@ -89,6 +115,10 @@ class MissionsStage : public Stage {
           std::all_of(m.scans.begin(), m.scans.end(), [](const Scan& s) { return s.pose.isApprox(Eigen::Isometry3d::Identity()); }))
         ctx.warn("mission '" + m.name + "': every scan's VIEWPOINT is the identity; if the scans are in the sensor "
                  "frame, give their poses in poses.txt and put them in scans/ (docs/formats.md)");
+      // Nothing to align or compare; later stages would blame the poses.
+      if (m.point_count() == 0)
+        throw Error("mission '" + m.name + "': none of its " + std::to_string(m.scans.size()) +
+                    " scans has a finite point; leave it out with --set " + ctx.stage_id() + ".missions=[...]");
       std::vector<std::string> empty;
       for (const auto& scan : m.scans)
         if (scan.points && scan.points->empty()) empty.push_back(std::filesystem::path(scan.file).filename().string());

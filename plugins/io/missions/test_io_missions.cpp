@@ -122,6 +122,52 @@ TEST(IoMissions, UnpaddedScanNumbersAreWarnedAbout) {
   EXPECT_EQ(padded.find("sorts before"), std::string::npos) << padded;
 }
 
+// Missions week2, week9, week10 are compared in name order (the contract:
+// week10, week2, week9) unless listed: a warning says how to list them;
+// listed, or dated names whose orders agree, say nothing.
+TEST(IoMissions, MissionNamesOutOfNumericOrderAreWarnedAbout) {
+  const fs::path root = make_dataset("weeks");
+  fs::rename(root / "t0", root / "week2");
+  fs::copy(root / "week2", root / "week9", fs::copy_options::recursive);
+  fs::rename(root / "t1", root / "week10");
+  const std::string all = messages_reading(root);
+  EXPECT_NE(all.find("mission week10 sorts before week2 by name"), std::string::npos) << all;
+  EXPECT_NE(all.find(".missions=[...]"), std::string::npos) << all;
+
+  BasicContext ctx;
+  io_test::make_stage("io.missions", {{"path", root.string()},
+                                      {"missions", std::vector<std::string>{"week2", "week9", "week10"}}})
+      ->run(Inputs{}, ctx);
+  for (const auto& m : ctx.messages) EXPECT_EQ(m.find("sorts before"), std::string::npos) << m;
+
+  const fs::path dated = make_dataset("dated");
+  fs::rename(dated / "t0", dated / "2026-05-30");
+  fs::rename(dated / "t1", dated / "2026-06-02");
+  EXPECT_EQ(messages_reading(dated).find("sorts before"), std::string::npos);
+}
+
+// A mission whose scans hold no finite point cannot be aligned or compared:
+// one error naming it and the way to leave it out, not a pose error later.
+TEST(IoMissions, AMissionWithNoPointsIsAnError) {
+  const fs::path root = make_dataset("no_points");
+  for (int s = 0; s < 2; ++s) {
+    PointSet p;
+    p.xyz.emplace_back(NAN, 0.f, 0.f);
+    io::write_scan_pcd((root / "t1" / "scans" / ("00" + std::to_string(s) + ".pcd")).string(), p);
+  }
+  BasicContext ctx("load", 1);
+  ctx.info.dataset = root.string();
+  try {
+    io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("mission 't1': none of its 2 scans has a finite point; leave it out with "
+                                         "--set load.missions=[...]"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 // Sensor-frame scans dropped into mission folders without poses.txt read
 // as map-frame scans whose VIEWPOINT (PCL's default) is the identity.
 TEST(IoMissions, ScansWithoutPosesAreWarnedAbout) {

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -35,6 +36,26 @@ void warn_if_other_dataset(const lista::io::Report& report, const std::string& d
   if (made_from.empty() || !fs::is_directory(made_from, ec) || fs::equivalent(made_from, dataset, ec)) return;
   std::cerr << "lista-eval: warning: the run was made from " << made_from << " (report.json provenance), not "
             << dataset << "; its scores against this dataset mean nothing\n";
+}
+
+// The truth's statuses follow the run's mission order (what is earlier is
+// what an object was removed from). ground_truth.json lists its missions in
+// recording order; a run that compared them in another order (week10 sorts
+// before week2) is scored on its own terms, which are not the dataset's.
+void warn_if_other_order(const lista::eval::Truth& truth, const std::vector<std::string>& compared) {
+  std::vector<std::string> recorded;
+  for (const auto& m : truth.gt.missions)
+    if (std::find(compared.begin(), compared.end(), m) != compared.end()) recorded.push_back(m);
+  if (recorded.size() != compared.size() || recorded == compared) return;
+  auto join = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& m : v) s += (s.empty() ? "" : ", ") + m;
+    return s;
+  };
+  std::cerr << "lista-eval: warning: the run compared the missions in the order " << join(compared)
+            << ", ground_truth.json lists them as " << join(recorded)
+            << "; added and removed are scored in the run's order (list the missions in the pipeline: "
+               "--set <load stage>.missions=[...])\n";
 }
 
 }  // namespace
@@ -69,6 +90,7 @@ int main(int argc, char** argv) {
     const lista::io::Report report = lista::io::read_report(report_path);
     const lista::eval::Truth truth = lista::eval::load_truth(dataset, report.missions, threads);
     warn_if_other_dataset(report, dataset);  // a dataset that cannot be read is an error, not this warning
+    warn_if_other_order(truth, report.missions);
     const lista::eval::Score score = lista::eval::score_run(truth, run);
     std::cout << (json ? lista::eval::format_json(score) : lista::eval::format_table(score, objects));
     return 0;

@@ -349,6 +349,25 @@ TEST(Eval, VerdictsNameWrongStatusAndWrongMatch) {
   EXPECT_EQ(s.objects.back().match_accuracy(), 0.0);
 }
 
+// A run that compared B before A (names sorted otherwise than recorded)
+// is scored in its own order, with a warning naming both orders.
+TEST(Eval, ARunInAnotherMissionOrderThanTheTruthsIsWarnedAbout) {
+  const std::string ds = dataset().root.string();
+  const fs::path run = run_dir("reversed");
+  io::Report r = empty_report();
+  r.missions = {"B", "A"};
+  io::write_report((run / "report.json").string(), r);
+  write_changes(run, "A", {});
+  write_changes(run, "B", {});
+  const auto [rc, err] = run_tool("--dataset " + ds + " --run " + run.string());
+  EXPECT_EQ(rc, 0) << err;
+  EXPECT_NE(err.find("warning: the run compared the missions in the order B, A, ground_truth.json lists them as A, B"),
+            std::string::npos)
+      << err;
+  io::write_report((run / "report.json").string(), empty_report());
+  EXPECT_EQ(run_tool("--dataset " + ds + " --run " + run.string()).second.find("order"), std::string::npos);
+}
+
 TEST(Eval, ContractBreaksGiveOneLineErrorsAndNonZeroExit) {
   const std::string ds = dataset().root.string();
   const fs::path run = run_dir("broken");
