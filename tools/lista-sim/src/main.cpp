@@ -51,7 +51,8 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
     total += stats.points_per_mission[i];
   }
   std::map<std::string, int> kinds;
-  for (const auto& [id, kind] : scenario.change_kind) ++kinds[kind];
+  for (const auto& [id, changes] : scenario.change_kind)
+    for (const auto& kind : changes) ++kinds[kind];
   std::printf("changes:");
   for (const auto& [kind, n] : kinds) std::printf(" %s %d,", kind.c_str(), n);
   std::printf(" objects %zu\n", scenario.missions.front().objects.size());

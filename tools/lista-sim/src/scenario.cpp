@@ -152,7 +152,7 @@ void apply_changes(Scenario& sc, MissionPlan& m, const ChangeParams& p, uint32_t
     regions.regions.push_back(f);
     m.objects.erase(id);
     changed.insert(id);
-    sc.change_kind[id] = "removed";
+    sc.change_kind[id].push_back("removed");
     ++removed;
   }
 
@@ -169,7 +169,8 @@ void apply_changes(Scenario& sc, MissionPlan& m, const ChangeParams& p, uint32_t
       regions.regions.push_back(fb);
       changed.insert(a);
       changed.insert(b);
-      sc.change_kind[a] = sc.change_kind[b] = "swapped";
+      sc.change_kind[a].push_back("swapped");
+      sc.change_kind[b].push_back("swapped");
       ++swapped;
       break;
     }
@@ -206,7 +207,7 @@ void apply_changes(Scenario& sc, MissionPlan& m, const ChangeParams& p, uint32_t
     }
     if (!done) continue;
     changed.insert(id);
-    sc.change_kind[id] = short_move ? "moved (short)" : "moved";
+    sc.change_kind[id].push_back(short_move ? "moved (short)" : "moved");
     ++moved;
   }
 
@@ -218,7 +219,7 @@ void apply_changes(Scenario& sc, MissionPlan& m, const ChangeParams& p, uint32_t
     const int shape = (!existing.empty() && rng.chance(0.3)) ? existing[size_t(rng.integer(0, int(existing.size()) - 1))]
                                                              : new_shape(sc, p, rng);
     if (place_new(sc, world, m.objects, shape, next_id, &regions, rng)) {
-      sc.change_kind[next_id] = "added";
+      sc.change_kind[next_id].push_back("added");
       ++next_id;
       ++added;
     }

@@ -67,7 +67,9 @@ struct Scenario {
   std::vector<Shape> shapes;
   std::map<uint32_t, int> object_shape;  // object id -> shape index (people included)
   std::vector<MissionPlan> missions;
-  std::map<uint32_t, std::string> change_kind;  // for logs: "moved", "swapped", ...
+  // For logs: every change of each object, mission by mission ("moved",
+  // "swapped", ...); with 3+ missions an object can change more than once.
+  std::map<uint32_t, std::vector<std::string>> change_kind;
 };
 
 // Footprint of a shape at a world pose.
