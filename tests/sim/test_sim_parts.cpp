@@ -224,6 +224,25 @@ TEST(Scenario, ChangesOfEveryKindIncludingShortMovesAndSwaps) {
   EXPECT_EQ(sc.missions[0].people.size(), size_t(p.changes.people));
 }
 
+// With 4 missions every mission pair gets its own changes, and the log
+// keeps each of them (an object moved twice is logged twice), so the
+// summary lista-sim prints counts them all.
+TEST(Scenario, EveryChangeOfEveryMissionIsLogged) {
+  const Preset p = make_preset("tiny");
+  RouteParams route = p.route;
+  route.missions = 4;
+  const Scenario sc = plan_scenario(build_layout(p.layout, 1), p.changes, route, 1);
+  ASSERT_EQ(sc.missions.size(), 4u);
+  int added = 0, logged_added = 0;
+  for (size_t m = 1; m < sc.missions.size(); ++m)
+    for (const auto& [id, pose] : sc.missions[m].objects)
+      if (!sc.missions[m - 1].objects.count(id)) ++added;
+  for (const auto& [id, kinds] : sc.change_kind)
+    logged_added += int(std::count(kinds.begin(), kinds.end(), "added"));
+  EXPECT_EQ(added, 3 * p.changes.additions);
+  EXPECT_EQ(logged_added, added);
+}
+
 TEST(Sensor, BeamTablesMatchTheDatasheets) {
   const SensorModel os0 = make_sensor("os0-128");
   EXPECT_EQ(os0.elevations.size(), 128u);
