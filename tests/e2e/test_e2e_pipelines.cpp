@@ -42,3 +42,26 @@ TEST(Pipelines, EveryShippedPipelineValidates) {
     EXPECT_TRUE(verdict.value("valid", false)) << r.output;
   }
 }
+
+// Every program and library of the build tree finds the LiSTA libraries
+// next to itself ($ORIGIN RUNPATHs): a build tree copied elsewhere runs its
+// own code, never the libraries of the tree it was built in.
+TEST(BuildTree, ProgramsFindTheirLibrariesNextToThemselves) {
+  namespace fs = std::filesystem;
+  const fs::path bin_dir = fs::path(e2e::bin("lista-run")).parent_path();
+  const fs::path build = bin_dir.parent_path();
+  size_t checked = 0;
+  for (const fs::path& dir : {bin_dir, build / "lib", build / "lib" / "lista-plugins"})
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (!entry.is_regular_file() || (name.rfind("lista", 0) != 0 && name.rfind("liblista", 0) != 0)) continue;
+      const auto r = e2e::run("readelf -d '" + entry.path().string() + "' 2>&1");
+      ASSERT_EQ(r.status, 0) << r.output;
+      for (size_t at = r.output.find("path: ["); at != std::string::npos; at = r.output.find("path: [", at + 1)) {
+        const std::string paths = r.output.substr(at + 7, r.output.find(']', at) - at - 7);
+        EXPECT_EQ(paths.find(build.string()), std::string::npos) << name << " has an absolute RUNPATH: " << paths;
+      }
+      ++checked;
+    }
+  EXPECT_GT(checked, 10u);
+}
