@@ -35,4 +35,10 @@ std::optional<TrajectoryError> trajectory_error(const MissionSet& set) {
   return e;
 }
 
+std::string failed_alignment_warning(const TrajectoryError& error) {
+  if (!(error.rmse > kFailedAlignmentRmse)) return "";
+  return "the aligned poses are " + std::to_string(error.rmse) +
+         " m (RMSE) from poses_gt.txt: the alignment has probably failed; changes found will be wrong";
+}
+
 }  // namespace lista::align

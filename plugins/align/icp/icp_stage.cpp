@@ -77,7 +77,13 @@ class IcpStage : public Stage {
                     "); the maps must overlap and start roughly aligned");
       out.missions[m].to_common = reference * r.transform;
     }
-    if (const auto after = trajectory_error(out)) ctx.record("ate_after_m", after->rmse);
+    if (const auto after = trajectory_error(out)) {
+      ctx.record("ate_after_m", after->rmse);
+      // One ICP per mission finds the nearest fit: maps that start turned
+      // (another SLAM run's frame) or in a symmetric room can lock wrong.
+      if (const std::string w = failed_alignment_warning(*after); !w.empty())
+        ctx.warn(w + " (align.icp needs the missions' map frames roughly aligned; align.posegraph does not)");
+    }
     Outputs o;
     o.put("missions", std::move(out));
     return o;

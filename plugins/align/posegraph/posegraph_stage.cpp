@@ -95,10 +95,7 @@ class PoseGraphStage : public Stage {
       ctx.record("ate_after_max_m", after->max);
       ctx.info("ATE after alignment " + std::to_string(after->rmse) + " m over " +
                std::to_string(after->poses) + " poses");
-      // poses_gt.txt is there to be believed: metres of error is a failed alignment.
-      if (after->rmse > 0.5)
-        ctx.warn("the aligned poses are " + std::to_string(after->rmse) +
-                 " m (RMSE) from poses_gt.txt: the alignment has probably failed; changes found will be wrong");
+      if (const std::string w = failed_alignment_warning(*after); !w.empty()) ctx.warn(w);
     }
     Outputs out;
     out.put("missions", std::move(aligned));

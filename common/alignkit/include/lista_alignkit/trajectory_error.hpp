@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 #include <optional>
+#include <string>
 
 namespace lista::align {
 
@@ -22,5 +23,12 @@ struct TrajectoryError {
 // Empty when any mission lacks poses_gt (or its count differs from its scans),
 // or fewer than 3 poses in all. `missions[m].to_common * scans[i].pose` is the estimate.
 std::optional<TrajectoryError> trajectory_error(const MissionSet& missions);
+
+// poses_gt.txt is there to be believed: aligned poses this far from it
+// (RMSE) mean the alignment failed, and every change found will be wrong.
+constexpr double kFailedAlignmentRmse = 0.5;  // m
+
+// The warning an align stage logs for `error` above kFailedAlignmentRmse, else "".
+std::string failed_alignment_warning(const TrajectoryError& error);
 
 }  // namespace lista::align
