@@ -46,6 +46,15 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
     r.missions.push_back(m.name);
     r.alignment[m.name] = restore(m.to_common.matrix());
     b.clouds.push_back({m.name, {}, {}, {}, {}, {}, {}});
+    ScanPoses sp{m.name, {}};
+    for (size_t i = 0; i < m.scans.size(); ++i) {
+      io::PoseRecord pr;
+      pr.timestamp = m.scans[i].timestamp;
+      pr.pose = m.sensor_to_common(i);
+      pr.pose.translation() += origin;
+      sp.poses.push_back(pr);
+    }
+    b.poses.push_back(std::move(sp));
   }
   auto cloud_of = [&](const std::string& name, const char* what) -> ChangeCloud& {
     auto it = mission_index.find(name);

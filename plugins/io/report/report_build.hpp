@@ -3,6 +3,7 @@
 #pragma once
 
 #include <lista/lista.hpp>
+#include <lista_io/poses.hpp>
 #include <lista_io/report.hpp>
 
 #include <string>
@@ -19,9 +20,18 @@ struct ChangeCloud {
   size_t size() const { return x.size(); }
 };
 
+// poses/<mission>.txt: every scan's sensor pose in the common frame, as the
+// run placed it (the aligner may correct each scan, which `alignment` alone
+// does not say), TUM layout with the scan's timestamp.
+struct ScanPoses {
+  std::string mission;
+  std::vector<io::PoseRecord> poses;
+};
+
 struct Built {
   io::Report report;
   std::vector<ChangeCloud> clouds;  // one per mission, MissionSet order
+  std::vector<ScanPoses> poses;     // one per mission, MissionSet order
   std::vector<std::string> warnings;
 };
 

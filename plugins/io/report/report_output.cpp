@@ -2,6 +2,7 @@
 
 #include <lista_io/atomic_file.hpp>
 #include <lista_io/pcd.hpp>
+#include <lista_io/poses.hpp>
 
 #include <filesystem>
 #include <set>
@@ -23,6 +24,7 @@ void write_output(const std::string& out_dir, const Built& built) {
   const fs::path tmp = out / (".lista-report.tmp." + std::to_string(::getpid()));
   fs::remove_all(tmp, ec);
   fs::create_directories(tmp / "changes", ec);
+  if (!ec) fs::create_directories(tmp / "poses", ec);
   if (ec) throw Error(tmp.string() + ": cannot create a temp folder (" + ec.message() + ")");
   try {
     for (const ChangeCloud& c : built.clouds) {
@@ -32,20 +34,28 @@ void write_output(const std::string& out_dir, const Built& built) {
                      {"scan", 'U', c.scan.data()}, {"index", 'U', c.index.data()}, {"object", 'I', c.object.data()}},
                     io::PcdEncoding::binary);
     }
+    for (const ScanPoses& p : built.poses)
+      io::write_poses((tmp / "poses" / (p.mission + ".txt")).string(), p.poses, io::PoseFormat::tum);
     io::write_report((tmp / "report.json").string(), built.report);
-    fs::create_directories(out / "changes", ec);
-    if (ec || !fs::is_directory(out / "changes"))
-      throw Error((out / "changes").string() + ": cannot create the change cloud folder");
+    for (const char* folder : {"changes", "poses"}) {
+      fs::create_directories(out / folder, ec);
+      if (ec || !fs::is_directory(out / folder)) throw Error((out / folder).string() + ": cannot create the folder");
+    }
     std::set<std::string> written;
     for (const ChangeCloud& c : built.clouds) {
       io::commit_file((tmp / "changes" / (c.mission + ".pcd")).string(), (out / "changes" / (c.mission + ".pcd")).string());
       written.insert(c.mission + ".pcd");
     }
-    // Change clouds of missions an earlier run had and this one has not would
-    // read as this run's.
-    for (const auto& entry : fs::directory_iterator(out / "changes", ec))
-      if (entry.path().extension() == ".pcd" && !written.count(entry.path().filename().string()))
-        fs::remove(entry.path(), ec);
+    for (const ScanPoses& p : built.poses) {
+      io::commit_file((tmp / "poses" / (p.mission + ".txt")).string(), (out / "poses" / (p.mission + ".txt")).string());
+      written.insert(p.mission + ".txt");
+    }
+    // Change clouds and poses of missions an earlier run had and this one
+    // has not would read as this run's.
+    for (const auto& [folder, ext] : {std::pair{"changes", ".pcd"}, std::pair{"poses", ".txt"}})
+      for (const auto& entry : fs::directory_iterator(out / folder, ec))
+        if (entry.path().extension() == ext && !written.count(entry.path().filename().string()))
+          fs::remove(entry.path(), ec);
     io::commit_file((tmp / "report.json").string(), (out / "report.json").string());
   } catch (...) {
     fs::remove_all(tmp, ec);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <lista/basic_context.hpp>
 #include <lista_io/pcd.hpp>
+#include <lista_io/poses.hpp>
 #include <lista_io/report.hpp>
 
 #include <filesystem>
@@ -45,6 +46,12 @@ struct Fixture {
       missions.missions.push_back(m);
     }
     missions.missions[1].to_common.translation() = Eigen::Vector3d(1, 2, 3);
+    for (int i = 0; i < 2; ++i) {  // B's scans, as an aligner left them
+      Scan s;
+      s.timestamp = 5.0 + i;
+      s.pose.translation() = Eigen::Vector3d(1.0 + i, 0, 0);
+      missions.missions[1].scans.push_back(s);
+    }
     objects.missions = {"A", "B"};
     objects.objects = {make_object(0, 0, 0.f, 0, 10, 4), make_object(1, 1, 5.f, 2, 0, 4),
                        make_object(2, 1, 9.f, 3, 7, 2)};
@@ -118,9 +125,18 @@ TEST(IoReport, WritesTheContractAndReadsBack) {
   EXPECT_EQ(a.values[5][4], -1.0);
   const io::PcdTable b = io::read_pcd_table((out / "changes" / "B.pcd").string());
   EXPECT_EQ(b.size, 6u);
+  // poses/<mission>.txt: every scan's sensor pose in the common frame, as
+  // the run placed it, with its timestamp.
+  const std::vector<io::PoseRecord> poses_b = io::read_poses((out / "poses" / "B.txt").string());
+  ASSERT_EQ(poses_b.size(), 2u);
+  EXPECT_EQ(poses_b[1].timestamp, 6.0);
+  EXPECT_TRUE(poses_b[1].pose.translation().isApprox(Eigen::Vector3d(3, 2, 3))) << poses_b[1].pose.translation();
+  EXPECT_TRUE(fs::exists(out / "poses" / "A.txt"));
   // Nothing temporary is left behind.
   for (const auto& e : fs::directory_iterator(out))
-    EXPECT_TRUE(e.path().filename() == "report.json" || e.path().filename() == "changes") << e.path();
+    EXPECT_TRUE(e.path().filename() == "report.json" || e.path().filename() == "changes" ||
+                e.path().filename() == "poses")
+        << e.path();
 }
 
 // An earlier run with a mission C left changes/C.pcd: a run over A and B
@@ -131,12 +147,16 @@ TEST(IoReport, ChangeCloudsOfMissionsNotInTheRunAreRemoved) {
   fs::create_directories(out / "changes");
   std::ofstream(out / "changes" / "C.pcd") << "old";
   std::ofstream(out / "changes" / "notes.txt") << "the user's own";
+  fs::create_directories(out / "poses");
+  std::ofstream(out / "poses" / "C.txt") << "0 0 0 0 0 0 0 1\n";
   BasicContext ctx("report");
   ctx.info.output_dir = out.string();
   io_test::make_stage("io.report")->run(f.inputs(), ctx);
   EXPECT_TRUE(fs::exists(out / "changes" / "A.pcd"));
   EXPECT_TRUE(fs::exists(out / "changes" / "B.pcd"));
   EXPECT_FALSE(fs::exists(out / "changes" / "C.pcd"));
+  EXPECT_FALSE(fs::exists(out / "poses" / "C.txt"));
+  EXPECT_TRUE(fs::exists(out / "poses" / "B.txt"));
   EXPECT_TRUE(fs::exists(out / "changes" / "notes.txt"));
 }
 

@@ -2,6 +2,7 @@
 
 #include <lista/error.hpp>
 #include <lista_io/pcd.hpp>
+#include <lista_io/poses.hpp>
 
 #include <filesystem>
 #include <map>
@@ -126,6 +127,14 @@ void write_perfect_run(const Truth& truth, const std::string& out_dir) {
   }
   for (auto& [id, o] : objects) report.objects.push_back(o);
   report.extra_json = "{\"provenance\": {\"generator\": \"lista-eval --truth\"}}";
+  // Every scan at its true pose, in the world frame the alignment maps to.
+  for (const Mission& m : truth.missions.missions) {
+    if (m.poses_gt.size() != m.scans.size() || m.poses_gt.empty()) continue;
+    std::vector<io::PoseRecord> poses;
+    for (size_t i = 0; i < m.scans.size(); ++i) poses.push_back({m.scans[i].timestamp, m.poses_gt[i]});
+    fs::create_directories(fs::path(out_dir) / "poses", ec);
+    io::write_poses((fs::path(out_dir) / "poses" / (m.name + ".txt")).string(), poses);
+  }
   io::write_report((fs::path(out_dir) / "report.json").string(), report);
 }
 

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -62,11 +63,16 @@ std::string format_table(const Score& s, bool objects) {
     }
   }
   if (!s.alignment.empty()) {
-    out += "alignment (ATE RMSE of sensor positions, first mission's frame)\n";
+    const bool scan_poses = std::any_of(s.alignment.begin(), s.alignment.end(),
+                                        [](const AlignmentScore& a) { return !std::isnan(a.scan_ate_rmse_m); });
+    out += "alignment (ATE RMSE of sensor positions, first mission's frame";
+    out += scan_poses ? "; then of the run's scan poses, poses/, after one rigid fit)\n" : ")\n";
     for (const auto& a : s.alignment) {
-      std::snprintf(line, sizeof line, "  %-12s %6zu scans  %s m\n", a.mission.c_str(), a.scans,
+      std::snprintf(line, sizeof line, "  %-12s %6zu scans  %s m", a.mission.c_str(), a.scans,
                     num(a.ate_rmse_m).c_str());
       out += line;
+      if (scan_poses) out += "  " + num(a.scan_ate_rmse_m) + " m";
+      out += "\n";
     }
   }
   return out;
@@ -116,7 +122,8 @@ std::string format_json(const Score& s) {
   j["object_verdicts"] = verdicts;
   json align = json::array();
   for (const auto& a : s.alignment)
-    align.push_back({{"mission", a.mission}, {"scans", a.scans}, {"ate_rmse_m", jnum(a.ate_rmse_m)}});
+    align.push_back({{"mission", a.mission}, {"scans", a.scans}, {"ate_rmse_m", jnum(a.ate_rmse_m)},
+                     {"scan_ate_rmse_m", jnum(a.scan_ate_rmse_m)}});
   j["alignment"] = align;
   return j.dump(2) + "\n";
 }

@@ -2,6 +2,7 @@
 
 #include <lista/error.hpp>
 #include <lista_io/pcd.hpp>
+#include <lista_io/poses.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -149,6 +150,51 @@ std::vector<ObjectVerdict> verdicts(const Truth& truth, const std::map<std::pair
 
 }  // namespace
 
+namespace {
+
+// The run's own scan poses (poses/<mission>.txt, written by io.report)
+// against poses_gt.txt after one rigid fit over all missions (Umeyama, no
+// scale): what ATE means in SLAM evaluation. Missing, or a count that does
+// not match the mission's scans: left undefined (runs made before poses/
+// existed, or by another writer).
+void add_scan_pose_ate(const Truth& truth, const std::string& run_dir, std::vector<AlignmentScore>& alignment) {
+  std::vector<Eigen::Vector3d> est, gt;
+  std::vector<std::pair<std::string, size_t>> spans;  // mission, first index
+  for (const Mission& m : truth.missions.missions) {
+    if (m.poses_gt.empty()) continue;
+    const std::string path = (std::filesystem::path(run_dir) / "poses" / (m.name + ".txt")).string();
+    if (!std::filesystem::exists(path)) return;
+    const std::vector<io::PoseRecord> run = io::read_poses(path);
+    if (run.size() != m.poses_gt.size())
+      throw Error(path + ": " + std::to_string(run.size()) + " poses for " + std::to_string(m.poses_gt.size()) +
+                  " scans of mission '" + m.name + "'");
+    spans.emplace_back(m.name, est.size());
+    for (size_t i = 0; i < run.size(); ++i) {
+      est.push_back(run[i].pose.translation());
+      gt.push_back(m.poses_gt[i].translation());
+    }
+  }
+  if (est.size() < 3) return;
+  Eigen::Matrix3Xd src(3, est.size()), dst(3, gt.size());
+  for (size_t i = 0; i < est.size(); ++i) src.col(long(i)) = est[i], dst.col(long(i)) = gt[i];
+  const Eigen::Matrix4d fit = Eigen::umeyama(src, dst, false);
+  const Eigen::Isometry3d f(fit);
+  auto rmse = [&](size_t from, size_t to) {
+    double sum = 0;
+    for (size_t i = from; i < to; ++i) sum += (f * est[i] - gt[i]).squaredNorm();
+    return std::sqrt(sum / double(std::max<size_t>(1, to - from)));
+  };
+  for (size_t k = 0; k < spans.size(); ++k) {
+    const size_t to = k + 1 < spans.size() ? spans[k + 1].second : est.size();
+    for (AlignmentScore& a : alignment)
+      if (a.mission == spans[k].first) a.scan_ate_rmse_m = rmse(spans[k].second, to);
+  }
+  for (AlignmentScore& a : alignment)
+    if (a.mission == "all") a.scan_ate_rmse_m = rmse(0, est.size());
+}
+
+}  // namespace
+
 Score score_run(const Truth& truth, const std::string& run_dir) {
   const std::string report_path = (std::filesystem::path(run_dir) / "report.json").string();
   if (!std::filesystem::exists(report_path)) throw Error(report_path + ": missing");
@@ -290,6 +336,7 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     score.alignment.push_back(a);
   }
   if (n_all > 0) score.alignment.push_back({"all", n_all, std::sqrt(sum_all / double(n_all))});
+  add_scan_pose_ate(truth, run_dir, score.alignment);
   return score;
 }
 

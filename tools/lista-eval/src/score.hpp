@@ -74,7 +74,13 @@ struct ObjectVerdict {
 struct AlignmentScore {
   std::string mission;
   size_t scans = 0;
+  // Sensor positions as alignment[m] * poses.txt places them, in the first
+  // mission's frame (no fit: the first mission's own drift is its floor).
   double ate_rmse_m = kUndefined;
+  // Sensor positions as the run placed every scan (poses/<mission>.txt, the
+  // aligner's per-scan corrections included) after ONE rigid fit of all
+  // missions' positions onto the true ones; NaN when the run has no poses/.
+  double scan_ate_rmse_m = kUndefined;
 };
 
 struct Score {

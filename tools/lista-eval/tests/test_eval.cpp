@@ -168,12 +168,14 @@ TEST(Eval, TruthStatusesFollowTheContract) {
 // removed at once, one that arrived in B and moved in C is added and moved;
 // a report may give either. One that stood still A->B and moved B->C
 // changed against A only through C: its one status is the sequence's.
-TEST(Eval, WithThreeMissionsEveryStatusOfANeighbouringChangeIsRight) {
+// The three-mission dataset below; its sensors stand at (0,0,0), (1,0,0)
+// and (0,2,0) (poses_gt.txt).
+fs::path write_three_missions() {
   const fs::path root = io::testing::scratch_path("eval_ds3");
   const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
   write_mission(root, "A", {{0, 10}, {6, 4}, {8, 4}}, I);
-  write_mission(root, "B", {{0, 10}, {6, 4}, {7, 4}, {8, 4}}, I);
-  write_mission(root, "C", {{0, 10}, {7, 4}, {8, 4}}, I);
+  write_mission(root, "B", {{0, 10}, {6, 4}, {7, 4}, {8, 4}}, translation(1, 0, 0));
+  write_mission(root, "C", {{0, 10}, {7, 4}, {8, 4}}, translation(0, 2, 0));
   io::GroundTruth g;
   g.missions = {"A", "B", "C"};
   g.mission_to_world = {{"A", I}, {"B", I}, {"C", I}};
@@ -189,6 +191,12 @@ TEST(Eval, WithThreeMissionsEveryStatusOfANeighbouringChangeIsRight) {
   obj(7, std::nullopt, I, translation(0, 1, 0));
   obj(8, I, I, translation(0, 0.5, 0));
   io::write_ground_truth((root / "ground_truth.json").string(), g);
+  return root;
+}
+
+TEST(Eval, WithThreeMissionsEveryStatusOfANeighbouringChangeIsRight) {
+  const fs::path root = write_three_missions();
+  const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
   const eval::Truth t = eval::load_truth(root.string(), {}, 1);
   using S = std::set<std::string>;
   EXPECT_EQ(t.accepted.at(6).at("A"), S{"moved"});
@@ -222,9 +230,42 @@ TEST(Eval, WithThreeMissionsEveryStatusOfANeighbouringChangeIsRight) {
   eval::write_perfect_run(t, perfect.string());
   const eval::Score ps = eval::score_run(t, perfect.string());
   const eval::ObjectScore& all = ps.objects.back();
+  ASSERT_FALSE(ps.alignment.empty());
+  EXPECT_NEAR(ps.alignment.back().scan_ate_rmse_m, 0.0, 1e-9) << "every scan at its true pose (poses/)";
   EXPECT_EQ(all.status_correct, all.paired);
   EXPECT_EQ(all.moved_matched, all.moved);
   EXPECT_GT(all.moved, 0u);
+}
+
+// poses/<mission>.txt (io.report) hold every scan as the run placed it:
+// their ATE after one rigid fit is 0 for the true positions moved as a
+// whole, grows with an error in one scan, and is undefined without poses/.
+TEST(Eval, TheRunsScanPosesAreScoredAfterOneRigidFit) {
+  const fs::path root = write_three_missions();
+  const Eigen::Matrix4d I = Eigen::Matrix4d::Identity();
+  const eval::Truth t = eval::load_truth(root.string(), {}, 1);
+  const fs::path run = run_dir("scan_poses");
+  io::Report r;
+  r.missions = {"A", "B", "C"};
+  r.alignment = {{"A", I}, {"B", I}, {"C", I}};
+  io::write_report((run / "report.json").string(), r);
+  for (const char* m : {"A", "B", "C"}) write_changes(run, m, {});
+  auto score_with = [&](double error_in_c) {
+    fs::create_directories(run / "poses");
+    const std::map<std::string, Eigen::Vector3d> at{{"A", {0, 0, 0}}, {"B", {1, 0, 0}}, {"C", {0, 2 + error_in_c, 0}}};
+    for (const auto& [m, p] : at) {
+      io::PoseRecord rec;
+      rec.pose.translation() = p + Eigen::Vector3d(10, -4, 1);  // the run's own common frame
+      io::write_poses((run / "poses" / (m + ".txt")).string(), {rec});
+    }
+    return eval::score_run(t, run.string()).alignment;
+  };
+  const auto exact = score_with(0.0);
+  ASSERT_EQ(exact.back().mission, "all");
+  EXPECT_NEAR(exact.back().scan_ate_rmse_m, 0.0, 1e-9);
+  EXPECT_GT(score_with(0.3).back().scan_ate_rmse_m, 0.05);
+  fs::remove_all(run / "poses");
+  EXPECT_TRUE(std::isnan(eval::score_run(t, run.string()).alignment.back().scan_ate_rmse_m));
 }
 
 TEST(Eval, PerfectRunScoresOneEverywhere) {
