@@ -34,6 +34,19 @@ std::string motion_text(const ObjectView& v) {
   return fmt(moved, 2) + " m, " + fmt(yaw, 1) + "&deg;";
 }
 
+// With 3+ missions `match` names one partner; the chain of the object's
+// reports ("5 A → 8 B → 19 C") shows where it was in every mission.
+std::string history_text(const ObjectView& v, const ReportModel& model) {
+  if (v.history.size() < 2) return "";
+  std::string s;
+  for (int id : v.history) {
+    const ObjectView* o = model.find(id);
+    s += (s.empty() ? "" : " &rarr; ") + std::to_string(id) +
+         (o ? " " + escape(model.missions[o->object->mission]) : std::string());
+  }
+  return s;
+}
+
 std::string vec(const Eigen::Vector3d& p) {
   return fmt(p.x()) + ", " + fmt(p.y()) + ", " + fmt(p.z());
 }
@@ -86,7 +99,7 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
   }
 
   html += "<h2>Objects</h2>\n<table class=\"objects\"><tr><th>id</th><th>mission</th><th>status</th><th>group</th>"
-          "<th>confidence</th><th>match</th><th>centroid (m)</th><th>points</th><th>motion</th></tr>\n";
+          "<th>confidence</th><th>match</th><th>centroid (m)</th><th>points</th><th>motion</th><th>history</th></tr>\n";
   for (const auto& v : model.objects) {
     const std::string status = to_string(v.status);
     html += "<tr class=\"object-row\" data-id=\"" + std::to_string(v.object->id) + "\"><td>" +
@@ -94,7 +107,8 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
             "</td><td class=\"text " + status + "\">" + status + "</td><td>" +
             (v.group >= 0 ? std::to_string(v.group) : "") + "</td><td>" + fmt(v.confidence) + "</td><td>" +
             (v.match >= 0 ? std::to_string(v.match) : "") + "</td><td>" + vec(v.object->centroid.cast<double>() + missions.origin) + "</td><td>" +
-            std::to_string(v.object->points.size()) + "</td><td>" + motion_text(v) + "</td></tr>\n";
+            std::to_string(v.object->points.size()) + "</td><td>" + motion_text(v) + "</td><td class=\"text\">" +
+            history_text(v, model) + "</td></tr>\n";
   }
   html += "</table>\n";
 

@@ -17,6 +17,7 @@ struct ObjectView {
   double confidence = 0.0;
   int match = -1;
   std::optional<Eigen::Matrix4d> transform;
+  std::vector<int> history;  // the object's reports across the missions (Matches), itself included
 };
 
 struct ReportModel {

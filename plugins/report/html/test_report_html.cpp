@@ -293,8 +293,12 @@ TEST(ReportHtml, EachChangeMapShowsOnlyItsPairsChanges) {
   // B -> C's removal, in red, though its one status is 'removed'.
   for (auto& o : s.objects.objects)
     if (o.id == 5) o.points.changed_against.assign(o.points.size(), lista::changed_against_either);
+  // The box's chain A -> B -> C (the history matching gives) is in its rows.
+  for (auto& c : s.matches.objects)
+    if (c.object_id >= 2 && c.object_id <= 4) c.history = {2, 3, 4};
   const fs::path both = write_report(s, "three_both", false);
   const std::string html2 = read(both / "report.html");
+  EXPECT_NE(html2.find("<td class=\"text\">2 A &rarr; 3 B &rarr; 4 C</td>"), std::string::npos);
   const size_t second2 = html2.find("<svg class=\"topdown\"", html2.find("<svg class=\"topdown\"") + 1);
   const std::string ab2 = html2.substr(0, second2), bc2 = html2.substr(second2);
   EXPECT_TRUE(labelled(ab2, 5));
