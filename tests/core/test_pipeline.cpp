@@ -240,6 +240,14 @@ TEST(Plan, AStageThatRefusesItsParametersFailsThePlan) {
   expect_one_error(interval + "lo = 5\n", 3, "must be in");
 }
 
+// The plugin and inputs are the pipeline's structure, not parameters.
+TEST(Overrides, PluginAndInputsCannotBeSet) {
+  expect_one_error(source, 1, "--set src.plugin=test.join: a stage's plugin cannot be changed with --set",
+                   {"src.plugin=test.join"});
+  expect_one_error(source, 1, "pipelines/ablations/", {"src.plugin=test.join"});
+  expect_one_error(source, 1, "a stage's inputs cannot be changed with --set", {"src.inputs=x"});
+}
+
 TEST(Plan, ResolvedTomlRoundTrips) {
   Diagnostics d;
   const Plan plan = plan_of("[pipeline]\nseed = 4\n" + chain, d);

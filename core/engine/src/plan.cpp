@@ -65,8 +65,20 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
     params.set(name, std::move(v), true, at);
   };
   for (const auto& p : s.params) apply(p.name, p.value, p.problem, p.where, p.key_where, "");
-  for (const Override* o : overrides)
-    apply(o->param, o->value, o->problem, s.where, s.where, "--set " + o->text + ": ");
+  for (const Override* o : overrides) {
+    const std::string origin = "--set " + o->text + ": ";
+    // Not parameters but the pipeline's structure: say so instead of "unknown parameter".
+    if (!info.param(o->param) && o->param == "plugin") {
+      d.error(s.where, s.id, origin + "a stage's plugin cannot be changed with --set; run a pipeline file that "
+                                      "names the other plugin (one-swap ablations are in pipelines/ablations/)");
+      continue;
+    }
+    if (!info.param(o->param) && o->param == "inputs") {
+      d.error(s.where, s.id, origin + "a stage's inputs cannot be changed with --set; edit a copy of the pipeline file");
+      continue;
+    }
+    apply(o->param, o->value, o->problem, s.where, s.where, origin);
+  }
   return params;
 }
 
