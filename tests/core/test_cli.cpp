@@ -172,6 +172,26 @@ TEST(Cli, PluginDirMustBeAFolder) {
   EXPECT_NE(file.err.find("is a file; give the folder that holds the plugin libraries"), std::string::npos) << file.err;
 }
 
+// --validate always answers with its JSON verdict, even for a malformed
+// --set (still exit 2, a usage error); a run without it keeps the one line.
+TEST(Cli, ValidateGivesAVerdictForAMalformedSet) {
+  lista_test::TempDir dir;
+  const std::string file = dir.write("ok.toml", good_pipeline);
+  const auto r = lista_run(file + " --validate --set '=3' --set src.cuont=1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "");
+  EXPECT_NE(r.out.find("\"valid\": false"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--set '=3' is not of the form <stage>.<param>=<value>"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("unknown parameter 'cuont'"), std::string::npos) << "the rest is still checked: " << r.out;
+  const auto missing = lista_run("--validate --set '=3'");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.out.find("no pipeline given"), std::string::npos) << missing.out;
+  const auto plain = lista_run(file + " --set '=3'");
+  EXPECT_EQ(plain.code, 2);
+  EXPECT_EQ(plain.out, "");
+  EXPECT_EQ(plain.err, "lista-run: error: --set '=3' is not of the form <stage>.<param>=<value>\n");
+}
+
 // Parameters a stage refuses together are found by --validate, and a run
 // stops before its first stage starts.
 TEST(Cli, AStageRefusingItsParametersFailsBeforeAnyStageRuns) {
