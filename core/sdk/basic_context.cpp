@@ -44,6 +44,11 @@ void BasicContext::record(const std::string& key, double value) {
   info.metrics[stage_id_][key] = value;
 }
 
+void BasicContext::note(const std::string& key, const std::string& text) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  info.notes[stage_id_][key] = text;
+}
+
 RunInfo BasicContext::run_info() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return info;

@@ -18,11 +18,12 @@ class BasicContext : public Context {
   uint64_t seed() const override { return seed_; }
   bool cancelled() const override { return cancelled_; }
   void record(const std::string& key, double value) override;
+  void note(const std::string& key, const std::string& text) override;
   RunInfo run_info() const override;
 
   LogLevel min_level = LogLevel::warning;
   bool cancelled_ = false;
-  RunInfo info;  // what run_info() returns; recorded metrics land in info.metrics[stage_id]
+  RunInfo info;  // what run_info() returns; recorded metrics land in info.metrics[stage_id], notes in info.notes[stage_id]
   std::vector<std::string> messages;  // every logged message, for assertions
 
  private:

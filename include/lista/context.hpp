@@ -40,14 +40,18 @@ struct RunInfo {
   std::string lista_version, git_revision;
   std::string pipeline_file;      // as given on the command line
   std::string pipeline_resolved;  // the pipeline as run (defaults and --set applied), TOML
-  std::string dataset;            // --dataset / [pipeline].dataset ("" if none)
+  std::string dataset;            // --dataset / [pipeline].dataset, absolute ("" if none)
   std::string output_dir;         // --out / [pipeline].output ("" if none)
   uint64_t seed = 0;
-  int threads = 1;
+  int threads = 1;                // total thread budget (--threads)
+  int jobs = 1;                   // stages run at once (-j); each gets threads / jobs
   std::vector<PluginRecord> plugins;  // plugins used by the pipeline
   std::vector<StageRecord> finished;  // stages finished so far, in finishing order
   // Numbers stages chose to record (Context::record), by stage id then key.
   std::map<std::string, std::map<std::string, double>> metrics;
+  // Texts stages chose to note (Context::note), by stage id then key: what a
+  // run depended on that its parameters do not show (a resolved file, its hash).
+  std::map<std::string, std::map<std::string, std::string>> notes;
   // Every warning stages logged so far, "<stage id>: <message>", in order:
   // the report keeps them, since a log scrolls away.
   std::vector<std::string> warnings;
@@ -72,6 +76,9 @@ class Context {
   }
   // Records a named number (voxel count, ATE, ...) in the report's metrics.
   virtual void record(const std::string& key, double value) = 0;
+  // Notes a named text (the weights file a default resolved to, its SHA-256)
+  // in the report's provenance, so a run can be traced to what it read.
+  virtual void note(const std::string& key, const std::string& text) = 0;
   // A snapshot of the run's facts (timings of the stages finished so far).
   virtual RunInfo run_info() const = 0;
 };

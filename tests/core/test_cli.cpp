@@ -171,3 +171,44 @@ TEST(Cli, PluginDirMustBeAFolder) {
   EXPECT_EQ(file.code, 2);
   EXPECT_NE(file.err.find("is a file; give the folder that holds the plugin libraries"), std::string::npos) << file.err;
 }
+
+// --validate always answers with its JSON verdict, even for a malformed
+// --set (still exit 2, a usage error); a run without it keeps the one line.
+TEST(Cli, ValidateGivesAVerdictForAMalformedSet) {
+  lista_test::TempDir dir;
+  const std::string file = dir.write("ok.toml", good_pipeline);
+  const auto r = lista_run(file + " --validate --set '=3' --set src.cuont=1");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "");
+  EXPECT_NE(r.out.find("\"valid\": false"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--set '=3' is not of the form <stage>.<param>=<value>"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("unknown parameter 'cuont'"), std::string::npos) << "the rest is still checked: " << r.out;
+  const auto missing = lista_run("--validate --set '=3'");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.out.find("no pipeline given"), std::string::npos) << missing.out;
+  const auto plain = lista_run(file + " --set '=3'");
+  EXPECT_EQ(plain.code, 2);
+  EXPECT_EQ(plain.out, "");
+  EXPECT_EQ(plain.err, "lista-run: error: --set '=3' is not of the form <stage>.<param>=<value>\n");
+}
+
+// Parameters a stage refuses together are found by --validate, and a run
+// stops before its first stage starts.
+TEST(Cli, AStageRefusingItsParametersFailsBeforeAnyStageRuns) {
+  lista_test::TempDir dir;
+  const std::string file = dir.write(
+      "iv.toml", "[stages.src]\nplugin = \"test.source\"\n"
+                 "[stages.p]\nplugin = \"test.to_points\"\ninputs = { missions = \"src.missions\" }\n"
+                 "[stages.s]\nplugin = \"test.sink\"\ninputs = { points = \"p.points\" }\n"
+                 "[stages.iv]\nplugin = \"test.interval\"\n");
+  const std::string sets = " --set iv.lo=0.9 --set iv.hi=0.1";
+  const auto v = lista_run(file + sets + " --validate");
+  EXPECT_EQ(v.code, 1);
+  EXPECT_NE(v.out.find("\"line\": 9"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("parameters refused by test.interval: lo must be < hi"), std::string::npos) << v.out;
+  const auto r = lista_run(file + sets);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("lista-run: error: " + file + ":9:1: stage 'iv': parameters refused by test.interval"),
+            std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("started"), std::string::npos) << r.err;
+}

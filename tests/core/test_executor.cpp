@@ -191,3 +191,25 @@ TEST(Executor, LogsInfoLinesWithoutProgressAndQuietSilences) {
   execute(checked_plan(diamond, {"a.sleep_ms=0", "b.sleep_ms=0"}), o);
   EXPECT_EQ(quiet_log.str(), "");
 }
+
+// A report must say which folder it was made from wherever it is read, and
+// how the run was spread: -j and the thread budget.
+TEST(Executor, RecordsTheAbsoluteDatasetJobsAndThreads) {
+  static std::atomic<bool> never{false};
+  std::ostringstream log;
+  RunOptions o;
+  o.jobs = 2;
+  o.threads = 6;
+  o.log = &log;
+  o.cancel = &never;
+  o.dataset = "some/relative/data/";
+  const RunInfo info = execute(checked_plan(diamond), o);
+  const std::string absolute = (std::filesystem::current_path() / "some/relative/data").string();
+  EXPECT_EQ(info.dataset, absolute);
+  EXPECT_NE(info.pipeline_resolved.find("dataset = \"" + absolute + "\""), std::string::npos) << info.pipeline_resolved;
+  EXPECT_EQ(info.jobs, 2);
+  EXPECT_EQ(info.threads, 6);
+  EXPECT_EQ(run(checked_plan("[pipeline]\ndataset = \"/abs/data\"\n" + diamond.substr(diamond.find("[stages"))), 1)
+                .dataset,
+            "/abs/data");
+}

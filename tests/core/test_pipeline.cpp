@@ -223,6 +223,31 @@ TEST(Overrides, ApplyAfterFileAndAreValidated) {
   expect_one_error(source, 0, "[pipeline] settings have their own options: --seed", {"pipeline.seed=3"});
 }
 
+// Parameters each in range but inconsistent together are refused by the
+// stage's constructor; the plan creates every stage so that shows up at
+// --validate, at the stage's table, not in the run after earlier stages.
+TEST(Plan, AStageThatRefusesItsParametersFailsThePlan) {
+  const std::string interval = "[stages.iv]\nplugin = \"test.interval\"\n";  // lines 1-2
+  expect_one_error(interval + "lo = 0.9\nhi = 0.1\n", 1, "parameters refused by test.interval: lo must be < hi");
+  const auto errors = errors_of(interval, {"iv.lo=0.9", "iv.hi=0.1"});
+  ASSERT_EQ(errors.size(), 1u);
+  EXPECT_EQ(errors[0].stage, "iv");
+  EXPECT_NE(errors[0].message.find("(with --set iv.lo=0.9 --set iv.hi=0.1)"), std::string::npos) << errors[0].str();
+  Diagnostics d;
+  plan_of(interval + "lo = 0.1\nhi = 0.9\n", d);
+  EXPECT_TRUE(d.ok()) << d.errors[0].str();
+  // A value already refused by its range is not reported a second time.
+  expect_one_error(interval + "lo = 5\n", 3, "must be in");
+}
+
+// The plugin and inputs are the pipeline's structure, not parameters.
+TEST(Overrides, PluginAndInputsCannotBeSet) {
+  expect_one_error(source, 1, "--set src.plugin=test.join: a stage's plugin cannot be changed with --set",
+                   {"src.plugin=test.join"});
+  expect_one_error(source, 1, "pipelines/ablations/", {"src.plugin=test.join"});
+  expect_one_error(source, 1, "a stage's inputs cannot be changed with --set", {"src.inputs=x"});
+}
+
 TEST(Plan, ResolvedTomlRoundTrips) {
   Diagnostics d;
   const Plan plan = plan_of("[pipeline]\nseed = 4\n" + chain, d);

@@ -97,6 +97,26 @@ TEST_F(TinyScene, ReportFollowsTheContract) {
   EXPECT_TRUE(r.at("timings_s").contains("refine"));
 }
 
+// A report names what the run read, not only how it was configured: the
+// dataset folder wherever it is read from, -j and --threads, and the weights
+// file behind describe.learned's empty 'weights' with its SHA-256.
+TEST_F(TinyScene, ProvenanceTracesWhatTheRunRead) {
+  require_run();
+  namespace fs = std::filesystem;
+  const json p = report().at("provenance");
+  EXPECT_EQ(p.at("dataset"), fs::absolute(data_).lexically_normal().string());
+  EXPECT_EQ(p.at("threads"), 2);
+  EXPECT_EQ(p.at("jobs"), 1);
+  const json& notes = p.at("notes").at("describe");
+  const fs::path weights = notes.at("weights").get<std::string>();
+  EXPECT_TRUE(weights.is_absolute()) << weights;
+  EXPECT_EQ(weights.filename(), "describe-learned.bin");
+  std::istringstream sidecar(e2e::read_file(weights.string() + ".sha256"));
+  std::string sha;
+  sidecar >> sha;
+  EXPECT_EQ(notes.at("weights_sha256"), sha);
+}
+
 TEST_F(TinyScene, MovedObjectsComeInPairsWithInverseTransforms) {
   require_run();
   const json r = report();

@@ -73,14 +73,24 @@ struct Options {
        no_default_plugins = false, verbose = false;
 };
 
+// --validate promises a JSON verdict on stdout, so a usage mistake found
+// after the command line parsed is one too (exit 2, a usage error).
+int usage_error(const Options& o, const std::string& message) {
+  if (!o.validate) return fail(message, exit_usage);
+  lista::core::Diagnostics d;
+  d.error({}, "", message);
+  std::cout << lista_run::verdict_json(d);
+  return exit_usage;
+}
+
 int run(const Options& o) {
   using namespace lista::core;
   // A --plugin-dir that is not a folder is a mistake, not an empty folder.
   for (const auto& dir : o.plugin_dirs) {
     std::error_code ec;
     if (std::filesystem::is_regular_file(dir, ec))
-      return fail("--plugin-dir " + dir + " is a file; give the folder that holds the plugin libraries", exit_usage);
-    if (!std::filesystem::is_directory(dir, ec)) return fail("--plugin-dir " + dir + ": no such folder", exit_usage);
+      return usage_error(o, "--plugin-dir " + dir + " is a file; give the folder that holds the plugin libraries");
+    if (!std::filesystem::is_directory(dir, ec)) return usage_error(o, "--plugin-dir " + dir + ": no such folder");
   }
   Registry registry;
   const LoadResult loaded = load_plugins(registry, plugin_search_path(o.plugin_dirs, !o.no_default_plugins));
@@ -108,18 +118,23 @@ int run(const Options& o) {
     std::cout << (o.json ? lista_run::describe_json(*stage) : lista_run::describe_text(*stage));
     return exit_ok;
   }
-  if (o.pipeline.empty()) return fail("no pipeline given; usage: lista-run PIPELINE.toml (see --help)", exit_usage);
+  if (o.pipeline.empty()) return usage_error(o, "no pipeline given; usage: lista-run PIPELINE.toml (see --help)");
 
+  // A malformed --set stops a run at once; --validate reports it in the
+  // verdict with everything else it finds, and still exits 2.
+  Diagnostics malformed_sets;
   std::vector<Override> overrides;
   for (const auto& s : o.sets) {
     try {
       overrides.push_back(parse_override(s));
     } catch (const lista::Error& e) {
-      return fail(e.what(), exit_usage);
+      if (!o.validate) return fail(e.what(), exit_usage);
+      malformed_sets.error({}, "", e.message());
     }
   }
+  const int invalid = malformed_sets.ok() ? exit_error : exit_usage;
 
-  Diagnostics diagnostics;
+  Diagnostics diagnostics = malformed_sets;
   Plan plan;
   try {
     const PipelineSpec spec = parse_pipeline_file(o.pipeline, diagnostics);
@@ -128,10 +143,10 @@ int run(const Options& o) {
   } catch (const lista::Error& e) {
     if (o.validate) {
       // A syntax error is a verdict too.
-      Diagnostics d;
+      Diagnostics d = malformed_sets;
       d.error(e.location(), "", e.message());
       std::cout << lista_run::verdict_json(d);
-      return exit_error;
+      return invalid;
     }
     return fail(e.what());
   }
@@ -141,7 +156,7 @@ int run(const Options& o) {
     if (!why.empty()) diagnostics.error({}, "", why);
   if (o.validate) {
     std::cout << lista_run::verdict_json(diagnostics);
-    return diagnostics.ok() ? exit_ok : exit_error;
+    return diagnostics.ok() ? exit_ok : invalid;
   }
   if (!o.quiet)
     for (const auto& w : diagnostics.warnings) std::cerr << "lista-run: warning: " << w.str() << "\n";

@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -61,6 +62,18 @@ void check_outputs(const StageInfo& info, const Inputs& inputs, const Outputs& o
   }
 }
 
+// The dataset as an absolute path: a report must say which folder it was
+// made from, and "data/demo" means nothing away from the shell it ran in.
+std::string absolute_folder(const std::string& dir) {
+  if (dir.empty()) return dir;
+  std::error_code ec;
+  std::filesystem::path p = std::filesystem::absolute(dir, ec);
+  if (ec) return dir;
+  p = p.lexically_normal();
+  if (p.filename().empty() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();  // "a/b/" -> "a/b"
+  return p.string();
+}
+
 // The error of a failed stage, with its id, plugin and table location.
 Error stage_error(const PlannedStage& s, std::exception_ptr failure) {
   try {
@@ -104,17 +117,18 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
   info.git_revision = git_revision();
   info.pipeline_file = options.pipeline_file.empty() ? plan.spec.file : options.pipeline_file;
   info.pipeline_resolved = plan.resolved_toml();
-  info.dataset = options.dataset.empty() ? plan.spec.dataset : options.dataset;
+  info.dataset = absolute_folder(options.dataset.empty() ? plan.spec.dataset : options.dataset);
   info.output_dir = options.output.empty() ? plan.spec.output : options.output;
   info.seed = options.seed.value_or(plan.spec.seed.value_or(0));
   info.threads = budget;
+  info.jobs = jobs;
   {
     std::set<std::string> seen;
     for (const auto& s : plan.stages)
       if (seen.insert(s.stage->info.name).second)
         info.plugins.push_back({s.stage->info.name, s.stage->info.version, s.stage->library});
   }
-  if (options.seed || !options.dataset.empty() || !options.output.empty()) {
+  if (options.seed || info.dataset != plan.spec.dataset || !options.output.empty()) {
     // Keep the recorded pipeline true to what ran.
     Plan copy = plan;
     copy.spec.seed = info.seed;

@@ -65,9 +65,48 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
     params.set(name, std::move(v), true, at);
   };
   for (const auto& p : s.params) apply(p.name, p.value, p.problem, p.where, p.key_where, "");
-  for (const Override* o : overrides)
-    apply(o->param, o->value, o->problem, s.where, s.where, "--set " + o->text + ": ");
+  for (const Override* o : overrides) {
+    const std::string origin = "--set " + o->text + ": ";
+    // Not parameters but the pipeline's structure: say so instead of "unknown parameter".
+    if (!info.param(o->param) && o->param == "plugin") {
+      d.error(s.where, s.id, origin + "a stage's plugin cannot be changed with --set; run a pipeline file that "
+                                      "names the other plugin (one-swap ablations are in pipelines/ablations/)");
+      continue;
+    }
+    if (!info.param(o->param) && o->param == "inputs") {
+      d.error(s.where, s.id, origin + "a stage's inputs cannot be changed with --set; edit a copy of the pipeline file");
+      continue;
+    }
+    apply(o->param, o->value, o->problem, s.where, s.where, origin);
+  }
   return params;
+}
+
+// Creates the stage once and drops it, so a constructor that refuses its
+// parameters together (clamping_min >= clamping_max) fails --validate and
+// the plan, not the run after earlier stages spent their time. Empty if fine.
+std::string construction_problem(const RegisteredStage& stage, const Params& params) {
+  try {
+    if (!stage.factory(params)) return "the plugin's factory returned no stage";
+    return {};
+  } catch (const Error& e) {
+    return e.message();
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+    return "unknown exception";
+  }
+}
+
+void check_construction(const StageSpec& s, const RegisteredStage& stage, const Params& params,
+                        const std::vector<const Override*>& overrides, Diagnostics& d) {
+  std::string why = construction_problem(stage, params);
+  if (why.empty()) return;
+  // The stage's table is the location; the --set arguments are not in it, so name them.
+  std::string sets;
+  for (const Override* o : overrides) sets += (sets.empty() ? "" : " ") + ("--set " + o->text);
+  if (!sets.empty()) why += " (with " + sets + ")";
+  d.error(s.where, s.id, "parameters refused by " + stage.info.name + ": " + why);
 }
 
 void check_inputs(const StageSpec& s, const StageInfo& info, const PipelineSpec& spec, const Registry& registry,
@@ -201,7 +240,9 @@ Plan build_plan(const PipelineSpec& spec, const std::vector<Override>& overrides
       std::vector<const Override*> mine;
       for (const auto& o : overrides)
         if (o.stage == s.id) mine.push_back(&o);
+      const size_t errors_before = d.errors.size();
       p.params = resolve_params(s, reg->info, mine, d);
+      if (d.errors.size() == errors_before) check_construction(s, *reg, p.params, mine, d);
       check_inputs(s, reg->info, spec, registry, d);
       for (const auto& other : registry.refused(s.plugin))
         d.warning(s.plugin_where.known() ? s.plugin_where : s.where, s.id,

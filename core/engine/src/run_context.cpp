@@ -26,6 +26,11 @@ void RunContext::record(const std::string& key, double value) {
   run_.info.metrics[stage_id_][key] = value;
 }
 
+void RunContext::note(const std::string& key, const std::string& text) {
+  std::lock_guard<std::mutex> lock(run_.mutex);
+  run_.info.notes[stage_id_][key] = text;
+}
+
 RunInfo RunContext::run_info() const {
   std::lock_guard<std::mutex> lock(run_.mutex);
   return run_.info;

@@ -30,6 +30,7 @@ class RunContext : public Context {
   uint64_t seed() const override { return run_.info.seed; }
   bool cancelled() const override { return run_.cancel && run_.cancel->load(); }
   void record(const std::string& key, double value) override;
+  void note(const std::string& key, const std::string& text) override;
   RunInfo run_info() const override;
 
  private:

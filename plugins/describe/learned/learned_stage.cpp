@@ -7,8 +7,10 @@
 #include <lista/plugin.hpp>
 #include <lista_objfeat/canonical.hpp>
 #include <lista_objfeat/descriptor_net.hpp>
+#include <lista_objfeat/sha256.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <thread>
 
 namespace lista::learned {
@@ -23,8 +25,9 @@ class LearnedStage : public Stage {
   explicit LearnedStage(const Params& p) : batch_(p.get<int>("batch")), samples_(p.get<int>("samples")) {
     std::string path = p.get<std::string>("weights");
     if (path.empty()) path = default_weights_path();
-    weights_path_ = path;
+    weights_path_ = std::filesystem::absolute(path).lexically_normal().string();
     net_ = objfeat::load_weights(path);  // throws a one-line lista::Error
+    weights_sha256_ = objfeat::sha256_file(path);
   }
 
   static StageInfo info() {
@@ -91,6 +94,9 @@ class LearnedStage : public Stage {
     }
     for (const Object& o : objects.objects) out.object_ids.push_back(o.id);
     ctx.record("objects", double(n));
+    // The pipeline shows weights = "" for the shipped model: the report says which file it was.
+    ctx.note("weights", weights_path_);
+    ctx.note("weights_sha256", weights_sha256_);
     return [&] { Outputs o; o.put("descriptors", std::move(out)); return o; }();
   }
 
@@ -98,7 +104,7 @@ class LearnedStage : public Stage {
 
  private:
   int batch_, samples_;
-  std::string weights_path_;
+  std::string weights_path_, weights_sha256_;
   objfeat::DescriptorNet net_{nullptr};
 };
 

@@ -206,6 +206,22 @@ TEST_F(LearnedTest, DefaultWeightsFollowLISTA_MODEL_DIR) {
   ::unsetenv("LISTA_MODEL_DIR");
 }
 
+// weights = "" shows nothing of the file a run used: the stage notes the
+// resolved file and its SHA-256 for the report's provenance.
+TEST_F(LearnedTest, NotesTheResolvedWeightsFileAndItsHash) {
+  ::setenv("LISTA_MODEL_DIR", dir_.c_str(), 1);
+  auto s = stage("");
+  ::unsetenv("LISTA_MODEL_DIR");
+  lista::Inputs in;
+  in.set("objects", lista::Data::make(two_views_each(1, 9)));
+  lista::BasicContext ctx("describe");
+  s->run(in, ctx);
+  const auto& notes = ctx.info.notes.at("describe");
+  EXPECT_EQ(notes.at("weights"), fs::absolute(weights_).lexically_normal().string());
+  EXPECT_EQ(notes.at("weights_sha256"), lista::objfeat::sha256_file(weights_));
+  EXPECT_EQ(notes.at("weights_sha256").size(), 64u);
+}
+
 TEST_F(LearnedTest, EmptyObjectIsAnError) {
   auto s = stage(weights_);
   lista::ObjectSet set;

@@ -151,6 +151,7 @@ std::string provenance_json(const RunInfo& run) {
   prov["dataset"] = run.dataset;
   prov["seed"] = run.seed;
   prov["threads"] = run.threads;
+  prov["jobs"] = run.jobs;
   json plugins = json::array();
   for (const auto& p : run.plugins) plugins.push_back({{"name", p.name}, {"version", p.version}, {"library", p.library}});
   prov["plugins"] = plugins;
@@ -159,6 +160,9 @@ std::string provenance_json(const RunInfo& run) {
     stages.push_back({{"id", s.id}, {"plugin", s.plugin}, {"seconds", s.seconds},
                       {"peak_rss_mib", double(s.peak_rss_bytes) / (1024.0 * 1024.0)}});
   prov["stages"] = stages;
+  json notes = json::object();
+  for (const auto& [stage, texts] : run.notes) notes[stage] = texts;
+  prov["notes"] = notes;
   json metrics = json::object();
   for (const auto& [stage, values] : run.metrics) {
     json m = json::object();

@@ -90,6 +90,10 @@ TEST(IoReport, WritesTheContractAndReadsBack) {
   ctx.info.seed = 42;
   ctx.info.finished = {{"read", "io.missions", 1.5, 100 << 20}, {"diff", "volumetric.octomap", 2.0, 200 << 20}};
   ctx.info.plugins = {{"io.missions", "1.0.0", "liblista_io_missions.so"}};
+  ctx.info.dataset = "/data/exp1";
+  ctx.info.threads = 8;
+  ctx.info.jobs = 2;
+  ctx.info.notes["describe"]["weights"] = "/models/describe-learned.bin";
   io_test::make_stage("io.report")->run(f.inputs(), ctx);
 
   const io::Report r = io::read_report((out / "report.json").string());
@@ -115,6 +119,11 @@ TEST(IoReport, WritesTheContractAndReadsBack) {
   EXPECT_EQ(extra["provenance"]["seed"], 42);
   EXPECT_EQ(extra["provenance"]["plugins"][0]["name"], "io.missions");
   EXPECT_EQ(extra["provenance"]["stages"][1]["peak_rss_mib"], 200.0);
+  // What a run depended on beyond its parameters, for tracing it later.
+  EXPECT_EQ(extra["provenance"]["dataset"], "/data/exp1");
+  EXPECT_EQ(extra["provenance"]["threads"], 8);
+  EXPECT_EQ(extra["provenance"]["jobs"], 2);
+  EXPECT_EQ(extra["provenance"]["notes"]["describe"]["weights"], "/models/describe-learned.bin");
 
   const io::PcdTable a = io::read_pcd_table((out / "changes" / "A.pcd").string());
   ASSERT_EQ(a.size, 5u);  // 4 object points + 1 change point in no object

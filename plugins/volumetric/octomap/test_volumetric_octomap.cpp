@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <iostream>
+#include <limits>
 
 using namespace lista;
 
@@ -66,4 +68,16 @@ TEST(VolumetricOctomap, RejectsBadParameters) {
   p = defaults();
   p.set("clamping_max", 0.05);
   EXPECT_THROW(volumetric::make_volumetric_octomap(p), Error);
+}
+
+// max_range had no range, so NaN passed validation and ran as "unlimited".
+TEST(VolumetricOctomap, MaxRangeIsFiniteAndNotNegative) {
+  const StageInfo info = volumetric::volumetric_octomap_info();
+  const ParamSpec* max_range = info.param("max_range");
+  ASSERT_NE(max_range, nullptr);
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(), -1.0})
+    EXPECT_NE(max_range->check(bad), "") << bad;
+  EXPECT_EQ(max_range->check(0.0), "");  // 0: unlimited
+  EXPECT_EQ(max_range->check(30.0), "");
+  EXPECT_EQ(info.declaration_problem(), "");
 }

@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <iostream>
+#include <limits>
 
 using namespace lista;
 
@@ -172,4 +174,16 @@ TEST(VolumetricOpenVdb, RejectsBadParametersAndInput) {
   EXPECT_THROW(run_stage(volumetric::make_volumetric_openvdb(defaults()), one, 1), Error);
   // Every declared default is inside its own range.
   for (const ParamSpec& s : volumetric::volumetric_openvdb_info().params) EXPECT_EQ(s.check(s.default_value), "") << s.name;
+}
+
+// max_range had no range, so NaN passed validation and ran as "unlimited".
+TEST(VolumetricOpenVdb, MaxRangeIsFiniteAndNotNegative) {
+  const StageInfo info = volumetric::volumetric_openvdb_info();
+  const ParamSpec* max_range = info.param("max_range");
+  ASSERT_NE(max_range, nullptr);
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(), -1.0})
+    EXPECT_NE(max_range->check(bad), "") << bad;
+  EXPECT_EQ(max_range->check(0.0), "");  // 0: unlimited
+  EXPECT_EQ(max_range->check(30.0), "");
+  EXPECT_EQ(info.declaration_problem(), "");
 }

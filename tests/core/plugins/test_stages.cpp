@@ -271,6 +271,28 @@ class Describe : public Stage {
   std::string mode_;
 };
 
+// A source whose constructor refuses inconsistent parameters, as the
+// volumetric stages refuse clamping_min >= clamping_max.
+class Interval : public Stage {
+ public:
+  explicit Interval(const Params& p) : lo_(p.get<double>("lo")), hi_(p.get<double>("hi")) {
+    if (!(lo_ < hi_)) throw Error("lo must be < hi, got " + std::to_string(lo_) + " and " + std::to_string(hi_));
+  }
+  static StageInfo info() {
+    return declare("test.interval", "checks lo < hi when created", {}, {{"missions", "missions", "no missions"}},
+                   {ParamSpec::real("lo", 0.0, "lower end").range(0, 1), ParamSpec::real("hi", 1.0, "upper end").range(0, 1)});
+  }
+  Outputs run(const Inputs&, Context& ctx) override {
+    ctx.record("ran", 1.0);
+    Outputs out;
+    out.put("missions", MissionSet{});
+    return out;
+  }
+
+ private:
+  double lo_, hi_;
+};
+
 template <class S>
 void add(Registrar& r) {
   r.add(S::info(), [](const Params& p) { return std::make_unique<S>(p); });
@@ -286,6 +308,7 @@ void register_stages(Registrar& r) {
   add<BadOutput>(r);
   add<ToObjects>(r);
   add<Describe>(r);
+  add<Interval>(r);
 }
 
 }  // namespace

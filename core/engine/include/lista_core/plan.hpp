@@ -32,8 +32,11 @@ struct Plan {
   std::string describe() const;
 };
 
-// Validates `spec` with `overrides` applied. `load_errors` (plugin libraries
-// that failed to load) are mentioned when a plugin is unknown.
+// Validates `spec` with `overrides` applied, creating each stage whose
+// parameters passed once through its factory (then dropping it) so that a
+// stage refusing its parameters together fails here, before any stage runs.
+// `load_errors` (plugin libraries that failed to load) are mentioned when a
+// plugin is unknown.
 Plan build_plan(const PipelineSpec& spec, const std::vector<Override>& overrides,
                 const Registry& registry, Diagnostics& diagnostics,
                 const std::vector<std::string>& load_errors = {});
