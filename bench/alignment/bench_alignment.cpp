@@ -13,6 +13,7 @@
 #include <lista_io/dataset.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_bench/plugin_settings.hpp>
 #include <lista_cli/parse.hpp>
 
 #include <chrono>
@@ -20,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 using namespace lista;
@@ -41,27 +43,6 @@ Errors errors_of(const MissionSet& set) {
     e.single.push_back(t ? t->rmse : -1.0);
   }
   return e;
-}
-
-// "align.posegraph.keyframe_distance=2" -> typed value in the stage's params.
-void apply_set(const StageInfo& info, Params& params, const std::string& assignment) {
-  const auto eq = assignment.find('=');
-  const auto dot = assignment.rfind('.', eq);
-  if (eq == std::string::npos || dot == std::string::npos) throw Error("--set wants STAGE.PARAM=VALUE, got '" + assignment + "'");
-  if (assignment.substr(0, dot) != info.name) return;
-  const std::string name = assignment.substr(dot + 1, eq - dot - 1), value = assignment.substr(eq + 1);
-  const ParamSpec* spec = info.param(name);
-  if (!spec) throw Error(info.name + " has no parameter '" + name + "'");
-  ParamValue v;
-  switch (spec->type) {
-    case ParamType::boolean: v = value == "true"; break;
-    case ParamType::integer: v = static_cast<int64_t>(std::stoll(value)); break;
-    case ParamType::real: v = std::stod(value); break;
-    case ParamType::text: v = value; break;
-    default: throw Error("--set: list parameters are not supported here");
-  }
-  if (const std::string why = spec->check(v); !why.empty()) throw Error(info.name + "." + name + ": " + why);
-  params.set(name, v);
 }
 
 std::string fmt(double v, int digits = 3) {
@@ -173,18 +154,30 @@ int main(int argc, char** argv) {
   int threads = 2;
   app.add_option("datasets", datasets, "dataset folders (missions with poses_gt.txt)")->required();
   app.add_option("--stages", stages, "aligners to run")->delimiter(',');
-  app.add_option("--set", sets, "STAGE.PARAM=VALUE override (repeatable)");
+  app.add_option("--set", sets,
+                 "<plugin>.<param>=<value>: a parameter other than the default, e.g. align.posegraph.scan_edges=0 "
+                 "(repeatable; keyed by plugin name, where lista-run's --set takes a stage id)");
   app.add_option("--threads", threads, "threads per stage")->check(CLI::PositiveNumber);
   app.add_option("--plugin-dir", plugin_dir, "folder of the built plugins");
   app.add_option("--positions", positions_dir,
                  "write DIR/<dataset>.<aligner>.txt (per scan, aligned and true pose) and .svg (top view, residuals x50)");
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench alignment")) return *code;
   try {
+    std::vector<bench::Setting> settings;
+    for (const auto& s : sets) settings.push_back(bench::parse_setting(s, "align.posegraph.scan_edges=0"));
+    bench::check_compared(settings, stages);
     core::Registry registry;
     for (const auto& name : stages) {
       std::string file = "liblista_" + name + ".so";
       std::replace(file.begin(), file.end() - 3, '.', '_');
       core::load_plugin_library(registry, plugin_dir + "/" + file);
+    }
+    // Every setting checked against its plugin's declaration before a dataset is read.
+    std::map<std::string, Params> stage_params;
+    for (const auto& name : stages) {
+      const core::RegisteredStage* stage = registry.find(name);
+      if (!stage) throw Error("no stage '" + name + "' in " + plugin_dir);
+      stage_params.emplace(name, bench::params_of(name, stage->info, settings));
     }
     std::cout << "| dataset | aligner | ATE before (m) | ATE after (m) | per-mission ATE before -> after (m) | "
                  "stage time (s) | metrics |\n|---|---|---|---|---|---|---|\n";
@@ -203,9 +196,7 @@ int main(int argc, char** argv) {
       }
       for (const auto& [name, from_truth] : runs) {
         const core::RegisteredStage* stage = registry.find(name);
-        if (!stage) throw Error("no stage '" + name + "' in " + plugin_dir);
-        Params params = Params::defaults(stage->info.params);
-        for (const auto& s : sets) apply_set(stage->info, params, s);
+        Params params = stage_params.at(name);
         MissionSet first = input;
         if (from_truth) {
           params.set("initial", std::string("input"));

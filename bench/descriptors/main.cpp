@@ -18,11 +18,11 @@
 
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>
-#include <lista_core/pipeline.hpp>
 #include <lista_objfeat/retrieval.hpp>
 #include <lista_objfeat/views.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_bench/plugin_settings.hpp>
 #include <lista_cli/parse.hpp>
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
@@ -85,20 +85,6 @@ ObjectSet posed_objects(const objfeat::ViewSet& views, uint64_t seed, bool give_
   return set;
 }
 
-// `--set describe.learned.samples=8`: one parameter of one plugin.
-struct Setting {
-  std::string text, plugin, param;
-  core::Override parsed;  // its value, parsed as the pipeline's --set parses it
-};
-
-Setting parse_setting(const std::string& text) {
-  const size_t eq = text.find('='), dot = text.substr(0, eq).rfind('.');
-  if (eq == std::string::npos || dot == std::string::npos || dot == 0)
-    throw Error("--set '" + text + "' is not of the form <plugin>.<param>=<value> (e.g. describe.learned.samples=8)");
-  Setting s{text, text.substr(0, dot), text.substr(dot + 1, eq - dot - 1), core::parse_override("x.y=" + text.substr(eq + 1))};
-  return s;
-}
-
 // One compared entry: `describe.learned`, or `mine=describe.learned` to run a
 // plugin a second time under another name (other weights, other
 // parameters); settings and output rows use the name.
@@ -117,23 +103,6 @@ Entry parse_entry(const std::string& text) {
     throw Error("--plugins entry '" + text + "' is not <plugin> or <name>=<plugin> with a name of letters, digits, "
                 "'_' and '-' (e.g. mine=describe.learned)");
   return e;
-}
-
-// The plugin's defaults with the settings that name the entry; a setting for
-// an undeclared parameter or with a value the declaration refuses is an error.
-Params params_of(const Entry& entry, const StageInfo& info, const std::vector<Setting>& settings) {
-  Params params = Params::defaults(info.params);
-  for (const auto& s : settings) {
-    if (s.plugin != entry.name) continue;
-    const ParamSpec* spec = info.param(s.param);
-    if (!spec) throw Error("--set " + s.text + ": " + info.name + " has no parameter '" + s.param + "'");
-    if (!s.parsed.value) throw Error("--set " + s.text + ": " + s.parsed.problem);
-    ParamValue v = *s.parsed.value;
-    if (std::string why = spec->check(v); !why.empty()) throw Error("--set " + s.text + ": '" + s.param + "' " + why);
-    if (spec->type == ParamType::real && v.index() == 1) v = double(std::get<int64_t>(v));
-    params.set(s.param, std::move(v));
-  }
-  return params;
 }
 
 // A plugin's failure as one line naming it and its library, whatever it threw.
@@ -243,12 +212,11 @@ int main(int argc, char** argv) {
           throw Error("--plugins names '" + entries.back().name + "' twice: give the second one its own name, e.g. " +
                       "b=" + entries.back().plugin);
     }
-    std::vector<Setting> settings;
-    for (const auto& t : set_texts) {
-      settings.push_back(parse_setting(t));
-      if (std::none_of(entries.begin(), entries.end(), [&](const Entry& e) { return e.name == settings.back().plugin; }))
-        throw Error("--set " + t + ": '" + settings.back().plugin + "' is not among the plugins compared");
-    }
+    std::vector<bench::Setting> settings;
+    for (const auto& t : set_texts) settings.push_back(bench::parse_setting(t, "describe.learned.samples=8"));
+    std::vector<std::string> names;
+    for (const Entry& e : entries) names.push_back(e.name);
+    bench::check_compared(settings, names);
     objfeat::ViewSet all, train, test;
     if (!views_dir.empty()) all = objfeat::read_views(views_dir);
     else if (synthetic > 0) all = objfeat::synthetic_views(synthetic, 4, seed);
@@ -298,7 +266,7 @@ int main(int argc, char** argv) {
       for (const auto& other : finder.refused(name))
         std::fprintf(stderr, "lista-bench-descriptors: warning: plugin '%s' is provided twice: using %s, not %s\n",
                      name.c_str(), stage.library.c_str(), other.c_str());
-      stages.push_back({&entry, &stage, params_of(entry, stage.info, settings)});
+      stages.push_back({&entry, &stage, bench::params_of(entry.name, stage.info, settings)});
     }
     for (const Compared& c : stages)
       rows.push_back(run_plugin(c.entry->name, *c.stage, objects, labels, variants, c.params));

@@ -85,23 +85,22 @@ int k_for_threshold(int n, const std::vector<Merge>& merges, double threshold) {
   return std::max(n - done, std::min(n, 1));
 }
 
-int k_at_largest_gap(int n, const std::vector<Merge>& merges, double min_ratio) {
-  if (n < 3) return std::min(n, 1);
+GapCut cut_at_largest_gap(int n, const std::vector<Merge>& merges, double min_jump, int k_max) {
+  GapCut cut;
   // Heights are non-decreasing for these linkages; sort anyway for safety.
   std::vector<double> h;
   for (const Merge& m : merges) h.push_back(m.height);
   std::sort(h.begin(), h.end());
-  const double mean = std::accumulate(h.begin(), h.end(), 0.0) / h.size();
-  double best_gap = 0.0;
-  int best_done = static_cast<int>(h.size());  // merges kept below the gap
-  // Gap before the first merge counts from 0: all points distinct clusters is
-  // never chosen unless the data are one point per class by a wide margin.
-  for (size_t i = 1; i < h.size(); ++i) {
-    const double gap = h[i] - h[i - 1];
-    if (gap > best_gap) best_gap = gap, best_done = static_cast<int>(i);
+  const int last = std::min(k_max, n / 2);
+  // Cutting into k groups undoes the top k-1 merges: the lowest undone one is
+  // h[n-k], the highest kept one h[n-k-1]. Ties go to the fewer groups.
+  for (int k = 2; k <= last && n - k - 1 >= 0; ++k) {
+    const double above = h[n - k], below = h[n - k - 1];
+    const double jump = below > 0.0 ? above / below - 1.0 : (above > 0.0 ? std::numeric_limits<double>::infinity() : 0.0);
+    if (cut.best_k == 0 || jump > cut.jump) cut.best_k = k, cut.jump = jump;
   }
-  if (best_gap <= min_ratio * mean) return 1;
-  return n - best_done;
+  cut.k = cut.best_k > 0 && cut.jump >= min_jump ? cut.best_k : 1;
+  return cut;
 }
 
 }  // namespace lista::grouping

@@ -5,6 +5,8 @@
 
 #include <lista/lista.hpp>
 
+#include <cstdio>
+
 namespace lista::grouping {
 
 namespace {
@@ -16,7 +18,8 @@ class AgglomerativeStage : public Stage {
         cut_(p.get<std::string>("cut")),
         k_(p.get<int>("k")),
         threshold_(p.get<double>("distance")),
-        min_gap_(p.get<double>("min_gap")) {}
+        min_gap_(p.get<double>("min_gap")),
+        k_max_(p.get<int>("k_max")) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& d = in.get<DescriptorSet>("descriptors");
@@ -27,7 +30,7 @@ class AgglomerativeStage : public Stage {
     int k = 0;
     if (cut_ == "k") k = std::min(k_, n);
     else if (cut_ == "distance") k = k_for_threshold(n, merges, threshold_);
-    else k = k_at_largest_gap(n, merges, min_gap_);
+    else k = gap_cut(n, merges, ctx);
     const std::vector<int> labels = cut_to_k(n, merges, k);
     ctx.info(std::to_string(n) + " objects in " + std::to_string(k) + " groups");
     ctx.record("k", k);
@@ -37,10 +40,27 @@ class AgglomerativeStage : public Stage {
   }
 
  private:
+  // One group is a finding (descriptors without classes), but it also makes
+  // the grouping a no-op for matching: say so, with the jump that fell short.
+  int gap_cut(int n, const std::vector<Merge>& merges, Context& ctx) const {
+    const GapCut cut = cut_at_largest_gap(n, merges, min_gap_, k_max_);
+    if (cut.best_k > 0) ctx.record("gap_jump", cut.jump);
+    if (cut.k == 1 && cut.best_k > 0) {
+      char line[256];
+      std::snprintf(line, sizeof line,
+                    "no jump between merge heights reaches min_gap %.2f (largest %.2f, at %d groups): one group for "
+                    "%d objects; cut = 'k' fixes the number",
+                    min_gap_, cut.jump, cut.best_k, n);
+      ctx.warn(line);
+    }
+    return cut.k;
+  }
+
   Linkage linkage_;
   std::string cut_;
   int k_;
   double threshold_, min_gap_;
+  int k_max_;
 };
 
 StageInfo info() {
@@ -51,10 +71,12 @@ StageInfo info() {
   s.doc =
       "Bottom-up clustering of the descriptor rows (Euclidean) with single, average, complete or Ward "
       "linkage (Lance-Williams updates). The dendrogram is cut by `cut`: 'gap' (default) undoes the merges "
-      "above the largest jump between successive merge heights (one group if no jump exceeds min_gap x "
-      "the mean height, or fewer than 3 objects); 'distance' undoes merges above `distance`; 'k' keeps "
-      "`k` groups. Confidences as group.kmeans: group = 1 - min-max normalised mean distance to the "
-      "centroid, object = 1 - distance to its centroid / the largest such distance.";
+      "above the largest relative jump between successive merge heights (h_above / h_below) among the cuts "
+      "into 2..min(k_max, objects / 2) groups. A jump less than min_gap (h_above < (1 + min_gap) x h_below) "
+      "means the heights show no classes: one group, with a warning. Fewer than 4 objects are one group. "
+      "'distance' undoes merges above `distance`; 'k' keeps `k` groups. Confidences as group.kmeans: "
+      "group = 1 - min-max normalised mean distance to the centroid, object = 1 - distance to its centroid / "
+      "the largest such distance.";
   s.inputs = {{"descriptors", "descriptors", "one descriptor per object"}};
   s.outputs = {{"groups", "groups", "group per object with confidences"}};
   s.params = {
@@ -63,9 +85,11 @@ StageInfo info() {
       ParamSpec::integer("k", 2, "groups kept with cut = 'k'").range(1, 100000),
       ParamSpec::real("distance", 1.0, "largest merge height kept with cut = 'distance' (descriptor units)")
           .at_least(0.0),
-      ParamSpec::real("min_gap", 0.5, "cut = 'gap': smallest jump, as a multiple of the mean merge height, "
-                                      "that splits the data")
+      ParamSpec::real("min_gap", 0.5, "cut = 'gap': smallest relative jump between successive merge heights "
+                                      "(h_above / h_below - 1) that splits the data")
           .at_least(0.0),
+      ParamSpec::integer("k_max", 10, "cut = 'gap': most groups considered (and at most half the objects)")
+          .range(2, 100000),
   };
   return s;
 }
