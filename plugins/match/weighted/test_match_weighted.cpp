@@ -255,9 +255,10 @@ TEST(MatchWeighted, HistoryAcrossThreeMissions) {
 
 // Missions A, B, B2, C where B2 shows the same scene as B: a cabinet moved
 // A->B (changed against A only in B) and another moved B2->C (changed
-// against C only in B2). Nothing changed between B and B2, so no B object
-// may pair with a B2 one, however alike; and the static objects each
-// mission shows only against its other neighbour are no moves either.
+// against C only in B2). Nothing changed between B and B2 (neither end
+// changed against the other), so no B object may pair with a B2 one,
+// however alike; and the static objects each mission shows only against
+// its other neighbour are no moves either.
 TEST(MatchWeighted, PairsOnlyObjectsThatChangedAgainstEachOther) {
   Scene s;
   s.objects.missions = {"A", "B", "B2", "C"};
@@ -280,6 +281,24 @@ TEST(MatchWeighted, PairsOnlyObjectsThatChangedAgainstEachOther) {
   Scene unknown = s;
   for (Object& o : unknown.objects.objects) o.points.changed_against.clear();
   EXPECT_EQ(run_stage(unknown).find(b)->match, b2);
+}
+
+// A table moved A -> B -> C, where C never observed the table's place in B
+// (unknown space is never change): in B it changed against A only, in C
+// against B. One end that changed against the other is enough to pair.
+TEST(MatchWeighted, OneEndChangedAgainstTheOtherIsEnoughToPair) {
+  Scene s;
+  s.objects.missions = {"A", "B", "C"};
+  const int ta = s.add(0, {0, 0, 0}, table);
+  const int tb = s.add(1, {1, 0, 0}, table);
+  const int tc = s.add(2, {2, 0, 0}, table);
+  s.set_against(ta, changed_against_next);
+  s.set_against(tb, changed_against_previous);
+  s.set_against(tc, changed_against_previous);
+  const Matches m = run_stage(s);
+  EXPECT_EQ(m.find(tb)->match, tc);
+  EXPECT_EQ(m.find(tc)->match, tb);
+  EXPECT_EQ(m.find(ta)->history, (std::vector<int>{ta, tb, tc}));
 }
 
 // An unpaired object of a middle mission: added when it changed against the

@@ -66,7 +66,8 @@ double descriptor_scale(const ObjectSet& objects, const DescriptorSet& desc) {
 
 PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<const Object*>& b,
                      const DescriptorSet& desc, const Groups* groups, const WeightedMatchConfig& cfg,
-                     double desc_scale, const PairFit& fit) {
+                     double desc_scale, const PairFit& fit, const std::vector<bool>& a_changed,
+                     const std::vector<bool>& b_changed) {
   const int n = static_cast<int>(a.size()), m = static_cast<int>(b.size());
   PairCosts pc;
   pc.physical.resize(n, m);
@@ -87,7 +88,7 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
       pc.descriptor(i, j) = (ra >= 0 && rb >= 0)
           ? (desc.values.row(ra) - desc.values.row(rb)).cast<double>().norm()
           : std::numeric_limits<double>::quiet_NaN();
-      bool ok = pc.physical(i, j) <= cfg.max_distance;
+      bool ok = pc.physical(i, j) <= cfg.max_distance && (a_changed[size_t(i)] || b_changed[size_t(j)]);
       if (cfg.max_size_change > 0.0 && !same_size(size_a[size_t(i)], size_b[size_t(j)], cfg.max_size_change, cfg.size_slack))
         ok = false;
       if (cfg.max_descriptor_distance > 0.0 && !(pc.descriptor(i, j) <= cfg.max_descriptor_distance))
@@ -184,18 +185,21 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
   for (size_t i = 0; i < n_obj; ++i) against[i] = objects.objects[i].points.changed_against_all();
 
   for (size_t m = 0; m + 1 < n_missions; ++m) {
-    // A move from m to m+1 leaves change in both against each other: an
-    // object found only against m-1 (or m+2) is no candidate, or an object
-    // seen in two missions with no change between them would pair with a
-    // different one across the gap.
+    // A move from m to m+1 leaves change against each other at one end at
+    // least (at both, unless m+1 never observed where the object stood in
+    // m, or m where it stands in m+1: unknown space is never change). Two
+    // objects found only against m-1 and m+2 are no pair: the same scene
+    // seen twice with no change between would pair different objects across
+    // the gap.
     std::vector<const Object*> a, b;
+    std::vector<bool> a_changed, b_changed;  // against the other mission of the pair
     for (size_t i = 0; i < n_obj; ++i) {
       const Object& o = objects.objects[i];
-      if (o.mission == m && (against[i] & changed_against_next)) a.push_back(&o);
-      if (o.mission == m + 1 && (against[i] & changed_against_previous)) b.push_back(&o);
+      if (o.mission == m) a.push_back(&o), a_changed.push_back(against[i] & changed_against_next);
+      if (o.mission == m + 1) b.push_back(&o), b_changed.push_back(against[i] & changed_against_previous);
     }
     if (a.empty() || b.empty()) continue;
-    PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale, fit);
+    PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale, fit, a_changed, b_changed);
     // The gate judges a pair without its group penalty: in soft mode a group
     // only decides between rival partners and never vetoes a pair the gates
     // accept (k-means may split one object's full and partial views).
