@@ -8,6 +8,7 @@
 #include <lista/basic_context.hpp>
 #include <lista/lista.hpp>
 #include <lista_alignkit/trajectory_error.hpp>
+#include <lista_bench/stage_finder.hpp>
 #include <lista_core/loader.hpp>
 #include <lista_core/registry.hpp>
 #include <lista_io/dataset.hpp>
@@ -150,7 +151,8 @@ int main(int argc, char** argv) {
   CLI::App app{"align.posegraph vs align.icp: ATE against poses_gt.txt and stage time"};
   std::vector<std::string> datasets, sets;
   std::vector<std::string> stages = {"align.posegraph", "align.icp"};
-  std::string plugin_dir = LISTA_PLUGIN_DIR, positions_dir;
+  std::vector<std::string> plugin_dirs;
+  std::string positions_dir;
   int threads = 2;
   app.add_option("datasets", datasets, "dataset folders (missions with poses_gt.txt)")->required();
   app.add_option("--stages", stages, "aligners to run")->delimiter(',');
@@ -158,7 +160,10 @@ int main(int argc, char** argv) {
                  "<plugin>.<param>=<value>: a parameter other than the default, e.g. align.posegraph.scan_edges=0 "
                  "(repeatable; keyed by plugin name, where lista-run's --set takes a stage id)");
   app.add_option("--threads", threads, "threads per stage")->check(CLI::PositiveNumber);
-  app.add_option("--plugin-dir", plugin_dir, "folder of the built plugins");
+  app.add_option("--plugin-dir", plugin_dirs,
+                 "extra folder of plugin libraries, searched before the shipped ones (repeatable; LISTA_PLUGIN_PATH too)")
+      ->allow_extra_args(false)
+      ->check(CLI::ExistingDirectory);
   app.add_option("--positions", positions_dir,
                  "write DIR/<dataset>.<aligner>.txt (per scan, aligned and true pose) and .svg (top view, residuals x50)");
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench alignment")) return *code;
@@ -166,19 +171,20 @@ int main(int argc, char** argv) {
     std::vector<bench::Setting> settings;
     for (const auto& s : sets) settings.push_back(bench::parse_setting(s, "align.posegraph.scan_edges=0"));
     bench::check_compared(settings, stages);
-    core::Registry registry;
-    for (const auto& name : stages) {
-      std::string file = "liblista_" + name + ".so";
-      std::replace(file.begin(), file.end() - 3, '.', '_');
-      core::load_plugin_library(registry, plugin_dir + "/" + file);
-    }
-    // Every setting checked against its plugin's declaration before a dataset is read.
+    // Plugins found as lista-run finds them, every setting checked against
+    // its plugin's declaration and every dataset folder checked before
+    // anything is printed or read.
+    const bench::StageFinder finder(plugin_dirs);
     std::map<std::string, Params> stage_params;
     for (const auto& name : stages) {
-      const core::RegisteredStage* stage = registry.find(name);
-      if (!stage) throw Error("no stage '" + name + "' in " + plugin_dir);
-      stage_params.emplace(name, bench::params_of(name, stage->info, settings));
+      const core::RegisteredStage& stage = finder.find(name);
+      if (stage.info.inputs.size() != 1 || stage.info.inputs[0].type != "missions" ||
+          stage.info.outputs.size() != 1 || stage.info.outputs[0].type != "missions")
+        throw Error(name + " is not an align stage (one 'missions' input, one 'missions' output)");
+      stage_params.emplace(name, bench::params_of(name, stage.info, settings));
     }
+    for (const auto& dir : datasets)
+      if (!std::filesystem::is_directory(dir)) throw Error(dir + ": no such dataset folder");
     std::cout << "| dataset | aligner | ATE before (m) | ATE after (m) | per-mission ATE before -> after (m) | "
                  "stage time (s) | metrics |\n|---|---|---|---|---|---|---|\n";
     for (const auto& dir : datasets) {
@@ -195,7 +201,7 @@ int main(int argc, char** argv) {
         if (name == "align.icp" && before.all >= 0) runs.push_back({name, true});
       }
       for (const auto& [name, from_truth] : runs) {
-        const core::RegisteredStage* stage = registry.find(name);
+        const core::RegisteredStage* stage = &finder.find(name);
         Params params = stage_params.at(name);
         MissionSet first = input;
         if (from_truth) {

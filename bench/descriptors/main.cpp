@@ -14,7 +14,7 @@
 // view size, sensor, distance and which part of the object a view shows
 // (breakdowns.hpp).
 #include "breakdowns.hpp"
-#include "plugin_loader.hpp"
+#include <lista_bench/stage_finder.hpp>
 
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>

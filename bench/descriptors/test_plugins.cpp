@@ -2,7 +2,7 @@
 // benchmark (and the core) load them: same ports and port types, so the
 // grouping stage never cares which one a pipeline uses, and each gives one
 // unit row per object on the same synthetic objects.
-#include "plugin_loader.hpp"
+#include <lista_bench/stage_finder.hpp>
 
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>

@@ -46,7 +46,18 @@ TEST(BenchAlignment, EveryBadSettingIsOneLineOfError) {
   const auto good = e2e::run(bench(nowhere + " --stages align.icp --set align.icp.iterations=5 --set align.icp.voxel=1"));
   EXPECT_NE(good.status, 0);
   EXPECT_EQ(good.output.find("--set"), std::string::npos) << good.output;
-  EXPECT_NE(good.output.find(nowhere), std::string::npos) << good.output;
+  EXPECT_NE(good.output.find(nowhere + ": no such dataset folder"), std::string::npos) << good.output;
+  EXPECT_EQ(good.output.find("| dataset |"), std::string::npos) << "no table header before the error";
+  // Stages are found as lista-run finds them: a misspelt one is named with
+  // the nearest, and a stage of another kind is refused.
+  const auto misspelt = e2e::run(bench(nowhere + " --stages align.posgraph"));
+  EXPECT_NE(misspelt.status, 0);
+  EXPECT_NE(misspelt.output.find("unknown plugin 'align.posgraph' (did you mean 'align.posegraph'?)"),
+            std::string::npos)
+      << misspelt.output;
+  const auto other_kind = e2e::run(bench(nowhere + " --stages describe.esf"));
+  EXPECT_NE(other_kind.status, 0);
+  EXPECT_NE(other_kind.output.find("describe.esf is not an align stage"), std::string::npos) << other_kind.output;
 }
 
 // align.icp refuses a registration with less overlap than min_overlap: set

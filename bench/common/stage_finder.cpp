@@ -1,4 +1,4 @@
-#include "plugin_loader.hpp"
+#include <lista_bench/stage_finder.hpp>
 
 #include <lista_core/text.hpp>
 
