@@ -127,7 +127,11 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
   row("dataset", run.dataset);
   row("seed", std::to_string(run.seed));
   row("threads", std::to_string(run.threads));
+  row("stages at once (-j)", std::to_string(run.jobs));
   for (const auto& p : run.plugins) row("plugin " + p.name, p.version + " (" + p.library + ")");
+  // What stages noted about their inputs (describe.learned: its weights file and SHA-256).
+  for (const auto& [stage, notes] : run.notes)
+    for (const auto& [key, text] : notes) row(stage + " " + key, text);
   html += "</table>\n";
   if (!run.pipeline_resolved.empty())
     html += "<details><summary>Resolved pipeline</summary><pre>" + escape(run.pipeline_resolved) + "</pre></details>\n";

@@ -125,6 +125,8 @@ fs::path write_report(const Scene& s, const std::string& name, bool with_descrip
   lista::BasicContext ctx("html");
   ctx.info.output_dir = dir.string();
   ctx.info.finished = {{"read", "io.missions", 0.5, 1 << 20}};
+  ctx.info.jobs = 2;
+  ctx.info.notes["describe"]["weights_sha256"] = "fe68557d";
   Capture plugin = registered();
   lista::Inputs in;
   in.set("missions", lista::Data::make(s.missions));
@@ -167,6 +169,9 @@ TEST(ReportHtml, WritesEveryPart) {
   EXPECT_NE(html.find("removed: 1"), std::string::npos);
   EXPECT_NE(html.find("moved: 2"), std::string::npos);
   EXPECT_NE(html.find("io.missions"), std::string::npos) << "stage timings";
+  EXPECT_NE(html.find("<th>stages at once (-j)</th><td class=\"text\">2</td>"), std::string::npos);
+  EXPECT_NE(html.find("<th>describe weights_sha256</th><td class=\"text\">fe68557d</td>"), std::string::npos)
+      << "what stages noted (the weights a run used)";
   EXPECT_FALSE(fs::exists(dir / "report.html.tmp"));
   fs::remove_all(dir);
 }
