@@ -32,6 +32,19 @@ const MissionSet& run(const MissionSet& set, BasicContext& ctx, Outputs& out, co
   return out.at("missions").as<MissionSet>();
 }
 
+// Missions a and b drive the same loop in the hall with exact odometry;
+// b's map frame is `map_from_world` (another SLAM run's frame).
+MissionSet hall_twice(const Eigen::Isometry3d& map_from_world) {
+  const Scene hall = make_hall(30, 20, 40, 7);
+  const auto route = loop_route(30, 20, 4.0, 2.0, 0.0);
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, route, route, 1));
+  std::vector<Eigen::Isometry3d> poses_b;
+  for (const auto& p : route) poses_b.push_back(map_from_world * p);
+  set.missions.push_back(make_mission("b", hall, route, poses_b, 2));
+  return set;
+}
+
 }  // namespace
 
 TEST(AlignIcp, UndoesAPureOffset) {
@@ -80,15 +93,9 @@ TEST(AlignIcp, RefusesMapsThatDoNotOverlap) {
 }
 
 TEST(AlignIcp, StartsFromTheInputTransforms) {
-  const Scene hall = make_hall(30, 20, 40, 7);
-  const auto route = loop_route(30, 20, 4.0, 2.0, 0.0);
-  MissionSet set;
-  set.missions.push_back(make_mission("a", hall, route, route, 1));
   // Mission b's map is 25 m and 120 degrees away: far beyond ICP's reach from identity.
   const Eigen::Isometry3d map_from_world = offset(25, -10, 0.3, 120);
-  std::vector<Eigen::Isometry3d> poses_b;
-  for (const auto& p : route) poses_b.push_back(map_from_world * p);
-  set.missions.push_back(make_mission("b", hall, route, poses_b, 2));
+  MissionSet set = hall_twice(map_from_world);
   // A rough guess (0.5 m, 3 degrees off), as align.given or an operator would give.
   set.missions[1].to_common = offset(0.4, 0.3, 0, 3) * map_from_world.inverse();
 
@@ -105,13 +112,7 @@ TEST(AlignIcp, StartsFromTheInputTransforms) {
 // rectangular hall locks onto the nearest fit, metres from the truth. With
 // poses_gt.txt the stage says so (the result is wrong, not an error).
 TEST(AlignIcp, AFitFarFromPosesGtIsWarnedAbout) {
-  const Scene hall = make_hall(30, 20, 40, 7);
-  const auto route = loop_route(30, 20, 4.0, 2.0, 0.0);
-  MissionSet set;
-  set.missions.push_back(make_mission("a", hall, route, route, 1));
-  std::vector<Eigen::Isometry3d> poses_b;
-  for (const auto& p : route) poses_b.push_back(offset(0, 0, 0, 178) * p);
-  set.missions.push_back(make_mission("b", hall, route, poses_b, 2));
+  const MissionSet set = hall_twice(offset(0, 0, 0, 178));
   BasicContext ctx("align", 2, 0);
   Outputs out;
   const MissionSet& aligned = run(set, ctx, out);

@@ -46,6 +46,12 @@ struct Scene {
     for (Object& o : objects.objects)
       if (o.id == id) o.points.changed_against.assign(o.points.size(), bits);
   }
+  // add(), its points changed against `bits`.
+  int add_changed(uint32_t m, Eigen::Vector3f at, std::vector<float> d, uint8_t bits) {
+    const int id = add(m, at, std::move(d));
+    set_against(id, bits);
+    return id;
+  }
   int add_object(Object o, const std::vector<float>& d) {
     o.update_geometry();
     objects.objects.push_back(o);
@@ -262,14 +268,10 @@ TEST(MatchWeighted, HistoryAcrossThreeMissions) {
 TEST(MatchWeighted, PairsOnlyObjectsThatChangedAgainstEachOther) {
   Scene s;
   s.objects.missions = {"A", "B", "B2", "C"};
-  const int a = s.add(0, {0, 0, 0}, chair);
-  const int b = s.add(1, {1, 0, 0}, chair);
-  const int b2 = s.add(2, {1.3f, 0, 0}, chair);
-  const int c = s.add(3, {1.6f, 0, 0}, chair);
-  s.set_against(a, changed_against_next);
-  s.set_against(b, changed_against_previous);
-  s.set_against(b2, changed_against_next);
-  s.set_against(c, changed_against_previous);
+  const int a = s.add_changed(0, {0, 0, 0}, chair, changed_against_next);
+  const int b = s.add_changed(1, {1, 0, 0}, chair, changed_against_previous);
+  const int b2 = s.add_changed(2, {1.3f, 0, 0}, chair, changed_against_next);
+  const int c = s.add_changed(3, {1.6f, 0, 0}, chair, changed_against_previous);
   const Matches m = run_stage(s);
   EXPECT_EQ(m.find(a)->match, b);
   EXPECT_EQ(m.find(b)->match, a) << "not " << b2 << " across the unchanged B->B2";
@@ -289,12 +291,9 @@ TEST(MatchWeighted, PairsOnlyObjectsThatChangedAgainstEachOther) {
 TEST(MatchWeighted, OneEndChangedAgainstTheOtherIsEnoughToPair) {
   Scene s;
   s.objects.missions = {"A", "B", "C"};
-  const int ta = s.add(0, {0, 0, 0}, table);
-  const int tb = s.add(1, {1, 0, 0}, table);
-  const int tc = s.add(2, {2, 0, 0}, table);
-  s.set_against(ta, changed_against_next);
-  s.set_against(tb, changed_against_previous);
-  s.set_against(tc, changed_against_previous);
+  const int ta = s.add_changed(0, {0, 0, 0}, table, changed_against_next);
+  const int tb = s.add_changed(1, {1, 0, 0}, table, changed_against_previous);
+  const int tc = s.add_changed(2, {2, 0, 0}, table, changed_against_previous);
   const Matches m = run_stage(s);
   EXPECT_EQ(m.find(tb)->match, tc);
   EXPECT_EQ(m.find(tc)->match, tb);
@@ -306,12 +305,9 @@ TEST(MatchWeighted, OneEndChangedAgainstTheOtherIsEnoughToPair) {
 TEST(MatchWeighted, AMiddleMissionObjectIsAddedOrRemovedByItsNeighbours) {
   Scene s;
   s.objects.missions = {"A", "B", "C"};
-  const int arrived = s.add(1, {0, 0, 0}, chair);
-  const int left = s.add(1, {5, 0, 0}, table);
-  const int came_and_went = s.add(1, {-5, 0, 0}, lamp);
-  s.set_against(arrived, changed_against_previous);
-  s.set_against(left, changed_against_next);
-  s.set_against(came_and_went, changed_against_either);
+  const int arrived = s.add_changed(1, {0, 0, 0}, chair, changed_against_previous);
+  const int left = s.add_changed(1, {5, 0, 0}, table, changed_against_next);
+  const int came_and_went = s.add_changed(1, {-5, 0, 0}, lamp, changed_against_either);
   const Matches m = run_stage(s);
   EXPECT_EQ(m.find(arrived)->status, ChangeStatus::added);
   EXPECT_EQ(m.find(left)->status, ChangeStatus::removed);

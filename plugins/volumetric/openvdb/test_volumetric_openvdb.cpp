@@ -3,6 +3,8 @@
 #include "../octomap/volumetric_octomap.hpp"
 #include "volumetric_openvdb.hpp"
 
+#include "../common/expect_declared_params.hpp"
+
 #include <lista/basic_context.hpp>
 #include <lista_raycast/scene_checks.hpp>
 #include <lista_raycast/synthetic_scene.hpp>
@@ -176,14 +178,6 @@ TEST(VolumetricOpenVdb, RejectsBadParametersAndInput) {
   for (const ParamSpec& s : volumetric::volumetric_openvdb_info().params) EXPECT_EQ(s.check(s.default_value), "") << s.name;
 }
 
-// max_range had no range, so NaN passed validation and ran as "unlimited".
 TEST(VolumetricOpenVdb, MaxRangeIsFiniteAndNotNegative) {
-  const StageInfo info = volumetric::volumetric_openvdb_info();
-  const ParamSpec* max_range = info.param("max_range");
-  ASSERT_NE(max_range, nullptr);
-  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity(), -1.0})
-    EXPECT_NE(max_range->check(bad), "") << bad;
-  EXPECT_EQ(max_range->check(0.0), "");  // 0: unlimited
-  EXPECT_EQ(max_range->check(30.0), "");
-  EXPECT_EQ(info.declaration_problem(), "");
+  volumetric::testing::expect_max_range_finite_and_not_negative(volumetric::volumetric_openvdb_info());
 }
