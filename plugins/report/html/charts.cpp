@@ -11,6 +11,24 @@ namespace lista::report_html {
 
 namespace {
 
+// One marker shape per mission (circle, square, triangle, diamond, then
+// round again), so the PCA plot tells every mission of a long patrol apart.
+std::string mission_marker(size_t mission, double x, double y, const Rgb& colour, const std::string& title) {
+  const std::string fill = "\" fill=\"" + colour.css() + "\">" + title;
+  auto polygon = [&](const std::vector<std::pair<double, double>>& corners) {
+    std::string pts;
+    for (const auto& [dx, dy] : corners) pts += (pts.empty() ? "" : " ") + fmt(x + dx, 1) + "," + fmt(y + dy, 1);
+    return "<polygon points=\"" + pts + fill + "</polygon>";
+  };
+  switch (mission % 4) {
+    case 0: return "<circle cx=\"" + fmt(x, 1) + "\" cy=\"" + fmt(y, 1) + "\" r=\"6" + fill + "</circle>";
+    case 1:
+      return "<rect x=\"" + fmt(x - 5, 1) + "\" y=\"" + fmt(y - 5, 1) + "\" width=\"10\" height=\"10" + fill + "</rect>";
+    case 2: return polygon({{0, -7}, {6, 5}, {-6, 5}});
+    default: return polygon({{0, -7}, {7, 0}, {0, 7}, {-7, 0}});
+  }
+}
+
 std::vector<const ObjectView*> of_mission(const ReportModel& model, size_t m) {
   std::vector<const ObjectView*> out;
   for (const auto& v : model.objects)
@@ -104,14 +122,11 @@ std::string render_pca(const ReportModel& model, const DescriptorSet& descriptor
     const int group = v ? v->group : -1;
     const Rgb colour = palette(group);
     const double x = sx(P(i, 0)), y = sy(P(i, 1));
-    const bool first = v && v->object->mission == 0;
-    if (first)
-      svg += "<circle cx=\"" + fmt(x, 1) + "\" cy=\"" + fmt(y, 1) + "\" r=\"6\" fill=\"" + colour.css() + "\"";
-    else
-      svg += "<rect x=\"" + fmt(x - 5, 1) + "\" y=\"" + fmt(y - 5, 1) + "\" width=\"10\" height=\"10\" fill=\"" +
-             colour.css() + "\"";
-    svg += "><title>object " + std::to_string(id) + ", group " + std::to_string(group) + "</title>" +
-           (first ? "</circle>" : "</rect>") + "\n";
+    const size_t mission = v ? v->object->mission : 0;
+    const std::string title = "<title>object " + std::to_string(id) + ", " +
+                              escape(v ? model.missions[mission] : std::string("?")) + ", group " +
+                              std::to_string(group) + "</title>";
+    svg += mission_marker(mission, x, y, colour, title) + "\n";
     svg += "<text x=\"" + fmt(x + 7, 1) + "\" y=\"" + fmt(y - 6, 1) + "\" font-size=\"10\">" +
            std::to_string(id) + "</text>\n";
   }

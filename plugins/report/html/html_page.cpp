@@ -47,6 +47,14 @@ std::string history_text(const ObjectView& v, const ReportModel& model) {
   return s;
 }
 
+// "circle A, square B, triangle C" (charts.cpp's mission_marker shapes).
+std::string marker_legend(const std::vector<std::string>& missions) {
+  static const char* shapes[] = {"circle", "square", "triangle", "diamond"};
+  std::string s;
+  for (size_t m = 0; m < missions.size(); ++m) s += (m ? ", " : "") + std::string(shapes[m % 4]) + " " + escape(missions[m]);
+  return s;
+}
+
 std::string vec(const Eigen::Vector3d& p) {
   return fmt(p.x()) + ", " + fmt(p.y()) + ", " + fmt(p.z());
 }
@@ -94,7 +102,7 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
     const std::string pca = render_pca(model, *descriptors);
     if (!pca.empty()) {
       html += "<h2>Descriptors (" + escape(descriptors->method) + ", " + std::to_string(descriptors->dim()) +
-              "-d) by PCA</h2>\n<p>Colour: group; circle: first mission, square: later missions.</p>\n" + pca;
+              "-d) by PCA</h2>\n<p>Colour: group; shape: mission (" + marker_legend(model.missions) + ").</p>\n" + pca;
     }
   }
 

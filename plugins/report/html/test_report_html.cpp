@@ -318,9 +318,16 @@ TEST(ReportHtml, EachChangeMapShowsOnlyItsPairsChanges) {
   // Changed against C only: not in A -> B at all.
   for (auto& o : s.objects.objects)
     if (o.id == 5) o.points.changed_against.assign(o.points.size(), lista::changed_against_next);
-  const fs::path next = write_report(s, "three_next", false);
+  // The PCA plot gives each mission its own marker: C's objects triangles.
+  s.descriptors.object_ids = {0, 1, 2, 3, 4, 5};
+  s.descriptors.values.conservativeResize(6, 3);
+  s.descriptors.values.bottomRows(2) << 0.5f, 0.5f, 0.7f, 0.2f, 0.9f, 0.4f;
+  const fs::path next = write_report(s, "three_next", true);
   const std::string html3 = read(next / "report.html");
   const size_t second3 = html3.find("<svg class=\"topdown\"", html3.find("<svg class=\"topdown\"") + 1);
+  EXPECT_NE(html3.find("shape: mission (circle A, square B, triangle C)"), std::string::npos);
+  EXPECT_NE(html3.find("<polygon points="), std::string::npos);
+  EXPECT_NE(html3.find("<title>object 4, C, group 2</title>"), std::string::npos);
   EXPECT_FALSE(labelled(html3.substr(0, second3), 5));
   EXPECT_TRUE(labelled(html3.substr(second3), 5));
   fs::remove_all(both);
