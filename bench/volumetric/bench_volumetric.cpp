@@ -206,7 +206,8 @@ int main(int argc, char** argv) {
   app.add_option("--stock-scans", o.stock_scans, "stock OctoMap: only the first N scans of each mission (0 = all); throughput is extrapolated");
   app.add_option("--backends", backends_csv, "which to run, comma-separated");
   app.add_option("--resolution", o.resolution, "voxel size, m");
-  app.add_option("--max-range", o.max_range, "beam range cut, m (<= 0: none)");
+  // The plugins declare max_range >= 0 (0: none); the bench takes what they take.
+  app.add_option("--max-range", o.max_range, "beam range cut, m (0: none)")->check(lista::cli::at_least(0.0));
   app.add_flag("--gt-poses", o.gt_poses, "use poses_gt.txt (true poses, common frame) instead of poses.txt: isolates the volumetric stage from SLAM drift");
   app.add_option("--out", o.out, "write <out>/<backend>/changes/<mission>.pcd (contract format) for lista-eval");
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench volumetric")) return *code;

@@ -80,3 +80,19 @@ TEST(CliParse, FloatOptionsRefuseNanAndInfinity) {
     }
   }
 }
+
+// at_least: the bound said plainly, the bound itself accepted.
+TEST(CliParse, AtLeastSaysItsBoundPlainly) {
+  for (const auto& [value, ok] : std::vector<std::pair<const char*, bool>>{{"-1", false}, {"0", true}, {"2.5", true}}) {
+    CLI::App app{"a test program"};
+    double range = 30.0;
+    app.add_option("--range", range, "a range")->check(lista::cli::at_least(0.0));
+    const char* args[] = {"prog", "--range", value};
+    std::ostringstream err;
+    auto* old = std::cerr.rdbuf(err.rdbuf());
+    const auto code = lista::cli::parse_command_line(app, 3, args, "lista-prog");
+    std::cerr.rdbuf(old);
+    EXPECT_EQ(code.has_value(), !ok) << value;
+    if (!ok) EXPECT_NE(err.str().find("--range: must be at least 0, got -1 (see --help)"), std::string::npos) << err.str();
+  }
+}

@@ -37,6 +37,24 @@ inline void prepare_options(CLI::App& app) {
 }
 }  // namespace detail
 
+// A number no smaller than `lo`, said plainly (CLI11's NonNegativeNumber
+// prints the largest double as its upper bound).
+inline CLI::Validator at_least(double lo) {
+  return CLI::Validator(
+      [lo](std::string& v) {
+        try {
+          if (std::stod(v) >= lo) return std::string();
+        } catch (const std::exception&) {
+          return std::string();  // not a number: the option's own conversion says so
+        }
+        std::string bound = std::to_string(lo);
+        bound.erase(bound.find_last_not_of('0') + 1);
+        if (bound.back() == '.') bound.pop_back();
+        return "must be at least " + bound + ", got " + v;
+      },
+      "");
+}
+
 // nullopt: parsed, go on. A value: the exit status to return now (0 after
 // --help, 2 after a usage error, which is printed to stderr).
 inline std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv,
