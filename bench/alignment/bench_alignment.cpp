@@ -8,13 +8,11 @@
 #include <lista/basic_context.hpp>
 #include <lista/lista.hpp>
 #include <lista_alignkit/trajectory_error.hpp>
+#include <lista_bench/plugin_settings.hpp>
 #include <lista_bench/stage_finder.hpp>
-#include <lista_core/loader.hpp>
-#include <lista_core/registry.hpp>
 #include <lista_io/dataset.hpp>
 
 #include <CLI/CLI.hpp>
-#include <lista_bench/plugin_settings.hpp>
 #include <lista_cli/parse.hpp>
 
 #include <chrono>
@@ -177,10 +175,8 @@ int main(int argc, char** argv) {
     const bench::StageFinder finder(plugin_dirs);
     std::map<std::string, Params> stage_params;
     for (const auto& name : stages) {
-      const core::RegisteredStage& stage = finder.find(name);
-      if (stage.info.inputs.size() != 1 || stage.info.inputs[0].type != "missions" ||
-          stage.info.outputs.size() != 1 || stage.info.outputs[0].type != "missions")
-        throw Error(name + " is not an align stage (one 'missions' input, one 'missions' output)");
+      const core::RegisteredStage& stage =
+          finder.find(name, "missions", "missions", "an align stage", "lista-bench-alignment");
       stage_params.emplace(name, bench::params_of(name, stage.info, settings));
     }
     for (const auto& dir : datasets)

@@ -2,6 +2,8 @@
 
 #include <lista_core/text.hpp>
 
+#include <cstdio>
+
 namespace lista::bench {
 
 StageFinder::StageFinder(const std::vector<std::string>& plugin_dirs, bool include_default) {
@@ -17,6 +19,19 @@ const core::RegisteredStage& StageFinder::find(const std::string& name) const {
   else
     msg += "; see lista-run --list-plugins (a plugin of your own: --plugin-dir FOLDER)";
   throw Error(msg);
+}
+
+const core::RegisteredStage& StageFinder::find(const std::string& name, const std::string& input,
+                                              const std::string& output, const std::string& kind,
+                                              const std::string& program) const {
+  const core::RegisteredStage& stage = find(name);
+  if (stage.info.inputs.size() != 1 || stage.info.inputs[0].type != input || stage.info.outputs.size() != 1 ||
+      stage.info.outputs[0].type != output)
+    throw Error(name + " is not " + kind + " (one '" + input + "' input, one '" + output + "' output)");
+  for (const auto& other : registry_.refused(name))
+    std::fprintf(stderr, "%s: warning: plugin '%s' is provided twice: using %s, not %s\n", program.c_str(),
+                 name.c_str(), stage.library.c_str(), other.c_str());
+  return stage;
 }
 
 }  // namespace lista::bench

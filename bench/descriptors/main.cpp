@@ -14,15 +14,15 @@
 // view size, sensor, distance and which part of the object a view shows
 // (breakdowns.hpp).
 #include "breakdowns.hpp"
-#include <lista_bench/stage_finder.hpp>
 
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>
+#include <lista_bench/plugin_settings.hpp>
+#include <lista_bench/stage_finder.hpp>
 #include <lista_objfeat/retrieval.hpp>
 #include <lista_objfeat/views.hpp>
 
 #include <CLI/CLI.hpp>
-#include <lista_bench/plugin_settings.hpp>
 #include <lista_cli/parse.hpp>
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
@@ -258,14 +258,8 @@ int main(int argc, char** argv) {
     };
     std::vector<Compared> stages;
     for (const Entry& entry : entries) {
-      const std::string& name = entry.plugin;
-      const core::RegisteredStage& stage = finder.find(name);
-      if (stage.info.outputs.size() != 1 || stage.info.outputs[0].type != "descriptors" ||
-          stage.info.inputs.size() != 1 || stage.info.inputs[0].type != "objects")
-        throw Error(name + " is not a descriptor stage (one 'objects' input, one 'descriptors' output)");
-      for (const auto& other : finder.refused(name))
-        std::fprintf(stderr, "lista-bench-descriptors: warning: plugin '%s' is provided twice: using %s, not %s\n",
-                     name.c_str(), stage.library.c_str(), other.c_str());
+      const core::RegisteredStage& stage =
+          finder.find(entry.plugin, "objects", "descriptors", "a descriptor stage", "lista-bench-descriptors");
       stages.push_back({&entry, &stage, bench::params_of(entry.name, stage.info, settings)});
     }
     for (const Compared& c : stages)
