@@ -132,7 +132,7 @@ void save_weights(DescriptorNet& net, const std::string& path) {
   }
 }
 
-DescriptorNet load_weights(const std::string& path) {
+DescriptorNet load_weights(const std::string& path, std::string* sha256) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw Error("model weights '" + path + "' is a folder; give the weights file (e.g. <folder>/describe-learned.bin)");
@@ -147,8 +147,10 @@ DescriptorNet load_weights(const std::string& path) {
   std::string expected;
   if (!(sum_in >> expected))
     throw Error("checksum file '" + path + ".sha256' is missing or empty; cannot trust the weights");
-  if (sha256_hex(buf) != expected)
+  const std::string actual = sha256_hex(buf);
+  if (actual != expected)
     throw Error("model weights '" + path + "' are corrupt: SHA-256 does not match '" + path + ".sha256'");
+  if (sha256) *sha256 = actual;
 
   const bool first = buf.size() >= 8 && std::memcmp(buf.data(), kMagicFirst, 8) == 0;
   if (buf.size() < 8 || (!first && std::memcmp(buf.data(), kMagic, 8) != 0))

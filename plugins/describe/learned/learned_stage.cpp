@@ -7,7 +7,6 @@
 #include <lista/plugin.hpp>
 #include <lista_objfeat/canonical.hpp>
 #include <lista_objfeat/descriptor_net.hpp>
-#include <lista_objfeat/sha256.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -26,8 +25,7 @@ class LearnedStage : public Stage {
     std::string path = p.get<std::string>("weights");
     if (path.empty()) path = default_weights_path();
     weights_path_ = std::filesystem::absolute(path).lexically_normal().string();
-    net_ = objfeat::load_weights(path);  // throws a one-line lista::Error
-    weights_sha256_ = objfeat::sha256_file(path);
+    net_ = objfeat::load_weights(path, &weights_sha256_);  // throws a one-line lista::Error
   }
 
   static StageInfo info() {

@@ -68,7 +68,8 @@ torch::Tensor mean_of_samples(const torch::Tensor& rows, int samples);
 // Writes the weights file and its .sha256 sidecar (temp name, then rename).
 void save_weights(DescriptorNet& net, const std::string& path);
 // Verifies the checksum and layout; throws lista::Error with a one-line
-// reason (missing file, missing/mismatching checksum, bad layout).
-DescriptorNet load_weights(const std::string& path);
+// reason (missing file, missing/mismatching checksum, bad layout). The
+// verified SHA-256 (hex) goes to `sha256` when given.
+DescriptorNet load_weights(const std::string& path, std::string* sha256 = nullptr);
 
 }  // namespace lista::objfeat
