@@ -23,9 +23,9 @@ struct PointSet {
   // Change points only: empty (not known), or one per point, the
   // ChangedAgainst bits naming the neighbouring missions (previous, next)
   // against which the point was found changed. Matching pairs an object of
-  // mission m with one of m+1 only if it changed against m+1 and the other
-  // against m, and calls an unpaired middle-mission object added or removed
-  // by them.
+  // mission m with one of m+1 only if one of them changed against the
+  // other, and calls an unpaired middle-mission object added or removed by
+  // them.
   std::vector<uint8_t> changed_against;
   std::vector<uint32_t> scan;    // index of the scan in its mission's poses.txt order
   std::vector<uint32_t> index;   // index of the point in its scan file (non-finite ones counted)
