@@ -6,9 +6,12 @@ std::vector<ParamSpec> volumetric_params() {
   const VolumetricConfig d;
   return {
       ParamSpec::real("resolution", d.resolution, "voxel edge length").range(0.005, 5.0).unit("m"),
+      // The bound also refuses NaN and inf (ParamSpec::check): without one, NaN
+      // passed validation, ran as "unlimited" and the report recorded nan.
       ParamSpec::real("max_range", d.max_range,
                       "beams are cut at this range: a farther return adds free space up to the "
-                      "range and no hit (far beams are wider than a voxel); <= 0 means unlimited")
+                      "range and no hit (far beams are wider than a voxel); 0 means unlimited")
+          .at_least(0.0)
           .unit("m"),
       ParamSpec::real("prob_hit", d.prob_hit, "occupancy probability of a voxel holding a return")
           .range(0.5, 1.0),

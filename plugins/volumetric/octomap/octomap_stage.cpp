@@ -1,6 +1,5 @@
 // volumetric.octomap: the paper's volumetric differencing on OctoMap OcTrees
 // (the reference backend; volumetric.openvdb is the fast one).
-#include "../common/declared_params.hpp"
 #include "octree_occupancy.hpp"
 
 #include "volumetric_octomap.hpp"
@@ -32,7 +31,7 @@ StageInfo octomap_info() {
       "and missions built in parallel.";
   info.inputs = {{"missions", "missions", "aligned missions (scans, poses, to_common)", false}};
   info.outputs = {{"changes", "points", "changed original points per mission, common frame", false}};
-  info.params = declared_volumetric_params();
+  info.params = raycast::volumetric_params();
   return info;
 }
 

@@ -1,6 +1,5 @@
 // volumetric.openvdb: the paper's volumetric differencing on OpenVDB grids,
 // built for throughput (see vdb_occupancy.cpp).
-#include "../common/declared_params.hpp"
 #include "vdb_occupancy.hpp"
 
 #include "volumetric_openvdb.hpp"
@@ -26,7 +25,7 @@ StageInfo openvdb_info() {
       "per-thread OpenVDB grids (lock-free) and merges them, for throughput.";
   info.inputs = {{"missions", "missions", "aligned missions (scans, poses, to_common)", false}};
   info.outputs = {{"changes", "points", "changed original points per mission, common frame", false}};
-  info.params = declared_volumetric_params();
+  info.params = raycast::volumetric_params();
   return info;
 }
 

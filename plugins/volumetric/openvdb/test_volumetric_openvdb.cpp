@@ -3,7 +3,7 @@
 #include "../octomap/volumetric_octomap.hpp"
 #include "volumetric_openvdb.hpp"
 
-#include "../common/expect_declared_params.hpp"
+#include "../common/expect_volumetric_params.hpp"
 
 #include <lista/basic_context.hpp>
 #include <lista_raycast/scene_checks.hpp>

@@ -1,5 +1,5 @@
 // Test helper shared by both volumetric plugins' suites: what each must
-// declare of the shared parameters (declared_params.hpp).
+// declare of the shared parameters (raycast::volumetric_params).
 #pragma once
 
 #include <lista/stage.hpp>
