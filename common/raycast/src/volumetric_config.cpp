@@ -50,12 +50,12 @@ std::vector<ParamSpec> volumetric_params() {
 
 void validate(const VolumetricConfig& c) {
   if (!(c.prob_hit > 0.5 && c.prob_hit < 1.0))
-    throw Error("prob_hit must be in (0.5, 1), got " + std::to_string(c.prob_hit));
+    throw Error("prob_hit must be in (0.5, 1), got " + to_string(ParamValue(c.prob_hit)));
   if (!(c.prob_miss > 0.0 && c.prob_miss < 0.5))
-    throw Error("prob_miss must be in (0, 0.5), got " + std::to_string(c.prob_miss));
+    throw Error("prob_miss must be in (0, 0.5), got " + to_string(ParamValue(c.prob_miss)));
   if (!(c.clamping_min > 0.0 && c.clamping_min < c.clamping_max && c.clamping_max < 1.0))
     throw Error("clamping must satisfy 0 < clamping_min < clamping_max < 1, got " +
-                std::to_string(c.clamping_min) + " and " + std::to_string(c.clamping_max));
+                to_string(ParamValue(c.clamping_min)) + " and " + to_string(ParamValue(c.clamping_max)));
   if (!(c.resolution > 0)) throw Error("resolution must be > 0");
   if (c.neighbourhood < 0) throw Error("neighbourhood must be >= 0");
   if (c.hit_margin < 0) throw Error("hit_margin must be >= 0");
