@@ -22,6 +22,7 @@ class CompleteStage : public Stage {
     c_.self_complete = p.get<bool>("self_complete");
     c_.static_check = p.get<bool>("static_check");
     c_.static_share = p.get<double>("static_share");
+    c_.nested_share = p.get<double>("nested_share");
   }
 
   static StageInfo info() {
@@ -50,7 +51,10 @@ class CompleteStage : public Stage {
         "floor is found around each object; points within max(floor_clearance, 4 sigma of the "
         "floor's noise) of it are never added. Every object standing on its local floor (lowest point at most "
         "0.3 m above it) gets that floor's height as its floor_z, which describe.learned measures heights "
-        "from. Ids and order are kept.";
+        "from. Last, an object with at least nested_share of its points inside the box of a larger object of the same "
+        "mission (grown by half a voxel) joins it: growth never takes another object's points, so one object cut "
+        "in two by the difference stays two clusters interleaved in one box. Ids and order are kept, except that "
+        "when any object joins another the ids are renumbered 0..n-1.";
     i.inputs = {{"objects", "objects", "per-mission change clusters"},
                 {"missions", "missions", "the aligned missions the clusters came from"}};
     i.outputs = {{"objects", "objects", "clusters, completed where a pair agreed"}};
@@ -67,6 +71,10 @@ class CompleteStage : public Stage {
                            "self-completion leaves out points every neighbouring mission also holds (see static_share)"),
         ParamSpec::real("static_share", 0.8,
                         "share of a self-completion held unchanged by every neighbouring mission from which on those points are left out")
+            .range(0, 1),
+        ParamSpec::real("nested_share", 0.5,
+                        "share of an object's points inside the box of a larger object of its mission from which "
+                        "it joins that object (a fragment of it); 0 = never")
             .range(0, 1),
         ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
     };
@@ -85,8 +93,10 @@ class CompleteStage : public Stage {
     context.record("points_static", double(st.points_static));
     context.record("points_added", double(st.points_added));
     context.record("floors", double(st.floors));
+    context.record("absorbed", double(st.absorbed));
     context.info("completed " + std::to_string(st.completed) + " of " + std::to_string(st.pairs) +
-                 " pairs, " + std::to_string(st.points_added) + " points added");
+                 " pairs, " + std::to_string(st.points_added) + " points added" +
+                 (st.absorbed ? ", " + std::to_string(st.absorbed) + " fragments joined to the object around them" : ""));
     Outputs out;
     out.put("objects", std::move(objects));
     return out;

@@ -302,6 +302,48 @@ std::vector<uint32_t> not_static(const std::vector<uint32_t>& add, const LocalCl
   return keep;
 }
 
+// Rule 6: an object whose points lie mostly (`share`) inside the box of a
+// larger object of the same mission (grown by half a voxel) is a fragment of
+// it: growth stops at points another object owns, so two clusters of one
+// object stay two, interleaved in the same box. Smallest first, so a chain of
+// fragments ends in the largest. Returns how many objects were absorbed.
+size_t absorb_nested(ObjectSet& set, double share, float margin) {
+  std::vector<size_t> order(set.objects.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return set.objects[a].points.size() < set.objects[b].points.size();
+  });
+  std::vector<char> gone(set.objects.size(), 0);
+  size_t absorbed = 0;
+  for (size_t k = 0; k < order.size(); ++k) {
+    Object& small = set.objects[order[k]];
+    if (small.points.empty()) continue;
+    size_t into = set.objects.size();
+    for (size_t j = k + 1; j < order.size(); ++j) {  // larger ones; the largest qualifying wins
+      const Object& big = set.objects[order[j]];
+      if (gone[order[j]] || big.mission != small.mission || big.points.size() <= small.points.size()) continue;
+      const Box box = Box{big.bbox_min, big.bbox_max}.grown(margin, margin, margin);
+      size_t inside = 0;
+      for (const auto& p : small.points.xyz) inside += box.contains(p);
+      if (double(inside) >= share * double(small.points.size())) into = order[j];
+    }
+    if (into == set.objects.size()) continue;
+    Object& big = set.objects[into];
+    big.points.append(small.points);
+    big.update_geometry();
+    small.points = PointSet();
+    gone[order[k]] = 1;
+    ++absorbed;
+  }
+  if (absorbed == 0) return 0;
+  std::vector<Object> kept;
+  for (size_t i = 0; i < set.objects.size(); ++i)
+    if (!gone[i]) kept.push_back(std::move(set.objects[i]));
+  set.objects = std::move(kept);
+  set.renumber();
+  return absorbed;
+}
+
 }  // namespace
 
 ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, const CompletionConfig& c,
@@ -363,7 +405,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     if (m + 1 < nm) n.push_back(m + 1);
     return n;
   };
-  // Every object's own region: its floor is measured (rule 6) whether or
+  // Every object's own region: its floor is measured (rule 7) whether or
   // not it self-completes.
   for (const auto& o : out.objects) {
     if (o.points.empty()) continue;
@@ -448,7 +490,9 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       o.update_geometry();
     }
 
-  // 6. The floor each object stands on (Object::floor_z), for descriptors
+  if (c.nested_share > 0.0) st.absorbed = absorb_nested(out, c.nested_share, 0.5f * float(c.voxel));
+
+  // 7. The floor each object stands on (Object::floor_z), for descriptors
   // that measure heights from it. An object whose lowest point is more than
   // on_floor_gap above the local floor stands on something else (a table, a
   // shelf): its floor stays unknown and its lowest point is its base.

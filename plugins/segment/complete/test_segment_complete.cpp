@@ -286,3 +286,44 @@ TEST(SegmentComplete, ObjectsStandingOnTheFloorGetItsHeight) {
   EXPECT_EQ(st.floors, 1u);
   EXPECT_TRUE(std::isnan(in.objects[0].floor_z)) << "the input is not touched";
 }
+
+// The difference cut the moved box of A into two clusters interleaved in one
+// box (its top face's middle strip apart from the rest). Growth never takes
+// another object's points, so without rule 6 they would stay two objects.
+TEST(SegmentComplete, FragmentInsideALargerObjectsBoxJoinsIt) {
+  const Scene s = make_scene();
+  auto in_box = [](const Eigen::Vector3f& p) {
+    return p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.05f;
+  };
+  auto strip = [](const Eigen::Vector3f& p) { return p.z() > 0.79f && p.x() > 1.2f && p.x() < 1.4f; };
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects.push_back(object_where(s.cloud[0], 0, [&](const Eigen::Vector3f& p) { return in_box(p) && strip(p); }));
+  in.objects.push_back(object_where(s.cloud[0], 0, [&](const Eigen::Vector3f& p) { return in_box(p) && !strip(p); }));
+  // The static box of B, whole: beside the others, in no larger box.
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 2.49f && p.z() > 0.05f && p.x() <= 3.01f && p.y() <= 0.51f;
+  }));
+  for (int i = 0; i < 3; ++i) in.objects[size_t(i)].id = 10 + i;
+  const size_t strip_points = in.objects[0].points.size(), rest = in.objects[1].points.size();
+  ASSERT_GT(strip_points, 5u);
+
+  seg::CompletionConfig off;
+  off.nested_share = 0.0;
+  EXPECT_EQ(seg::complete_objects(in, s.missions, off).objects.size(), 3u);
+
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  ASSERT_EQ(out.objects.size(), 2u);
+  EXPECT_EQ(st.absorbed, 1u);
+  EXPECT_EQ(out.objects[0].id, 0);  // renumbered in order
+  EXPECT_EQ(out.objects[1].id, 1);
+  EXPECT_EQ(out.objects[0].mission, 0u);
+  EXPECT_GE(out.objects[0].points.size(), strip_points + rest);
+  EXPECT_EQ(count_in_box(out.objects[0].points, {1.2f, 0.f, 0.79f}, {1.4f, 0.4f, 0.81f}),
+            count_in_box(s.cloud[0], {1.2f, 0.f, 0.79f}, {1.4f, 0.4f, 0.81f}));
+  EXPECT_EQ(out.objects[1].mission, 1u);
+  EXPECT_EQ(count_in_box(out.objects[1].points, {1.0f, 0.f, 0.f}, {1.9f, 0.4f, 0.8f}), 0u);
+  std::set<uint32_t> idx(out.objects[0].points.index.begin(), out.objects[0].points.index.end());
+  EXPECT_EQ(idx.size(), out.objects[0].points.size()) << "a point twice";
+}
