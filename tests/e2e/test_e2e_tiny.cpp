@@ -291,6 +291,12 @@ TEST_F(TinyScene, FarFromZeroGivesTheSameReportMoved) {
 
   const json near = report(), moved = json::parse(e2e::read_file(far_out + "/report.json"));
   ASSERT_EQ(moved.at("objects").size(), near.at("objects").size());
+  // The local frame of changes.ply and the page's maps, named in all three.
+  EXPECT_EQ(near.at("local_origin"), json::parse("[0.0, 0.0, 0.0]"));
+  EXPECT_EQ(moved.at("local_origin"), json::parse("[300000.0, 0.0, 0.0]"));
+  EXPECT_NE(e2e::read_file(far_out + "/changes.ply").find("comment local_origin 300000 0 0 "), std::string::npos);
+  EXPECT_NE(e2e::read_file(far_out + "/report.html").find("local frame origin"), std::string::npos);
+  EXPECT_EQ(e2e::read_file(out_ + "/report.html").find("local frame origin"), std::string::npos);
   for (size_t i = 0; i < near.at("objects").size(); ++i) {
     const json &a = near.at("objects")[i], &b = moved.at("objects")[i];
     SCOPED_TRACE(a.dump());

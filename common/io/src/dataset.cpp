@@ -106,14 +106,10 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
       s.points = std::make_shared<const PointSet>();
       return;
     }
-    ScanFile f = read_scan(files[i], static_cast<uint32_t>(i));
-    if (viewpoint_layout) {
-      // Points are in the map frame: bring them into the sensor frame.
-      s.pose = f.viewpoint.value_or(Eigen::Isometry3d::Identity());
-      // In double: the map frame may be georeferenced (hundreds of km).
-      const Eigen::Isometry3d inv = s.pose.inverse();
-      for (auto& p : f.points.xyz) p = (inv * p.cast<double>()).cast<float>();
-    }
+    // The VIEWPOINT layout's points are in the map frame: read_scan brings
+    // them into the sensor frame, in double (the map may be georeferenced).
+    ScanFile f = read_scan(files[i], static_cast<uint32_t>(i), viewpoint_layout);
+    if (viewpoint_layout) s.pose = f.viewpoint.value_or(Eigen::Isometry3d::Identity());
     s.points_in_file = f.points_in_file;
     skipped[i] = f.skipped_nonfinite;
     if (!options.load_points) f.points = PointSet();

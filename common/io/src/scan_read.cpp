@@ -7,6 +7,7 @@
 #include <lista_io/pcd.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 namespace lista::io {
@@ -22,7 +23,36 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id) {
+// Map-frame points (the VIEWPOINT layout) brought into the sensor frame while
+// read, in double: a georeferenced map frame puts them hundreds of km from
+// zero, where a float keeps only decimetres. Float32 coordinates that far out
+// lost their precision in the file already: an error, not a silent 0.5 m grid.
+void read_map_frame(const std::string& path, const detail::PcdData& d, int fx, int fy, int fz, int fi, int fl,
+                    uint32_t scan_id, ScanFile& s) {
+  // Float32 spacing accepted near the sensor: 1 cm, i.e. within 2^17 m of
+  // zero. Judged at the sensor (VIEWPOINT), not per point: a stray return
+  // far out is the sensor's noise, not the file's precision.
+  constexpr double kFloat32Reach = 131072.0;
+  const bool float32 = d.fields[fx].size == 4 || d.fields[fy].size == 4 || d.fields[fz].size == 4;
+  const double sensor_range = d.viewpoint.translation().cwiseAbs().maxCoeff();
+  if (float32 && sensor_range >= kFloat32Reach) {
+    char where[64];
+    std::snprintf(where, sizeof where, "%.0f", sensor_range);
+    throw Error(path + ": map-frame float32 coordinates around a sensor " + where +
+                " m from zero keep only decimetres; store x y z as F8 (double), or the points in the sensor frame "
+                "with poses.txt");
+  }
+  const Eigen::Isometry3d to_sensor = d.viewpoint.inverse();
+  for (size_t i = 0; i < d.points; ++i) {
+    const Eigen::Vector3d p = to_sensor * Eigen::Vector3d(d.value(fx, i), d.value(fy, i), d.value(fz, i));
+    const float in = fi >= 0 ? static_cast<float>(d.value(fi, i)) : 0.f;
+    const uint32_t lb = fl >= 0 ? static_cast<uint32_t>(d.value(fl, i)) : 0u;
+    detail::add_point(s, scan_id, uint32_t(i), float(p.x()), float(p.y()), float(p.z()), fi >= 0, in, fl >= 0, lb);
+  }
+  if (!d.viewpoint_identity) s.viewpoint = d.viewpoint;
+}
+
+ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id, bool map_frame) {
   detail::PcdData d;
   detail::load_pcd(path, d);
   const int fx = d.find("x"), fy = d.find("y"), fz = d.find("z");
@@ -34,6 +64,10 @@ ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id) {
   s.points.reserve(n);
   if (fi >= 0) s.points.intensity.reserve(n);
   if (fl >= 0) s.points.label.reserve(n);
+  if (map_frame) {
+    read_map_frame(path, d, fx, fy, fz, fi, fl, scan_id, s);
+    return s;
+  }
   if (d.encoding != "ascii" && d.fields[fx].type == 'F' && d.fields[fx].size == 4 && d.fields[fy].size == 4 &&
       d.fields[fy].type == 'F' && d.fields[fz].type == 'F' && d.fields[fz].size == 4) {
     // Fast path: float32 coordinates read straight from the buffer.
@@ -87,9 +121,9 @@ ScanFile read_kitti_bin(const std::string& path, uint32_t scan_id) {
 
 }  // namespace
 
-ScanFile read_scan(const std::string& path, uint32_t scan_id) {
+ScanFile read_scan(const std::string& path, uint32_t scan_id, bool map_frame) {
   const std::string ext = lower_extension(path);
-  if (ext == ".pcd") return read_pcd_scan(path, scan_id);
+  if (ext == ".pcd") return read_pcd_scan(path, scan_id, map_frame);
   if (ext == ".ply") return detail::read_ply(path, scan_id);
   if (ext == ".bin") return read_kitti_bin(path, scan_id);
   throw Error(path + ": unknown scan file type '" + ext + "' (expected .pcd, .ply or .bin)");

@@ -129,3 +129,33 @@ TEST(Dataset, ViewpointLayoutPutsPointsInSensorFrame) {
   EXPECT_NEAR(p.y(), 0.f, 1e-5);
   EXPECT_NEAR(p.z(), 0.f, 1e-5);
 }
+
+// A georeferenced map frame (UTM): double coordinates keep millimetres only
+// if the sensor-frame transform happens before the float conversion; float32
+// coordinates that far out lost them in the file, which is an error.
+TEST(Dataset, ViewpointLayoutKeepsGeoreferencedDoublesExact) {
+  const auto root = temp_dir("vp-utm");
+  write_text(root / "a.pcd",
+             "VERSION 0.7\nFIELDS x y z\nSIZE 8 8 8\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 2\nHEIGHT 1\n"
+             "VIEWPOINT 500000 5500000 300 1 0 0 0\nPOINTS 2\nDATA ascii\n"
+             "500002.25 5500000.5 301.125\n499999.001 5499999.002 299.003\n");
+  const Mission m = read_mission(root.string());
+  ASSERT_EQ(m.scans.size(), 1u);
+  EXPECT_NEAR(m.scans[0].pose.translation().y(), 5500000.0, 1e-9);
+  const auto& xyz = m.scans[0].points->xyz;
+  ASSERT_EQ(xyz.size(), 2u);
+  EXPECT_NEAR(xyz[0].x(), 2.25f, 1e-6);
+  EXPECT_NEAR(xyz[0].y(), 0.5f, 1e-6);
+  EXPECT_NEAR(xyz[0].z(), 1.125f, 1e-6);
+  EXPECT_NEAR(xyz[1].x(), -0.999f, 1e-5);
+  EXPECT_NEAR(xyz[1].y(), -0.998f, 1e-5);
+  EXPECT_NEAR(xyz[1].z(), -0.997f, 1e-5);
+
+  const auto f32 = temp_dir("vp-utm-f32");
+  Eigen::Isometry3d vp = Eigen::Isometry3d::Identity();
+  vp.translate(Eigen::Vector3d(500000, 5500000, 300));
+  std::vector<float> x = {500002.f}, y = {5500000.f}, z = {301.f};
+  write_pcd((f32 / "a.pcd").string(), 1, {{"x", 'F', x.data()}, {"y", 'F', y.data()}, {"z", 'F', z.data()}},
+            PcdEncoding::binary, vp);
+  expect_error([&] { read_mission(f32.string()); }, "a.pcd: map-frame float32 coordinates around a sensor 5500000 m");
+}

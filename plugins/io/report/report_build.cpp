@@ -141,7 +141,7 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
   return b;
 }
 
-std::string provenance_json(const RunInfo& run) {
+std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_origin) {
   using json = nlohmann::ordered_json;
   json prov;
   prov["lista_version"] = run.lista_version;
@@ -170,6 +170,9 @@ std::string provenance_json(const RunInfo& run) {
     metrics[stage] = m;
   }
   json root;
+  // Where the run's local frame (changes.ply, report.html's maps) lies in the
+  // dataset's coordinates; report.json and changes/ have it added back already.
+  root["local_origin"] = {local_origin.x(), local_origin.y(), local_origin.z()};
   root["provenance"] = prov;
   root["metrics"] = metrics;
   root["warnings"] = run.warnings;

@@ -42,7 +42,9 @@ struct Built {
 Built build_report(const MissionSet& missions, const ObjectSet& objects, const Groups* groups,
                    const Matches* matches, const MissionPoints* changes);
 
-// Provenance and metrics of the run as the report's extra top-level JSON.
-std::string provenance_json(const RunInfo& run);
+// Provenance, metrics and warnings of the run, and `local_origin` (where the
+// run's local frame lies in the dataset's coordinates: MissionSet::origin), as
+// the report's extra top-level JSON.
+std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_origin);
 
 }  // namespace lista::report

@@ -31,7 +31,7 @@ class ReportStage : public Stage {
     const MissionPoints* changes = in.has("changes") ? &in.get<MissionPoints>("changes") : nullptr;
     Built built = build_report(missions, objects, groups, matches, changes);
     for (const auto& s : run.finished) built.report.timings_s.emplace_back(s.id, s.seconds);
-    built.report.extra_json = provenance_json(run);
+    built.report.extra_json = provenance_json(run, missions.origin);
     for (const auto& w : built.warnings) ctx.warn(w);
     write_output(out_dir, built);
     log_summary(built, run, out_dir, ctx);

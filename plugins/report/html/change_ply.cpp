@@ -2,6 +2,7 @@
 
 #include "svg.hpp"
 
+#include <cstdio>
 #include <cstring>
 
 namespace lista::report_html {
@@ -15,13 +16,18 @@ void put(std::string& out, T value) {
 }
 }  // namespace
 
-std::string change_ply(const ReportModel& model) {
+std::string change_ply(const ReportModel& model, const Eigen::Vector3d& local_origin) {
   size_t n = 0;
   for (const auto& v : model.objects) n += v.object->points.size();
+  char origin[160];
+  std::snprintf(origin, sizeof origin,
+                "comment local_origin %.17g %.17g %.17g (add to x y z for the dataset's coordinates)\n",
+                local_origin.x(), local_origin.y(), local_origin.z());
   std::string out =
       "ply\nformat binary_little_endian 1.0\ncomment LiSTA change cloud: colour by status\n"
       "comment object = report.json id; mission = index into report.json missions; "
-      "status 0 removed, 1 added, 2 moved\n"
+      "status 0 removed, 1 added, 2 moved\n" +
+      std::string(origin) +
       "element vertex " + std::to_string(n) +
       "\nproperty float x\nproperty float y\nproperty float z\n"
       "property uchar red\nproperty uchar green\nproperty uchar blue\n"

@@ -133,6 +133,9 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
   row("git revision", run.git_revision);
   row("pipeline", run.pipeline_file);
   row("dataset", run.dataset);
+  // Georeferenced data: maps and changes.ply are drawn around this point.
+  if (!missions.origin.isZero())
+    row("local frame origin", vec(missions.origin) + " (maps and changes.ply: add it for the dataset's coordinates)");
   row("seed", std::to_string(run.seed));
   row("threads", std::to_string(run.threads));
   row("stages at once (-j)", std::to_string(run.jobs));

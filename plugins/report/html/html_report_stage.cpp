@@ -44,7 +44,7 @@ class HtmlReportStage : public Stage {
     const ReportModel model = build_model(objects, groups, matches);
     const std::string page = render_page(missions, model, descriptors, run, options_);
     io::write_file_atomic((std::filesystem::path(dir) / "report.html").string(), page);
-    if (write_ply_) io::write_file_atomic((std::filesystem::path(dir) / "changes.ply").string(), change_ply(model));
+    if (write_ply_) io::write_file_atomic((std::filesystem::path(dir) / "changes.ply").string(), change_ply(model, missions.origin));
     ctx.info("wrote " + (std::filesystem::path(dir) / "report.html").string());
     return {};
   }

@@ -22,8 +22,12 @@ struct ScanFile {
 };
 
 // Reads .pcd, .ply or .bin by extension. Throws lista::Error naming the file
-// (and line for ASCII) on anything malformed.
-ScanFile read_scan(const std::string& path, uint32_t scan_id = 0);
+// (and line for ASCII) on anything malformed. With `map_frame` (the VIEWPOINT
+// layout: a .pcd's points in the map frame, its VIEWPOINT the sensor pose),
+// points come back in the sensor frame, transformed in double before the
+// float conversion (georeferenced map frames); float32 coordinates around a
+// VIEWPOINT 2^17 m or more from zero (spacing over 1 cm) are an error.
+ScanFile read_scan(const std::string& path, uint32_t scan_id = 0, bool map_frame = false);
 
 enum class PcdEncoding { ascii, binary, binary_compressed };
 
