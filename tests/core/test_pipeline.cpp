@@ -80,6 +80,7 @@ TEST(Pipeline, UnknownPluginWithSuggestion) {
 }
 
 TEST(Pipeline, StageWithoutPlugin) { expect_one_error("[stages.a]\ncount = 1\n", 1, "has no plugin"); }
+TEST(Pipeline, EmptyPluginIsAnError) { expect_one_error("[stages.a]\nplugin = \"\"\n", 2, "plugin is empty"); }
 
 TEST(Pipeline, UnknownParameterWithSuggestion) {
   expect_one_error(source + "cuont = 5\n", 3, "did you mean 'count'");

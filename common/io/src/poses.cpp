@@ -13,6 +13,7 @@ namespace lista::io {
 
 namespace {
 constexpr double kOrthoTolerance = 1e-3;
+constexpr double kMaxPosition = 1e8;  // m
 }
 
 std::vector<PoseRecord> read_poses(const std::string& path) {
@@ -69,6 +70,11 @@ std::vector<PoseRecord> read_poses(const std::string& path) {
       Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
       R = svd.matrixU() * svd.matrixV().transpose();
     }
+    // Geocentric (ECEF) and UTM coordinates stay within 1e7 m; beyond 1e8 m
+    // a position is a corrupt value, whose squares overflow float later.
+    if (t.cwiseAbs().maxCoeff() > kMaxPosition)
+      throw fail("position (" + tok[n == 8 ? 1 : 3] + ", " + tok[n == 8 ? 2 : 7] + ", " + tok[n == 8 ? 3 : 11] +
+                 ") lies more than 1e8 m from zero: not a place on Earth; a corrupt pose?");
     rec.pose.setIdentity();
     rec.pose.linear() = R;
     rec.pose.translation() = t;

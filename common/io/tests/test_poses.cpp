@@ -62,6 +62,8 @@ TEST(Poses, MalformedLinesNameFileAndLine) {
   write_text(dir / "g.txt", "1,0,0,0,0,0,0,1\n");
   expect_error([&] { read_poses((dir / "g.txt").string()); }, "got 1; fields are separated by spaces, not commas");
   expect_error([&] { read_poses((dir / "none.txt").string()); }, "none.txt: cannot read");
+  write_text(dir / "h.txt", "1 500000 5500000 300 0 0 0 1\n2 1e20 0 0 0 0 0 1\n");  // UTM fine, 1e20 not
+  expect_error([&] { read_poses((dir / "h.txt").string()); }, "h.txt:2: position (1e20, 0, 0) lies more than 1e8 m");
 }
 
 TEST(Poses, AByteOrderMarkIsSkipped) {

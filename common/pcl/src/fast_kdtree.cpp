@@ -61,9 +61,15 @@ int FastKdTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& 
   flann::Matrix<float> md(k_sqr_distances.data(), 1, static_cast<size_t>(k));
   flann::SearchParams params(-1, 0.0f, true);
   index_->tree->knnSearch(flann::Matrix<float>(q, 1, 3), mi, md, static_cast<size_t>(k), params);
-  k_indices.resize(static_cast<size_t>(k));
-  for (int i = 0; i < k; ++i) k_indices[static_cast<size_t>(i)] = index_->to_cloud[static_cast<size_t>(idx[static_cast<size_t>(i)])];
-  return k;
+  // FLANN leaves -1 where it found no neighbour (a query whose squared
+  // distances overflow float): return only what it found.
+  int found = 0;
+  while (found < k && idx[static_cast<size_t>(found)] >= 0) ++found;
+  k_indices.resize(static_cast<size_t>(found));
+  k_sqr_distances.resize(static_cast<size_t>(found));
+  for (int i = 0; i < found; ++i)
+    k_indices[static_cast<size_t>(i)] = index_->to_cloud[static_cast<size_t>(idx[static_cast<size_t>(i)])];
+  return found;
 }
 
 int FastKdTree::radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Indices& k_indices,

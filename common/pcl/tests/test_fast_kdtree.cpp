@@ -85,6 +85,19 @@ TEST(FastKdTree, EmptyTreeFindsNothing) {
   EXPECT_LT(fast.nearest_sqr_distance(pcl::PointXYZ(0, 0, 0)), 0.0f);
 }
 
+// A query so far out that its squared distances overflow float: FLANN finds
+// no neighbour (index -1), which must come back as none, not as a wild read.
+TEST(FastKdTree, OverflowingQueryFindsOnlyRealNeighbours) {
+  Trees t(7);
+  pcl::Indices idx;
+  std::vector<float> d2;
+  const int n = t.fast.nearestKSearch(pcl::PointXYZ(1e20f, 0, 0), 3, idx, d2);
+  ASSERT_GE(n, 0);
+  EXPECT_EQ(idx.size(), size_t(n));
+  EXPECT_EQ(d2.size(), size_t(n));
+  for (int i : idx) EXPECT_TRUE(i >= 0 && i < int(t.cloud->size()));
+}
+
 TEST(FastKdTree, ServesAsIcpSearchMethod) {
   const Cloud::Ptr target = random_cloud(1500, 6);
   Eigen::Affine3f shift = Eigen::Affine3f::Identity();

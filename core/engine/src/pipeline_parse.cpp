@@ -197,6 +197,7 @@ void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& 
     const SourceLocation at = where(v, file);
     if (key == "plugin") {
       if (!v.is_string()) d.error(at, id, std::string("plugin must be a string, got ") + toml_type_name(v));
+      else if (v.as_string().str.empty()) d.error(at, id, "plugin is empty; write plugin = \"<kind>.<name>\"");
       else s.plugin = v.as_string(), s.plugin_where = at;
     } else if (key == "inputs") {
       if (!v.is_table()) {

@@ -23,9 +23,9 @@ std::atomic<bool>& cancel_flag() {
 }
 
 namespace {
-extern "C" void on_sigint(int) {
-  // Second Ctrl-C: the user means it; stop now.
-  if (cancel_flag().exchange(true)) _exit(130);
+extern "C" void on_stop_signal(int sig) {
+  // Second signal: the user (or supervisor) means it; stop now.
+  if (cancel_flag().exchange(true)) _exit(128 + sig);
   static const char msg[] = "\nlista-run: cancelling after the running stages notice (Ctrl-C again to stop now)\n";
   (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
 }
@@ -33,9 +33,11 @@ extern "C" void on_sigint(int) {
 
 void install_sigint_handler() {
   struct sigaction sa {};
-  sa.sa_handler = on_sigint;
+  sa.sa_handler = on_stop_signal;
   sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
+  // SIGTERM is what timeout, systemd and docker send: it must not leave a
+  // report.json from a run that did not finish, any more than Ctrl-C.
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
 }
 
 }  // namespace lista::core

@@ -21,6 +21,9 @@ void write_output(const std::string& out_dir, const Built& built) {
   const fs::path out(out_dir);
   // An older report must not survive a failed run looking current.
   fs::remove(out / "report.json", ec);
+  // Temp folders of runs killed while writing (SIGKILL, power loss) go too.
+  for (const auto& entry : fs::directory_iterator(out, ec))
+    if (entry.path().filename().string().rfind(".lista-report.tmp.", 0) == 0) fs::remove_all(entry.path(), ec);
   const fs::path tmp = out / (".lista-report.tmp." + std::to_string(::getpid()));
   fs::remove_all(tmp, ec);
   fs::create_directories(tmp / "changes", ec);

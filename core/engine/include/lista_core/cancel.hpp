@@ -1,5 +1,6 @@
-// Ctrl-C: the first SIGINT sets a flag that running stages see through
-// Context::cancelled(); a second one ends the process at once (exit 130).
+// Ctrl-C: the first SIGINT (or SIGTERM, SIGHUP) sets a flag that running
+// stages see through Context::cancelled(); a second one ends the process at
+// once (exit 128 + signal).
 #pragma once
 
 #include <atomic>
