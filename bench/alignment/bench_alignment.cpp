@@ -157,7 +157,7 @@ int main(int argc, char** argv) {
   app.add_option("--set", sets,
                  "<plugin>.<param>=<value>: a parameter other than the default, e.g. align.posegraph.scan_edges=0 "
                  "(repeatable; keyed by plugin name, where lista-run's --set takes a stage id)");
-  app.add_option("--threads", threads, "threads per stage")->check(CLI::PositiveNumber);
+  app.add_option("--threads", threads, "threads per stage")->check(lista::cli::at_least(1));
   app.add_option("--plugin-dir", plugin_dirs,
                  "extra folder of plugin libraries, searched before the shipped ones (repeatable; LISTA_PLUGIN_PATH too)")
       ->allow_extra_args(false)

@@ -59,18 +59,18 @@ size_t recovered(const std::vector<std::vector<uint32_t>>& clusters, const std::
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app{"segmentation benchmark: segment.voxel vs PCL Euclidean clustering"};
   bench::SyntheticChangeConfig sc;
   int missions = 3, repeat = 3;
   double tolerance = 0.1;
   bool with_mls = true;
   std::string changes_dir;
-  app.add_option("--objects", sc.objects, "objects per mission");
-  app.add_option("--spacing", sc.spacing, "surface sample spacing, m");
-  app.add_option("--missions", missions, "missions (clouds)");
-  app.add_option("--repeat", repeat, "timed repeats (median reported)");
-  app.add_option("--tolerance", tolerance, "cluster tolerance / voxel, m");
+  app.add_option("--objects", sc.objects, "objects per mission")->check(CLI::Range(1, 100000));
+  app.add_option("--spacing", sc.spacing, "surface sample spacing, m")->check(lista::cli::between(0.005, 1.0));
+  app.add_option("--missions", missions, "missions (clouds)")->check(CLI::Range(1, 1000));
+  app.add_option("--repeat", repeat, "timed repeats (median reported)")->check(CLI::Range(1, 1000));
+  app.add_option("--tolerance", tolerance, "cluster tolerance / voxel, m")->check(lista::cli::between(0.001, 10.0));
   app.add_option("--seed", sc.seed, "seed");
   app.add_flag("!--no-mls", with_mls, "skip the (slow) MLS timing");
   app.add_option("--changes", changes_dir, "folder of real change clouds (*.pcd, one per mission) instead of synthetic ones")
@@ -216,4 +216,14 @@ int main(int argc, char** argv) {
   std::printf("\nground + morphology + segment.voxel, one thread: %.3f s for %zu points\n",
               t_ground + t_morph + t_seg, total);
   return same ? 0 : 1;
+}
+
+// Bad data (a malformed --changes cloud) is one line and exit 1, not an abort.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "lista-bench segmentation: error: %s\n", e.what());
+    return 1;
+  }
 }

@@ -198,14 +198,16 @@ int main(int argc, char** argv) {
   app.add_option("--dataset", o.dataset, "lista-sim / contract dataset folder");
   app.add_option("--missions", missions_csv, "comma-separated mission names (default: all, sorted)");
   app.add_flag("--synthetic", o.synthetic, "use the built-in two-room scene instead of a dataset");
-  app.add_option("--scale", o.scene.scale, "synthetic: room size factor");
-  app.add_option("--rings", o.scene.rings, "synthetic: beams per column");
-  app.add_option("--columns", o.scene.columns, "synthetic: columns per revolution");
-  app.add_option("--scans-per-position", o.scene.scans_per_position, "synthetic: scans per sensor spot");
+  app.add_option("--scale", o.scene.scale, "synthetic: room size factor")->check(lista::cli::between(0.1, 100.0));
+  app.add_option("--rings", o.scene.rings, "synthetic: beams per column")->check(CLI::Range(1, 1024));
+  app.add_option("--columns", o.scene.columns, "synthetic: columns per revolution")->check(CLI::Range(1, 100000));
+  app.add_option("--scans-per-position", o.scene.scans_per_position, "synthetic: scans per sensor spot")
+      ->check(CLI::Range(1, 1000));
   app.add_option("--threads", o.threads, "threads for our backends (stock OctoMap is single-threaded)")->check(CLI::Range(1, 256));
-  app.add_option("--stock-scans", o.stock_scans, "stock OctoMap: only the first N scans of each mission (0 = all); throughput is extrapolated");
+  app.add_option("--stock-scans", o.stock_scans, "stock OctoMap: only the first N scans of each mission (0 = all); throughput is extrapolated")
+      ->check(lista::cli::at_least(0));
   app.add_option("--backends", backends_csv, "which to run, comma-separated");
-  app.add_option("--resolution", o.resolution, "voxel size, m");
+  app.add_option("--resolution", o.resolution, "voxel size, m")->check(lista::cli::between(0.005, 10.0));
   // The plugins declare max_range >= 0 (0: none); the bench takes what they take.
   app.add_option("--max-range", o.max_range, "beam range cut, m (0: none)")->check(lista::cli::at_least(0.0));
   app.add_flag("--gt-poses", o.gt_poses, "use poses_gt.txt (true poses, common frame) instead of poses.txt: isolates the volumetric stage from SLAM drift");

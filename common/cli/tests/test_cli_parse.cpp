@@ -96,3 +96,22 @@ TEST(CliParse, AtLeastSaysItsBoundPlainly) {
     if (!ok) EXPECT_NE(err.str().find("--range: must be at least 0, got -1 (see --help)"), std::string::npos) << err.str();
   }
 }
+
+// between: both bounds said plainly and accepted, outside refused.
+TEST(CliParse, BetweenSaysItsBoundsPlainly) {
+  for (const auto& [value, ok] : std::vector<std::pair<const char*, bool>>{
+           {"0", false}, {"0.005", true}, {"1", true}, {"1.5", false}}) {
+    CLI::App app{"a test program"};
+    double spacing = 0.02;
+    app.add_option("--spacing", spacing, "a spacing")->check(lista::cli::between(0.005, 1.0));
+    const char* args[] = {"prog", "--spacing", value};
+    std::ostringstream err;
+    auto* old = std::cerr.rdbuf(err.rdbuf());
+    const auto code = lista::cli::parse_command_line(app, 3, args, "lista-prog");
+    std::cerr.rdbuf(old);
+    EXPECT_EQ(code.has_value(), !ok) << value;
+    if (!ok)
+      EXPECT_NE(err.str().find("--spacing: must be between 0.005 and 1, got " + std::string(value)), std::string::npos)
+          << err.str();
+  }
+}

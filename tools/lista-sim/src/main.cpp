@@ -75,23 +75,23 @@ int main(int argc, char** argv) {
   app.add_option("--missions", missions, "number of missions (default: the preset's)")->check(CLI::Range(1, 100))->default_str("preset");
   app.add_option("--scans", scans, "scans per mission (default: the preset's)")->check(CLI::Range(1, 100000))->default_str("preset");
   app.add_option("--sensor", sensor, "os0-128, xt32, vlp16, os1-64 or hdl32 (default: the preset's)");
-  app.add_option("--threads", threads, "worker threads")->check(CLI::PositiveNumber);
+  app.add_option("--threads", threads, "worker threads")->check(lista::cli::at_least(1));
   app.add_flag("--overwrite", overwrite, "replace a dataset already in --out");
 
   lista::sim::ViewsOptions views;
   auto* views_cmd = app.add_subcommand("views", "partial scans of single objects (descriptor training)");
   views_cmd->add_option("--out", views.out, "folder to write")->required();
-  views_cmd->add_option("--objects", views.objects, "object instances")->check(CLI::PositiveNumber);
+  views_cmd->add_option("--objects", views.objects, "object instances")->check(lista::cli::at_least(1));
   views_cmd->add_option("--views-per-object", views.views_per_object, "views of each instance")
-      ->check(CLI::PositiveNumber);
+      ->check(lista::cli::at_least(1));
   views_cmd->add_option("--scans-per-view", views.scans_per_view,
                         "sweeps merged into each view, 1 m apart along a pass by the object (as a mission map sees it)")
-      ->check(CLI::PositiveNumber);
+      ->check(lista::cli::at_least(1));
   views_cmd->add_option("--sensors", views.sensors,
                         "sensors each view draws from (default os0-128,xt32,vlp16; also os1-64, hdl32)")
       ->delimiter(',');
   views_cmd->add_option("--seed", views.seed, "random seed");
-  views_cmd->add_option("--threads", views.threads, "worker threads")->check(CLI::PositiveNumber);
+  views_cmd->add_option("--threads", views.threads, "worker threads")->check(lista::cli::at_least(1));
   views_cmd->add_flag("--overwrite", views.overwrite, "replace views already in --out");
   views_cmd
       ->add_option("--look-alike-tolerance", views.look_alike_tolerance,

@@ -37,6 +37,16 @@ inline void prepare_options(CLI::App& app) {
 }
 }  // namespace detail
 
+namespace detail {
+// A bound as written by a person: 0.005, not 0.005000.
+inline std::string plain_number(double v) {
+  std::string s = std::to_string(v);
+  s.erase(s.find_last_not_of('0') + 1);
+  if (s.back() == '.') s.pop_back();
+  return s;
+}
+}  // namespace detail
+
 // A number no smaller than `lo`, said plainly (CLI11's NonNegativeNumber
 // prints the largest double as its upper bound).
 inline CLI::Validator at_least(double lo) {
@@ -47,10 +57,22 @@ inline CLI::Validator at_least(double lo) {
         } catch (const std::exception&) {
           return std::string();  // not a number: the option's own conversion says so
         }
-        std::string bound = std::to_string(lo);
-        bound.erase(bound.find_last_not_of('0') + 1);
-        if (bound.back() == '.') bound.pop_back();
-        return "must be at least " + bound + ", got " + v;
+        return "must be at least " + detail::plain_number(lo) + ", got " + v;
+      },
+      "");
+}
+
+// A number in [lo, hi], said plainly (CLI11's Range prints 0.005000).
+inline CLI::Validator between(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& v) {
+        try {
+          const double x = std::stod(v);
+          if (x >= lo && x <= hi) return std::string();
+        } catch (const std::exception&) {
+          return std::string();  // not a number: the option's own conversion says so
+        }
+        return "must be between " + detail::plain_number(lo) + " and " + detail::plain_number(hi) + ", got " + v;
       },
       "");
 }
