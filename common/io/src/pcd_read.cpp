@@ -116,7 +116,8 @@ void load_pcd(const std::string& path, PcdData& d) {
       if (tok.size() != 7) throw fail("VIEWPOINT needs 7 numbers: tx ty tz qw qx qy qz");
       double v[7];
       for (int k = 0; k < 7; ++k)
-        if (!parse_double(tok[k], v[k])) throw fail("VIEWPOINT: '" + tok[k] + "' is not a number");
+        if (!parse_double(tok[k], v[k]) || !std::isfinite(v[k]))
+          throw fail("VIEWPOINT: '" + tok[k] + "' is not a finite number");
       Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
       if (std::abs(q.norm() - 1.0) > 1e-3) throw fail("VIEWPOINT quaternion is not unit length");
       q.normalize();
@@ -144,6 +145,13 @@ void load_pcd(const std::string& path, PcdData& d) {
     throw fail("FIELDS, SIZE, TYPE and COUNT must have the same number of entries");
   if (width < 0) throw fail("no WIDTH in the header");
   if (height < 0) height = 1;
+  // Points are indexed by uint32 (the contract's `index`); larger counts are
+  // a corrupt header, and checking here keeps WIDTH*HEIGHT from overflowing.
+  constexpr long long kMaxPoints = 0xFFFFFFFFll;
+  if (width > kMaxPoints || height > kMaxPoints || (height > 0 && width > kMaxPoints / height) ||
+      points > kMaxPoints)
+    throw fail("WIDTH " + std::to_string(width) + " x HEIGHT " + std::to_string(height) + " (POINTS " +
+               std::to_string(points) + ") exceeds 4294967295 points: a corrupt header");
   if (points < 0) points = width * height;
   if (points != width * height)
     throw fail("POINTS " + std::to_string(points) + " != WIDTH*HEIGHT " + std::to_string(width * height));
@@ -156,6 +164,7 @@ void load_pcd(const std::string& path, PcdData& d) {
                                    : (fd.size == 1 || fd.size == 2 || fd.size == 4 || fd.size == 8);
     if (!ok) throw fail("field '" + fd.name + "': unsupported SIZE " + std::to_string(fd.size) + " for TYPE " + fd.type);
     stride += size_t(fd.size) * fd.count;
+    if (stride > (size_t(1) << 20)) throw fail("more than 1 MiB per point (SIZE x COUNT): a corrupt header");
     d.fields.push_back(fd);
   }
   const size_t n = d.points;
@@ -181,6 +190,11 @@ void load_pcd(const std::string& path, PcdData& d) {
       throw Error(path + ": binary_compressed payload holds " + std::to_string(usize) + " bytes, expected " +
                   std::to_string(n * stride));
     if (payload_size - 8 < csize) throw Error(path + ": truncated binary_compressed data");
+    // LZF turns at most 3 bytes into 264 (a back-reference): a size word
+    // promising more is corrupt, and must not reserve gigabytes.
+    if (uint64_t(usize) > 90 * (uint64_t(csize) + 1))
+      throw Error(path + ": binary_compressed data of " + std::to_string(csize) + " bytes cannot expand to " +
+                  std::to_string(usize) + ": corrupt size words");
     d.decompressed.resize(usize);
     if (usize > 0 && !lzf::decompress(payload + 8, csize, d.decompressed.data(), usize))
       throw Error(path + ": corrupt binary_compressed data (LZF stream does not decode)");
@@ -199,6 +213,11 @@ void load_pcd(const std::string& path, PcdData& d) {
       d.ascii_column.push_back(d.row_values);
       d.row_values += fd.count;
     }
+    // Every value takes at least a byte: a header promising far more rows
+    // than the file can hold is refused before memory is reserved for them.
+    if (payload_size + 1 < n * d.row_values)
+      throw Error(path + ": " + std::to_string(payload_size) + " bytes of ascii data cannot hold POINTS " +
+                  std::to_string(n) + " (" + std::to_string(d.row_values) + " values each)");
     d.ascii.resize(n * d.row_values);
     size_t row = 0;
     const char* p = bytes.data() + pos;

@@ -101,6 +101,10 @@ ScanFile read_ply(const std::string& path, uint32_t scan_id) {
     } else if (tok[0] == "element") {
       long long count;
       if (tok.size() != 3 || !parse_int(tok[2], count) || count < 0) throw fail("bad element line");
+      // Vertices are indexed by uint32 (the contract's `index`); more items
+      // in any element is a corrupt header, whose sizes would overflow.
+      if (count > 0xFFFFFFFFll)
+        throw fail("element '" + tok[1] + "' has " + tok[2] + " items, more than 4294967295: a corrupt header");
       elements.push_back({tok[1], size_t(count), {}});
     } else if (tok[0] == "property") {
       if (elements.empty()) throw fail("property before any element");
@@ -137,11 +141,13 @@ ScanFile read_ply(const std::string& path, uint32_t scan_id) {
   if (ix < 0 || iy < 0 || iz < 0) throw Error(path + ": PLY vertex element lacks one of x, y, z");
   ScanFile s;
   s.points_in_file = static_cast<uint32_t>(v.count);
-  s.points.reserve(v.count);
+  // Reserve only what the file can hold (at least 2 bytes a vertex): a
+  // header's count alone must not reserve gigabytes.
+  s.points.reserve(std::min<size_t>(v.count, (bytes.size() - pos) / 2 + 1));
   std::vector<double> vals(v.props.size());
   auto emit = [&](size_t i) {
     detail::add_point(s, scan_id, uint32_t(i), float(vals[ix]), float(vals[iy]), float(vals[iz]), ii >= 0,
-                      ii >= 0 ? float(vals[ii]) : 0.f, il >= 0, il >= 0 ? uint32_t(vals[il]) : 0u);
+                      ii >= 0 ? float(vals[ii]) : 0.f, il >= 0, il >= 0 ? detail::to_label(vals[il], s) : 0u);
   };
   if (format == "ascii") {
     // Skip the lines of elements before vertex (one line per item).

@@ -23,4 +23,17 @@ inline void add_point(ScanFile& s, uint32_t scan_id, uint32_t index, float x, fl
 
 ScanFile read_ply(const std::string& path, uint32_t scan_id);
 
+// A label read as a number: the contract's labels are uint32 object ids.
+// Another tool's -1, 1.5 or NaN (casting them would be undefined) marks the
+// scan's labels unusable: ScanFile::bad_labels, and the channel is dropped
+// (a run does not need labels; scoring says the scan has none).
+inline uint32_t to_label(double v, ScanFile& s) {
+  if (v >= 0.0 && v <= 4294967295.0 && v == std::floor(v)) return static_cast<uint32_t>(v);
+  s.bad_labels = true;
+  return 0;
+}
+inline void drop_bad_labels(ScanFile& s) {
+  if (s.bad_labels) s.points.label.clear();
+}
+
 }  // namespace lista::io::detail

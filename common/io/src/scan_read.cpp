@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <new>
+#include <stdexcept>
 
 namespace lista::io {
 
@@ -46,7 +48,7 @@ void read_map_frame(const std::string& path, const detail::PcdData& d, int fx, i
   for (size_t i = 0; i < d.points; ++i) {
     const Eigen::Vector3d p = to_sensor * Eigen::Vector3d(d.value(fx, i), d.value(fy, i), d.value(fz, i));
     const float in = fi >= 0 ? static_cast<float>(d.value(fi, i)) : 0.f;
-    const uint32_t lb = fl >= 0 ? static_cast<uint32_t>(d.value(fl, i)) : 0u;
+    const uint32_t lb = fl >= 0 ? detail::to_label(d.value(fl, i), s) : 0u;
     detail::add_point(s, scan_id, uint32_t(i), float(p.x()), float(p.y()), float(p.z()), fi >= 0, in, fl >= 0, lb);
   }
   if (!d.viewpoint_identity) s.viewpoint = d.viewpoint;
@@ -85,14 +87,14 @@ ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id, bool map_frame
       }
       if (fl >= 0) {
         if (fast_l) std::memcpy(&lb, d.base[fl] + i * d.step[fl], 4);
-        else lb = static_cast<uint32_t>(d.value(fl, i));
+        else lb = detail::to_label(d.value(fl, i), s);
       }
       detail::add_point(s, scan_id, uint32_t(i), x, y, z, fi >= 0, in, fl >= 0, lb);
     }
   } else {
     for (size_t i = 0; i < n; ++i) {
       const float in = fi >= 0 ? static_cast<float>(d.value(fi, i)) : 0.f;
-      const uint32_t lb = fl >= 0 ? static_cast<uint32_t>(d.value(fl, i)) : 0u;
+      const uint32_t lb = fl >= 0 ? detail::to_label(d.value(fl, i), s) : 0u;
       detail::add_point(s, scan_id, uint32_t(i), float(d.value(fx, i)), float(d.value(fy, i)),
                         float(d.value(fz, i)), fi >= 0, in, fl >= 0, lb);
     }
@@ -123,10 +125,20 @@ ScanFile read_kitti_bin(const std::string& path, uint32_t scan_id) {
 
 ScanFile read_scan(const std::string& path, uint32_t scan_id, bool map_frame) {
   const std::string ext = lower_extension(path);
-  if (ext == ".pcd") return read_pcd_scan(path, scan_id, map_frame);
-  if (ext == ".ply") return detail::read_ply(path, scan_id);
-  if (ext == ".bin") return read_kitti_bin(path, scan_id);
-  throw Error(path + ": unknown scan file type '" + ext + "' (expected .pcd, .ply or .bin)");
+  if (ext != ".pcd" && ext != ".ply" && ext != ".bin")
+    throw Error(path + ": unknown scan file type '" + ext + "' (expected .pcd, .ply or .bin)");
+  ScanFile s;
+  try {
+    s = ext == ".pcd" ? read_pcd_scan(path, scan_id, map_frame)
+        : ext == ".ply" ? detail::read_ply(path, scan_id)
+                        : read_kitti_bin(path, scan_id);
+  } catch (const std::bad_alloc&) {
+    throw Error(path + ": out of memory reading it (a header promising more points than memory holds?)");
+  } catch (const std::length_error&) {
+    throw Error(path + ": its header asks for more points than a vector can hold: a corrupt header");
+  }
+  detail::drop_bad_labels(s);
+  return s;
 }
 
 }  // namespace lista::io

@@ -181,6 +181,38 @@ TEST(PcdRead, MalformedFilesNameFileAndLine) {
   expect_error([&] { read_scan((dir / "key.pcd").string()); }, "key.pcd:2: unknown PCD header keyword 'COLOUR'");
 }
 
+// Headers that lie about their size: refused before memory is reserved for
+// them (a 200-byte file must not allocate gigabytes), overflow included.
+TEST(PcdRead, LyingHeadersAreRefusedBeforeAllocating) {
+  const auto dir = temp_dir("pcd-lie");
+  write_text(dir / "bomb.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 50000000\nDATA ascii\n1 2 3\n");
+  expect_error([&] { read_scan((dir / "bomb.pcd").string()); }, "bomb.pcd: 6 bytes of ascii data cannot hold POINTS 50000000");
+  write_text(dir / "wrap.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 4294967296\nHEIGHT 4294967296\n"
+                               "POINTS 0\nDATA ascii\n1 2 3\n");
+  expect_error([&] { read_scan((dir / "wrap.pcd").string()); }, "wrap.pcd:7: WIDTH 4294967296 x HEIGHT 4294967296");
+  write_text(dir / "wide.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 100000000\nWIDTH 1\nDATA binary\n");
+  expect_error([&] { read_scan((dir / "wide.pcd").string()); }, "more than 1 MiB per point");
+  write_text(dir / "nanvp.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nVIEWPOINT nan 0 0 1 0 0 0\n"
+                                "DATA ascii\n1 2 3\n");
+  expect_error([&] { read_scan((dir / "nanvp.pcd").string()); }, "nanvp.pcd:5: VIEWPOINT: 'nan' is not a finite number");
+}
+
+// Labels are uint32 object ids; another tool's -1 or 1.5 drops the channel
+// (lista-eval then says the scan has no usable labels) instead of wrapping.
+TEST(PcdRead, LabelsThatAreNoObjectIdsAreDropped) {
+  const auto dir = temp_dir("pcd-label");
+  const std::string head = "FIELDS x y z label\nSIZE 4 4 4 4\nTYPE F F F I\nWIDTH 2\nDATA ascii\n";
+  write_text(dir / "good.pcd", head + "1 2 3 7\n4 5 6 0\n");
+  const ScanFile good = read_scan((dir / "good.pcd").string());
+  EXPECT_FALSE(good.bad_labels);
+  EXPECT_EQ(good.points.label, (std::vector<uint32_t>{7, 0}));
+  write_text(dir / "bad.pcd", head + "1 2 3 7\n4 5 6 -1\n");
+  const ScanFile bad = read_scan((dir / "bad.pcd").string());
+  EXPECT_TRUE(bad.bad_labels);
+  EXPECT_FALSE(bad.points.has_label());
+  EXPECT_EQ(bad.points.size(), 2u);
+}
+
 TEST(PcdWrite, RefusesBadColumnsAndLeavesNoFile) {
   const auto dir = temp_dir("pcd");
   std::vector<float> x = {1.f};

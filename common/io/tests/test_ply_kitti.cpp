@@ -76,6 +76,15 @@ TEST(Ply, MalformedFiles) {
   expect_error([&] { read_scan((dir / "d.ply").string()); }, "not a PLY file");
   write_text(dir / "e.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n");
   expect_error([&] { read_scan((dir / "e.ply").string()); }, "e.ply:4: unknown property type 'quad'");
+  // Counts whose byte sizes would wrap: a corrupt header, said so.
+  write_text(dir / "f.ply", "ply\nformat binary_little_endian 1.0\nelement face 4611686018427387904\n"
+                            "property float a\nelement vertex 1\nproperty float x\nproperty float y\n"
+                            "property float z\nend_header\n123456789012");
+  expect_error([&] { read_scan((dir / "f.ply").string()); }, "f.ply:3: element 'face' has 4611686018427387904 items");
+  // A huge vertex count reserves nothing before the data is found missing.
+  write_text(dir / "g.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+                            "property float y\nproperty float z\nend_header\n1234");
+  expect_error([&] { read_scan((dir / "g.ply").string()); }, "truncated binary PLY");
 }
 
 TEST(KittiBin, ReadsFloatQuadruplesAndCountsNonFinite) {

@@ -51,7 +51,8 @@ Truth load_truth(const std::string& dataset, const std::vector<std::string>& wan
     for (size_t s = 0; s < m.scans.size(); ++s) {
       const PointSet& p = *m.scans[s].points;
       if (!p.empty() && !p.has_label())
-        throw Error(m.scans[s].file + ": no 'label' field; the dataset cannot be scored per point");
+        throw Error(m.scans[s].file + ": no 'label' field (or labels that are not uint32 object ids, such as -1 or 1.5); the dataset cannot be "
+                    "scored per point");
       auto& l = mt.labels[s];
       l.assign(m.scans[s].points_in_file, kNoPoint);
       for (size_t i = 0; i < p.size(); ++i) {

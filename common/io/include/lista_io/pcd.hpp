@@ -19,6 +19,7 @@ struct ScanFile {
   uint32_t points_in_file = 0;
   size_t skipped_nonfinite = 0;
   std::optional<Eigen::Isometry3d> viewpoint;  // PCD VIEWPOINT, if not identity
+  bool bad_labels = false;  // a `label` that is no uint32 integer (-1, 1.5, NaN): the channel is dropped
 };
 
 // Reads .pcd, .ply or .bin by extension. Throws lista::Error naming the file
