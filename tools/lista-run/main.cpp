@@ -9,6 +9,7 @@
 #include <lista_core/text.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/folders.hpp>
 #include <lista_cli/parse.hpp>
 
 #include <cerrno>
@@ -152,7 +153,8 @@ int run(const Options& o) {
   }
   const std::string dataset_dir = o.dataset.empty() ? plan.spec.dataset : o.dataset;
   const std::string output_dir = o.out.empty() ? plan.spec.output : o.out;
-  for (const std::string& why : {dataset_problem(dataset_dir), output_problem(output_dir, false)})
+  for (const std::string& why :
+       {dataset_problem(dataset_dir), output_problem(output_dir, false), lista::cli::output_inside_dataset(dataset_dir, output_dir, "--out")})
     if (!why.empty()) diagnostics.error({}, "", why);
   if (o.validate) {
     std::cout << lista_run::verdict_json(diagnostics);

@@ -1,3 +1,4 @@
+#include <lista_cli/folders.hpp>
 #include <lista_cli/parse.hpp>
 
 #include <gtest/gtest.h>
@@ -114,4 +115,16 @@ TEST(CliParse, BetweenSaysItsBoundsPlainly) {
       EXPECT_NE(err.str().find("--spacing: must be between 0.005 and 1, got " + std::string(value)), std::string::npos)
           << err.str();
   }
+}
+
+// An output at or under the dataset is refused; a sibling sharing a name
+// prefix (data vs data2) or any other folder is fine.
+TEST(CliFolders, OutputInsideTheDatasetIsRefused) {
+  using lista::cli::output_inside_dataset;
+  const std::string d = "/tmp/lista-cli-test/data";
+  for (const std::string out : {d, d + "/", d + "/A/out", d + "/../data/run"})
+    EXPECT_EQ(output_inside_dataset(d, out, "--out").find("--out " + out + " lies inside the dataset " + d), 0u) << out;
+  for (const std::string out : {std::string("/tmp/lista-cli-test/data2"), std::string("/tmp/lista-cli-test"),
+                                std::string("/tmp/other/run"), std::string()})
+    EXPECT_EQ(output_inside_dataset(d, out, "--out"), "") << out;
 }

@@ -10,6 +10,7 @@
 #include <lista_io/report.hpp>
 
 #include <CLI/CLI.hpp>
+#include <lista_cli/folders.hpp>
 #include <lista_cli/parse.hpp>
 
 #include <nlohmann/json.hpp>
@@ -79,6 +80,10 @@ int main(int argc, char** argv) {
   }
   try {
     if (!truth_out.empty()) {
+      if (const std::string why = lista::cli::output_inside_dataset(dataset, truth_out, "--truth"); !why.empty()) {
+        std::cerr << "lista-eval: error: " << why << "\n";
+        return 2;
+      }
       const lista::eval::Truth truth = lista::eval::load_truth(dataset, {}, threads);
       lista::eval::write_perfect_run(truth, truth_out);
       std::cout << "perfect run written to " << truth_out << "\n";
