@@ -7,6 +7,7 @@
 #include <lista_io/poses.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 namespace fs = std::filesystem;
@@ -21,11 +22,15 @@ bool is_scan_file(const fs::path& p) {
   return ext == ".pcd" || ext == ".ply" || ext == ".bin";
 }
 
-std::vector<std::string> files_in(const fs::path& dir, bool pcd_only) {
+// Scan files of a folder by extension. `listing`: only regular files (is this
+// a mission?); reading takes every entry so that a folder or a broken link
+// named like a scan is an error naming it, not a silently shorter list.
+std::vector<std::string> files_in(const fs::path& dir, bool pcd_only, bool listing = false) {
   std::vector<std::string> out;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    if (!it->is_regular_file()) continue;
+    std::error_code type_ec;
+    if (listing && !it->is_regular_file(type_ec)) continue;
     const fs::path& p = it->path();
     // Hidden files are not scans: macOS leaves "._000001.pcd" metadata beside copied files.
     if (p.filename().string().front() == '.') continue;
@@ -36,9 +41,38 @@ std::vector<std::string> files_in(const fs::path& dir, bool pcd_only) {
   return out;
 }
 
+// Mission names key report.json (UTF-8 JSON) and lista-eval's matching of
+// folders: a name in another encoding cannot round-trip.
+bool valid_utf8(const std::string& s) {
+  for (size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    const size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    if (len == 0 || i + len > s.size()) return false;
+    for (size_t k = 1; k < len; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) >> 6) != 0x2) return false;
+    i += len;
+  }
+  return true;
+}
+
+// Bytes outside ASCII as \xHH, so an error message stays readable.
+std::string escaped(const std::string& s) {
+  std::string out;
+  for (unsigned char c : s) {
+    if (c >= 0x20 && c < 0x7f) {
+      out += char(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
 bool is_mission_dir(const fs::path& dir) {
   if (fs::is_regular_file(dir / "poses.txt")) return true;
-  return !files_in(dir, true).empty();  // VIEWPOINT layout
+  return !files_in(dir, true, true).empty();  // VIEWPOINT layout
 }
 
 }  // namespace
@@ -132,6 +166,9 @@ MissionSet read_dataset(const std::string& dataset_dir, const DatasetOptions& op
   std::vector<std::string> names = options.missions.empty() ? list_missions(dataset_dir) : options.missions;
   for (const auto& name : names) {
     const fs::path dir = name == "." ? fs::path(dataset_dir) : fs::path(dataset_dir) / name;
+    if (!valid_utf8(name))
+      throw Error(dataset_dir + ": mission folder name '" + escaped(name) +
+                  "' is not UTF-8; rename it (report.json names missions in UTF-8)");
     if (!fs::is_directory(dir)) throw Error(dataset_dir + ": no mission '" + name + "'");
     for (const auto& seen : set.missions)
       if (seen.name == name) throw Error(dataset_dir + ": mission '" + name + "' listed twice");

@@ -150,7 +150,8 @@ void write_report(const std::string& path, const Report& report) {
     if (root.contains(it.key())) throw Error(path + ": extra field '" + it.key() + "' clashes with a contract field");
     root[it.key()] = it.value();
   }
-  write_file_atomic(path, root.dump(2) + "\n");
+  // A path that is not UTF-8 (a folder named in Latin-1) is written with U+FFFD, not an exception.
+  write_file_atomic(path, root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 Report read_report(const std::string& path) {
@@ -237,7 +238,8 @@ void write_ground_truth(const std::string& path, const GroundTruth& truth) {
     objects.push_back(std::move(j));
   }
   root["objects"] = std::move(objects);
-  write_file_atomic(path, root.dump(2) + "\n");
+  // A path that is not UTF-8 (a folder named in Latin-1) is written with U+FFFD, not an exception.
+  write_file_atomic(path, root.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 GroundTruth read_ground_truth(const std::string& path) {

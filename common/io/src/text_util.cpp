@@ -6,12 +6,19 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <sys/stat.h>
 
 namespace lista::io::detail {
 
 std::string read_whole_file(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw Error(path + ": cannot read (" + std::strerror(errno) + ")");
+  // fopen opens a folder too (then ftell says LONG_MAX): only regular files.
+  struct stat st {};
+  if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+    std::fclose(f);
+    throw Error(path + (S_ISDIR(st.st_mode) ? ": is a folder, not a file" : ": is not a regular file"));
+  }
   std::string data;
   if (std::fseek(f, 0, SEEK_END) == 0) {
     const long size = std::ftell(f);

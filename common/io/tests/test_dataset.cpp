@@ -159,3 +159,20 @@ TEST(Dataset, ViewpointLayoutKeepsGeoreferencedDoublesExact) {
             PcdEncoding::binary, vp);
   expect_error([&] { read_mission(f32.string()); }, "a.pcd: map-frame float32 coordinates around a sensor 5500000 m");
 }
+
+// Entries named like scans that are no files, a poses.txt that is a folder
+// and a mission name that is not UTF-8: each an error naming it.
+TEST(Dataset, OddEntriesAreErrorsNamingThem) {
+  const auto root = temp_dir("odd");
+  make_mission(root / "A", 2, 4);
+  fs::remove(root / "A" / "scans" / "000001.pcd");
+  fs::create_directory(root / "A" / "scans" / "000001.pcd");
+  expect_error([&] { read_mission((root / "A").string()); }, "000001.pcd: is a folder, not a file");
+  make_mission(root / "B", 1, 4);
+  fs::remove(root / "B" / "poses.txt");
+  fs::create_directory(root / "B" / "poses.txt");
+  expect_error([&] { read_mission((root / "B").string()); }, "poses.txt: is a folder, not a file");
+  make_mission(root / "C\xe9", 1, 4);
+  expect_error([&] { read_dataset(root.string(), DatasetOptions{{"C\xe9"}, true, 1}); },
+               "mission folder name 'C\\xE9' is not UTF-8");
+}

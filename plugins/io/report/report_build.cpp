@@ -176,7 +176,7 @@ std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_ori
   root["provenance"] = prov;
   root["metrics"] = metrics;
   root["warnings"] = run.warnings;
-  return root.dump();
+  return root.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace lista::report
