@@ -209,6 +209,13 @@ TEST(Overrides, ParsedAsTomlOrBareString) {
   EXPECT_THROW(parse_override("count=3"), lista::Error);
   EXPECT_THROW(parse_override("src.count"), lista::Error);
   EXPECT_THROW(parse_override(".count=3"), lista::Error);
+  // A value that opens a table of its own on a new line is refused, not half-taken.
+  try {
+    parse_override("src.count=3\n[stages.evil]\nplugin = \"io.missions\"");
+    ADD_FAILURE() << "a multi-line value was accepted";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--set 'src.count=...': the value spans lines"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Overrides, ApplyAfterFileAndAreValidated) {

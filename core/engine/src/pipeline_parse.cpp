@@ -352,6 +352,10 @@ Override parse_override(const std::string& argument) {
   o.stage = trim(target.substr(0, dot));
   o.param = trim(target.substr(dot + 1));
   const std::string text = trim(argument.substr(eq + 1));
+  // One value, one line: a newline would let the value open tables of its
+  // own (--set 'a.b=1\n[stages.x]...'), which were silently dropped.
+  if (text.find_first_of("\n\r") != std::string::npos)
+    throw Error("--set '" + o.stage + "." + o.param + "=...': the value spans lines; give one TOML value on one line");
   try {
     std::istringstream in("v = " + text);
     const toml::value root = toml::parse(in, "--set");
