@@ -6,10 +6,13 @@
 #include <lista_io/atomic_file.hpp>
 #include <lista_io/report.hpp>
 
+#include <Eigen/LU>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <map>
 #include <set>
 
 namespace lista::io {
@@ -46,7 +49,19 @@ struct Reader {
   }
   int integer(const json& v, const std::string& where) const {
     if (!v.is_number_integer()) fail(where, "expected an integer, got " + std::string(v.type_name()));
-    return v.get<int>();
+    const int64_t i = v.get<int64_t>();
+    if (i < INT32_MIN || i > INT32_MAX) fail(where, std::to_string(i) + " is out of range (32-bit)");
+    return int(i);
+  }
+  // A rigid transform: last row 0 0 0 1, rotation orthonormal and proper. An
+  // all-zero or scaled matrix would otherwise be scored as if it were a pose.
+  Eigen::Matrix4d rigid(const json& v, const std::string& where) const {
+    const Eigen::Matrix4d m = matrix(v, where);
+    const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
+    if (!m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1), 1e-6) ||
+        (r.transpose() * r - Eigen::Matrix3d::Identity()).norm() > 1e-3 || r.determinant() < 0)
+      fail(where, "is not a rigid transform (rotation orthonormal with det +1, last row 0 0 0 1)");
+    return m;
   }
   std::string text(const json& v, const std::string& where) const {
     if (!v.is_string()) fail(where, "expected a string, got " + std::string(v.type_name()));
@@ -91,7 +106,7 @@ struct Reader {
     std::map<std::string, Eigen::Matrix4d> out;
     for (const auto& m : missions) {
       if (!obj.contains(m)) fail(key, "no entry for mission '" + m + "'");
-      out[m] = matrix(obj[m], key + "." + m);
+      out[m] = rigid(obj[m], key + "." + m);
     }
     for (auto it = obj.begin(); it != obj.end(); ++it)
       if (!out.count(it.key())) fail(key, "unknown mission '" + it.key() + "'");
@@ -179,15 +194,16 @@ Report read_report(const std::string& path) {
     o.centroid = rd.vec3(rd.field(j, w, "centroid"), w + ".centroid");
     o.bbox_min = rd.vec3(rd.field(j, w, "bbox_min"), w + ".bbox_min");
     o.bbox_max = rd.vec3(rd.field(j, w, "bbox_max"), w + ".bbox_max");
-    const int pts = rd.integer(rd.field(j, w, "points"), w + ".points");
-    if (pts < 0) rd.fail(w + ".points", "must be >= 0");
-    o.points = size_t(pts);
+    const json& pts = rd.field(j, w, "points");
+    if (!pts.is_number_integer() || pts.get<int64_t>() < 0 || pts.get<int64_t>() > int64_t(UINT32_MAX))
+      rd.fail(w + ".points", "must be an integer in [0, 4294967295]");
+    o.points = size_t(pts.get<int64_t>());
     o.group = rd.integer(rd.field(j, w, "group"), w + ".group");
     o.confidence = rd.number(rd.field(j, w, "confidence"), w + ".confidence");
     if (o.confidence < 0 || o.confidence > 1) rd.fail(w + ".confidence", "must be in [0, 1]");
     const json& match = rd.field(j, w, "match");
     o.match = match.is_null() ? -1 : rd.integer(match, w + ".match");
-    if (j.contains("transform")) o.transform = rd.matrix(j["transform"], w + ".transform");
+    if (j.contains("transform")) o.transform = rd.rigid(j["transform"], w + ".transform");
     if (o.status == "moved" && !o.transform) rd.fail(w, "moved object has no 'transform'");
     if (j.contains("history")) {
       const json& h = j["history"];
@@ -197,9 +213,17 @@ Report read_report(const std::string& path) {
     if (j.contains("floor_z") && !j["floor_z"].is_null()) o.floor_z = rd.number(j["floor_z"], w + ".floor_z");
     r.objects.push_back(std::move(o));
   }
-  for (const auto& o : r.objects)
-    if (o.match >= 0 && !ids.count(o.match))
-      rd.fail("objects (id " + std::to_string(o.id) + ").match", "names no object id " + std::to_string(o.match));
+  std::map<int, const ReportObject*> by_id;
+  for (const auto& o : r.objects) by_id[o.id] = &o;
+  for (const auto& o : r.objects) {
+    if (o.match < 0) continue;
+    const std::string w = "objects (id " + std::to_string(o.id) + ").match";
+    if (!ids.count(o.match)) rd.fail(w, "names no object id " + std::to_string(o.match));
+    if (o.match == o.id) rd.fail(w, "names the object itself");
+    if (by_id.at(o.match)->mission == o.mission)
+      rd.fail(w, "names object " + std::to_string(o.match) + " of the same mission '" + o.mission +
+                     "'; a match is the same object in another mission");
+  }
   const json& timings = rd.field(root, "top level", "timings_s");
   if (!timings.is_object()) rd.fail("timings_s", "expected an object of stage id -> seconds");
   for (auto it = timings.begin(); it != timings.end(); ++it)
@@ -269,7 +293,7 @@ GroundTruth read_ground_truth(const std::string& path) {
     for (auto it = poses.begin(); it != poses.end(); ++it) {
       check_mission(rd, g.missions, it.key(), w + ".poses");
       if (it.value().is_null()) o.poses[it.key()] = std::nullopt;
-      else o.poses[it.key()] = rd.matrix(it.value(), w + ".poses." + it.key());
+      else o.poses[it.key()] = rd.rigid(it.value(), w + ".poses." + it.key());
     }
     for (const auto& m : g.missions)
       if (!o.poses.count(m)) o.poses[m] = std::nullopt;  // absent = not there

@@ -86,8 +86,16 @@ TEST(ReportJson, StrictReadingNamesFileAndField) {
   broken([](auto& j) { j["objects"][2]["status"] = "gone"; }, "objects[2].status");
   broken([](auto& j) { j["format"] = "lista-report/2"; }, "expected 'lista-report/1'");
   broken([](auto& j) { j["alignment"].erase("B"); }, "alignment: no entry for mission 'B'");
-  broken([](auto& j) { j["objects"][0]["points"] = "many"; }, "objects[0].points: expected an integer");
+  broken([](auto& j) { j["objects"][0]["points"] = "many"; }, "objects[0].points: must be an integer");
+  broken([](auto& j) { j["objects"][0]["points"] = int64_t(1) << 32; }, "objects[0].points: must be an integer");
+  broken([](auto& j) { j["objects"][0]["id"] = int64_t(1) << 40; }, "objects[0].id: 1099511627776 is out of range");
+  // Matrices must be rigid: an all-zero alignment or a scaled transform is no pose.
+  broken([](auto& j) { j["alignment"]["B"] = nlohmann::json::parse("[[0,0,0,0],[0,0,0,0],[0,0,0,0],[0,0,0,0]]"); },
+         "alignment.B: is not a rigid transform");
+  broken([](auto& j) { j["objects"][0]["transform"][0][0] = 2.0; }, "objects[0].transform: is not a rigid transform");
   broken([](auto& j) { j["objects"][0]["match"] = 99; }, "names no object id 99");
+  broken([](auto& j) { j["objects"][0]["match"] = 3; }, "(id 3).match: names the object itself");
+  broken([](auto& j) { j["objects"][1]["match"] = 12; }, "(id 11).match: names object 12 of the same mission 'B'");
   broken([](auto& j) { j["objects"][1]["id"] = 3; }, "duplicate id 3");
   write_text(dir / "text.json", "{ not json");
   expect_error([&] { read_report((dir / "text.json").string()); }, "invalid JSON");
