@@ -1,6 +1,8 @@
 #include <lista_raycast/change_detection.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <omp.h>
 
 namespace lista::raycast {
@@ -14,6 +16,30 @@ void check_missions(const MissionSet& missions) {
     for (const Scan& s : m.scans)
       if (!s.points) throw Error("mission '" + m.name + "': scan '" + s.file + "' has no points loaded");
   }
+}
+
+std::vector<std::string> undetectable_pairs(const MissionSet& missions, const VolumetricConfig& c) {
+  auto logit = [](double p) { return std::log(p / (1.0 - p)); };
+  auto sigmoid = [](double l) { return 1.0 / (1.0 + std::exp(-l)); };
+  // Most extreme P a mission of n scans can give a voxel (n updates at most).
+  auto most = [&](size_t n) { return std::min(c.clamping_max, sigmoid(double(n) * logit(c.prob_hit))); };
+  auto least = [&](size_t n) { return std::max(c.clamping_min, sigmoid(double(n) * logit(c.prob_miss))); };
+  std::vector<std::string> out;
+  for (size_t m = 0; m + 1 < missions.missions.size(); ++m) {
+    const Mission &a = missions.missions[m], &b = missions.missions[m + 1];
+    const size_t na = a.scans.size(), nb = b.scans.size();
+    const double best = std::max(most(na) - least(nb), most(nb) - least(na));
+    if (best > c.change_threshold) continue;
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "missions '%s' (%zu scan%s) and '%s' (%zu scan%s) can show no change: each scan updates a voxel "
+                  "at most once, so their probabilities differ by at most %.2f, not above change_threshold %.2f; "
+                  "for so few scans set change_threshold below %.2f (e.g. %.2f)",
+                  a.name.c_str(), na, na == 1 ? "" : "s", b.name.c_str(), nb, nb == 1 ? "" : "s", best, c.change_threshold, best,
+                  std::round(best * 80.0) / 100.0);
+    out.emplace_back(text);
+  }
+  return out;
 }
 
 namespace {

@@ -42,6 +42,7 @@ class OctomapStage : public Stage {
   Outputs run(const Inputs& inputs, Context& ctx) override {
     const MissionSet& missions = inputs.get<MissionSet>("missions");
     raycast::check_missions(missions);
+    for (const std::string& w : raycast::undetectable_pairs(missions, config_)) ctx.warn(w);
     size_t scans = 0;
     for (const auto& m : missions.missions) scans += m.scans.size();
     const size_t n = missions.missions.size();

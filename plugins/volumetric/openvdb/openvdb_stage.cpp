@@ -36,6 +36,7 @@ class OpenVdbStage : public Stage {
   Outputs run(const Inputs& inputs, Context& ctx) override {
     const MissionSet& missions = inputs.get<MissionSet>("missions");
     raycast::check_missions(missions);
+    for (const std::string& w : raycast::undetectable_pairs(missions, config_)) ctx.warn(w);
     size_t scans = 0;
     for (const auto& m : missions.missions) scans += m.scans.size();
     std::vector<std::unique_ptr<raycast::OccupancyMap>> maps;

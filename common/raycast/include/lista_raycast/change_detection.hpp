@@ -45,6 +45,13 @@ struct ChangeStats {
 // Throws lista::Error unless there are >= 2 missions, each with scans.
 void check_missions(const MissionSet& missions);
 
+// Pairs of consecutive missions between which no change can pass the
+// thresholds at all: a voxel gets at most one update per scan, so with few
+// scans P stays near 0.5 (one scan each: at most prob_hit against at least
+// prob_miss, 0.3 apart at the defaults, under change_threshold 0.5). One
+// warning per such pair, saying which change_threshold would do.
+std::vector<std::string> undetectable_pairs(const MissionSet& missions, const VolumetricConfig& config);
+
 // Points of mission m are changed when, against mission m-1 or m+1, their
 // voxel's probability exceeds the other's by more than change_threshold (the
 // other mission must have observed the voxel) and no voxel within

@@ -1,0 +1,34 @@
+// undetectable_pairs: with one scan per mission no voxel can change at the
+// paper's thresholds (one update per voxel per scan: P 0.7 against 0.4); the
+// warning says so and which change_threshold would do; more scans, no warning.
+#include <lista_raycast/change_detection.hpp>
+
+#include <gtest/gtest.h>
+
+using namespace lista;
+
+namespace {
+MissionSet missions_of(std::vector<size_t> scans) {
+  MissionSet set;
+  for (size_t m = 0; m < scans.size(); ++m) {
+    Mission mission;
+    mission.name = std::string(1, char('A' + m));
+    mission.scans.resize(scans[m]);
+    set.missions.push_back(mission);
+  }
+  return set;
+}
+}  // namespace
+
+TEST(UndetectablePairs, OneScanEachCannotPassTheDefaultThreshold) {
+  const raycast::VolumetricConfig c;
+  const auto w = raycast::undetectable_pairs(missions_of({1, 1, 8}), c);
+  ASSERT_EQ(w.size(), 1u);  // A-B only: B-C has 8 scans on one side
+  EXPECT_NE(w[0].find("missions 'A' (1 scan) and 'B' (1 scan) can show no change"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("differ by at most 0.30, not above change_threshold 0.50"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("below 0.30 (e.g. 0.24)"), std::string::npos) << w[0];
+  EXPECT_TRUE(raycast::undetectable_pairs(missions_of({2, 2}), c).empty());
+  raycast::VolumetricConfig low = c;
+  low.change_threshold = 0.25;
+  EXPECT_TRUE(raycast::undetectable_pairs(missions_of({1, 1}), low).empty());
+}
