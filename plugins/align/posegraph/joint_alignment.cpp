@@ -151,7 +151,18 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   ctx.throw_if_cancelled();
   const std::vector<Closure> verified = verify_candidates(kf, candidates, {}, o.verify, threads);
   report.verified = verified.size();
-  std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency);
+  std::vector<AmbiguousPlacement> ambiguous;
+  std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency, &ambiguous);
+  for (const AmbiguousPlacement& a : ambiguous) {
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "mission '%s' may be placed wrongly against '%s': a rival fit turned %.0f deg (%.1f m) from the "
+                  "chosen one puts about as many of its points on the map of '%s' (%.1f %% against %.1f %%), as in a "
+                  "near-symmetric place; check the change maps of report.html, or give poses_gt.txt to be told",
+                  set.missions[a.query].name.c_str(), set.missions[a.reference].name.c_str(), a.turn_deg, a.shift_m,
+                  set.missions[a.reference].name.c_str(), 100.0 * a.rival_agreement, 100.0 * a.chosen_agreement);
+    ctx.warn(text);
+  }
   report.consistent = closures.size();
   for (const auto& c : closures) {
     if (kf[c.reference].mission == kf[c.query].mission) {

@@ -208,7 +208,7 @@ Eigen::Isometry3d implied_map_transform(const std::vector<Keyframe>& keyframes, 
 }
 
 std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes, const std::vector<Closure>& closures,
-                                         const ConsistencyOptions& o) {
+                                         const ConsistencyOptions& o, std::vector<AmbiguousPlacement>* ambiguous) {
   std::map<std::pair<size_t, size_t>, std::vector<size_t>> by_pair;
   for (size_t i = 0; i < closures.size(); ++i)
     by_pair[{keyframes[closures[i].reference].mission, keyframes[closures[i].query].mission}].push_back(i);
@@ -250,11 +250,37 @@ std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
         const MapAgreement on_reference(keyframes, pair.first, o.agreement_voxel);
         auto agreement = [&](size_t i) { return on_reference(pair.second, maps[i]); };
         double best_agreement = agreement(best);
-        for (size_t r : rivals)
-          if (const double a = agreement(r); a > best_agreement + o.rival_margin) {
+        std::vector<std::pair<size_t, double>> scored{{best, best_agreement}};
+        for (size_t r : rivals) {
+          const double a = agreement(r);
+          scored.emplace_back(r, a);
+          if (a > best_agreement + o.rival_margin) {
             best = r;
             best_agreement = a;
           }
+        }
+        // The closest runner-up (a hypothesis the chosen one disagrees with):
+        // within the margin, the maps cannot tell them apart.
+        const std::pair<size_t, double>* close = nullptr;
+        for (const auto& s : scored)
+          if (!agree(best, s.first) && s.second >= best_agreement - o.rival_margin &&
+              (!close || s.second > close->second))
+            close = &s;
+        if (close && ambiguous) {
+          AmbiguousPlacement a;
+          a.reference = pair.first;
+          a.query = pair.second;
+          a.turn_deg = rotation_angle(maps[best].linear().transpose() * maps[close->first].linear()) * 180.0 / M_PI;
+          Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+          size_t count = 0;
+          for (const Keyframe& kf : keyframes)
+            if (kf.mission == pair.second) centre += kf.frame.translation(), ++count;
+          if (count) centre /= double(count);
+          a.shift_m = (maps[best] * centre - maps[close->first] * centre).norm();
+          a.chosen_agreement = best_agreement;
+          a.rival_agreement = close->second;
+          ambiguous->push_back(a);
+        }
       }
     }
     for (size_t j = 0; j < list.size(); ++j)

@@ -93,10 +93,21 @@ struct ConsistencyOptions {
   double agreement_voxel = 0.3;  // m
 };
 
+// A mission pair whose chosen placement a rival hypothesis fits about as
+// well (within rival_margin of map agreement): the choice may be wrong.
+struct AmbiguousPlacement {
+  size_t reference = 0, query = 0;  // missions
+  double turn_deg = 0.0;            // rotation between the chosen and the rival map transform
+  double shift_m = 0.0;             // how far apart they put the query mission's centre
+  double chosen_agreement = 0.0, rival_agreement = 0.0;
+};
+
 // Per mission pair, keeps the closures that agree with the best-supported
-// one, or with a rival that the whole maps clearly favour.
+// one, or with a rival that the whole maps clearly favour. Pairs where a
+// rival came close go to `ambiguous` (if given).
 std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
                                          const std::vector<Closure>& closures,
-                                         const ConsistencyOptions& options);
+                                         const ConsistencyOptions& options,
+                                         std::vector<AmbiguousPlacement>* ambiguous = nullptr);
 
 }  // namespace lista::align

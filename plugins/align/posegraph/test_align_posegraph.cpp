@@ -339,9 +339,25 @@ TEST(LoopClosures, TheWholeMapsDecideBetweenASymmetricRoomsTwoFits) {
     closures[i].rmse = 0.05;
   }
   ConsistencyOptions o;
-  const auto kept = consistent_closures(keyframes, closures, o);
+  std::vector<AmbiguousPlacement> ambiguous;
+  const auto kept = consistent_closures(keyframes, closures, o, &ambiguous);
   ASSERT_EQ(kept.size(), 1u);
   EXPECT_TRUE(kept[0].reference_T_query.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_TRUE(ambiguous.empty()) << "the cabinet tells the fits apart";
   o.rival_margin = 0.0;  // the count alone
   EXPECT_EQ(consistent_closures(keyframes, closures, o).size(), 3u);
+
+  // Without the cabinet the room is the same turned: nothing tells the two
+  // fits apart, and that is reported (the run then warns) rather than hidden.
+  Cloud bare;
+  for (const auto& p : room)
+    if (std::abs(p.x()) > 4.6f || std::abs(p.y()) > 3.9f) bare.push_back(p);
+  for (auto& kf : keyframes) kf.submap = bare;
+  ambiguous.clear();
+  consistent_closures(keyframes, closures, ConsistencyOptions{}, &ambiguous);
+  ASSERT_EQ(ambiguous.size(), 1u);
+  EXPECT_EQ(ambiguous[0].reference, 0u);
+  EXPECT_EQ(ambiguous[0].query, 1u);
+  EXPECT_NEAR(ambiguous[0].turn_deg, 180.0, 1e-6);
+  EXPECT_NEAR(ambiguous[0].rival_agreement, ambiguous[0].chosen_agreement, 0.02);
 }
