@@ -206,8 +206,9 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   // mostly mean the poses do not belong to the scans.
   if (scan_report.tried >= 8 && 2 * scan_report.accepted < scan_report.tried)
     ctx.warn("only " + std::to_string(scan_report.accepted) + " of " + std::to_string(scan_report.tried) +
-             " neighbouring scans register where poses.txt puts them: check that it has one pose per scan in "
-             "file-name order (scan_10.pcd sorts before scan_2.pcd) and that scans are in the sensor frame");
+             " neighbouring scans register where their poses (poses.txt or VIEWPOINT) put them: check that there is one "
+             "pose per scan in file-name order (scan_10.pcd sorts before scan_2.pcd) and that scans are in the sensor "
+             "frame");
 
   // First solve without the robust loss: the vetted closures start far from
   // their optimum (the drift), where a robust loss would hardly pull.

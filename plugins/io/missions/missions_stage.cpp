@@ -118,7 +118,8 @@ class MissionsStage : public Stage {
       // Nothing to align or compare; later stages would blame the poses.
       if (m.point_count() == 0)
         throw Error("mission '" + m.name + "': none of its " + std::to_string(m.scans.size()) +
-                    " scans has a finite point; leave it out with --set " + ctx.stage_id() + ".missions=[...]");
+                    " scans has a finite point; leave it out with --set " + ctx.stage_id() +
+                    ".missions=[...] (listing at least two others: change needs two missions to compare)");
       std::vector<std::string> empty;
       for (const auto& scan : m.scans)
         if (scan.points && scan.points->empty()) empty.push_back(std::filesystem::path(scan.file).filename().string());
