@@ -2,6 +2,7 @@
 
 #include <lista/error.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -9,6 +10,62 @@
 #include <set>
 
 namespace lista::align {
+
+namespace {
+
+// Missions whose placement rests only on ambiguous pairs (a rival fit came
+// within the margin): not linked to the first mission through any pair the
+// maps decide. With many missions most pairs of a near-symmetric place are
+// ambiguous while a few decisive ones pin everything; only the unpinned are
+// worth a warning, one each.
+std::vector<std::string> unpinned_placements(const MissionSet& set, const std::vector<Keyframe>& kf,
+                                             const std::vector<Closure>& closures,
+                                             const std::vector<AmbiguousPlacement>& ambiguous) {
+  const size_t n = set.missions.size();
+  std::set<std::pair<size_t, size_t>> unsure;
+  for (const auto& a : ambiguous) unsure.insert(std::minmax(a.reference, a.query));
+  std::vector<std::vector<size_t>> decided(n);
+  for (const auto& c : closures) {
+    const auto pair = std::minmax(kf[c.reference].mission, kf[c.query].mission);
+    if (pair.first == pair.second || unsure.count(pair)) continue;
+    decided[pair.first].push_back(pair.second);
+    decided[pair.second].push_back(pair.first);
+  }
+  std::vector<char> pinned(n, 0);
+  std::vector<size_t> todo{0};
+  pinned[0] = 1;
+  while (!todo.empty()) {
+    const size_t m = todo.back();
+    todo.pop_back();
+    for (size_t k : decided[m])
+      if (!pinned[k]) pinned[k] = 1, todo.push_back(k);
+  }
+  std::vector<std::string> out;
+  for (size_t m = 1; m < n; ++m) {
+    if (pinned[m]) continue;
+    const AmbiguousPlacement* closest = nullptr;  // the pair whose rival came nearest
+    for (const auto& a : ambiguous)
+      if ((a.query == m || a.reference == m) &&
+          (!closest || a.rival_agreement - a.chosen_agreement > closest->rival_agreement - closest->chosen_agreement))
+        closest = &a;
+    if (!closest) continue;  // linked only through other unpinned missions: they are named
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "mission '%s' may be placed wrongly: against '%s' a rival fit turned %.0f deg (%.1f m) from the "
+                  "chosen one puts about as many points on the other map (%.1f %% against %.1f %%), and no other "
+                  "mission pins it, as in a near-symmetric place; check the change maps of report.html, or give "
+                  "poses_gt.txt to be told",
+                  set.missions[m].name.c_str(),
+                  set.missions[closest->query == m ? closest->reference : closest->query].name.c_str(),
+                  closest->turn_deg, closest->shift_m, 100.0 * closest->rival_agreement,
+                  100.0 * closest->chosen_agreement);
+    out.emplace_back(text);
+  }
+  return out;
+}
+
+}  // namespace
+
 
 namespace {
 
@@ -153,16 +210,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   report.verified = verified.size();
   std::vector<AmbiguousPlacement> ambiguous;
   std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency, &ambiguous);
-  for (const AmbiguousPlacement& a : ambiguous) {
-    char text[480];
-    std::snprintf(text, sizeof text,
-                  "mission '%s' may be placed wrongly against '%s': a rival fit turned %.0f deg (%.1f m) from the "
-                  "chosen one puts about as many of its points on the map of '%s' (%.1f %% against %.1f %%), as in a "
-                  "near-symmetric place; check the change maps of report.html, or give poses_gt.txt to be told",
-                  set.missions[a.query].name.c_str(), set.missions[a.reference].name.c_str(), a.turn_deg, a.shift_m,
-                  set.missions[a.reference].name.c_str(), 100.0 * a.rival_agreement, 100.0 * a.chosen_agreement);
-    ctx.warn(text);
-  }
+  for (const std::string& w : unpinned_placements(set, kf, closures, ambiguous)) ctx.warn(w);
   report.consistent = closures.size();
   for (const auto& c : closures) {
     if (kf[c.reference].mission == kf[c.query].mission) {
