@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdio>
 
 namespace lista::align {
 
@@ -37,7 +38,9 @@ std::optional<TrajectoryError> trajectory_error(const MissionSet& set) {
 
 std::string failed_alignment_warning(const TrajectoryError& error) {
   if (!(error.rmse > kFailedAlignmentRmse)) return "";
-  return "the aligned poses are " + std::to_string(error.rmse) +
+  char rmse[32];
+  std::snprintf(rmse, sizeof rmse, "%.2f", error.rmse);  // centimetres say enough against a 0.5 m bar
+  return "the aligned poses are " + std::string(rmse) +
          " m (RMSE) from poses_gt.txt: the alignment has probably failed; changes found will be wrong";
 }
 

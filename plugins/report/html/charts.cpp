@@ -63,6 +63,7 @@ std::string render_match_matrix(const ReportModel& model, const DescriptorSet* d
   std::string svg = "<svg class=\"match-matrix\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
                     std::to_string(w) + "\" height=\"" + std::to_string(h) + "\">\n";
   const double font = std::min(12.0, cell * 0.45);
+  std::string outlines;  // matched cells, drawn last
   for (size_t j = 0; j < cols.size(); ++j)
     svg += "<text x=\"" + fmt(margin + cell * (j + 0.5), 1) + "\" y=\"" + fmt(margin - 6, 1) +
            "\" font-size=\"" + fmt(font, 1) + "\" text-anchor=\"middle\">" +
@@ -77,16 +78,23 @@ std::string render_match_matrix(const ReportModel& model, const DescriptorSet* d
       svg += "<rect x=\"" + std::to_string(margin + cell * int(j)) + "\" y=\"" +
              std::to_string(margin + cell * int(i)) + "\" width=\"" + std::to_string(cell) +
              "\" height=\"" + std::to_string(cell) + "\" fill=\"" + heat(similarity).css() +
-             "\" stroke=\"" + (matched ? "#000" : "#ddd") + "\" stroke-width=\"" +
-             (matched ? "2.5" : "0.5") + "\"><title>" + std::to_string(rows[i]->object->id) + " vs " +
+             "\" stroke=\"#ddd\" stroke-width=\"0.5\"><title>" + std::to_string(rows[i]->object->id) + " vs " +
              std::to_string(cols[j]->object->id) + ": similarity " + fmt(similarity) +
              (matched ? ", matched, confidence " + fmt(rows[i]->confidence) : "") + "</title></rect>\n";
-      if (matched && cell >= 24)
-        svg += "<text x=\"" + fmt(margin + cell * (j + 0.5), 1) + "\" y=\"" +
-               fmt(margin + cell * (i + 0.5) + font / 3, 1) + "\" font-size=\"" + fmt(font * 0.8, 1) +
-               "\" text-anchor=\"middle\">" + fmt(rows[i]->confidence) + "</text>\n";
+      if (matched) {
+        // Drawn after the cell, inset, so no neighbouring cell paints over it.
+        outlines += "<rect class=\"matched\" x=\"" + fmt(margin + cell * double(j) + 1.5, 1) + "\" y=\"" +
+                    fmt(margin + cell * double(i) + 1.5, 1) + "\" width=\"" + fmt(cell - 3.0, 1) + "\" height=\"" +
+                    fmt(cell - 3.0, 1) + "\" fill=\"none\" stroke=\"#000\" stroke-width=\"2.5\"/>\n";
+        if (cell >= 24)  // white on dark cells, black on light ones
+          outlines += "<text x=\"" + fmt(margin + cell * (j + 0.5), 1) + "\" y=\"" +
+                      fmt(margin + cell * (i + 0.5) + font / 3, 1) + "\" font-size=\"" + fmt(font * 0.8, 1) +
+                      "\" text-anchor=\"middle\" fill=\"" + (similarity > 0.55 ? "#fff" : "#000") + "\">" +
+                      fmt(rows[i]->confidence) + "</text>\n";
+      }
     }
   }
+  svg += outlines;
   svg += "<text x=\"4\" y=\"14\" font-size=\"11\">rows: " + escape(model.missions[a]) +
          ", columns: " + escape(model.missions[b]) + "</text>\n</svg>\n";
   return svg;

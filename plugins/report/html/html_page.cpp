@@ -19,20 +19,34 @@ table{border-collapse:collapse;font-size:13px} td,th{border:1px solid #ddd;paddi
 th{background:#f4f4f4} td.text{text-align:left}
 svg.topdown{width:100%;height:auto;border:1px solid #ccc;background:#fff}
 .legend span{margin-right:16px}
-.warnings{background:#fff4e5;border:1px solid #f0b45b;padding:6px 12px;font-size:14px} .warnings ul{margin:4px 0} pre{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}
+.warnings{background:#fdecea;border:2px solid #d62728;padding:6px 12px;font-size:14px} td.low{background:#ffe9c7} .warnings ul{margin:4px 0} pre{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}
 </style>)";
 
-// How far the object went and how much it turned: T moves its centroid by
-// T c - c (the translation part of T alone depends on where the frame's
-// origin lies); the turn is signed about z, the way objects on floors turn.
-std::string motion_text(const ObjectView& v) {
-  if (!v.transform) return "";
-  const Eigen::Matrix4d& T = *v.transform;
-  const Eigen::Vector3d c = v.object->centroid.cast<double>();
-  const double moved = (T.block<3, 3>(0, 0) * c + T.block<3, 1>(0, 3) - c).norm();
-  const double yaw = std::atan2(T(1, 0), T(0, 0)) * 180.0 / M_PI;
-  return fmt(moved, 2) + " m, " + fmt(yaw, 1) + "&deg;";
+// One move, said once for both of its rows: from the earlier mission's
+// object to the later one's, the distance between their centroids and the
+// turn about z of the earlier one's transform (objects on floors turn about
+// z), with the direction named ("6.47 m, 81.4° A → B").
+std::string motion_text(const ObjectView& v, const ReportModel& model) {
+  const ObjectView* p = v.match >= 0 ? model.find(v.match) : nullptr;
+  if (!p) return "";
+  const ObjectView& from = v.object->mission < p->object->mission ? v : *p;
+  const ObjectView& to = &from == &v ? *p : v;
+  const double moved = (to.object->centroid - from.object->centroid).cast<double>().norm();
+  std::string s = fmt(moved, 2) + " m";
+  if (from.transform) {
+    const Eigen::Matrix4d& T = *from.transform;
+    s += ", " + fmt(std::atan2(T(1, 0), T(0, 0)) * 180.0 / M_PI, 1) + "&deg;";
+  } else if (to.transform) {
+    const Eigen::Matrix4d& T = *to.transform;  // the inverse turn
+    s += ", " + fmt(-std::atan2(T(1, 0), T(0, 0)) * 180.0 / M_PI, 1) + "&deg;";
+  }
+  return s + " " + escape(model.missions[from.object->mission]) + " &rarr; " +
+         escape(model.missions[to.object->mission]);
 }
+
+// Below this a report is a guess more than a finding: shown dashed on the
+// maps and highlighted in the table.
+constexpr double kLowConfidence = 0.5;
 
 // With 3+ missions `match` names one partner; the chain of the object's
 // reports ("5 A → 8 B → 19 C") shows where it was in every mission.
@@ -64,32 +78,44 @@ std::string vec(const Eigen::Vector3d& p) {
 std::string render_page(const MissionSet& missions, const ReportModel& model,
                         const DescriptorSet* descriptors, const RunInfo& run, const PageOptions& options) {
   std::map<std::string, int> counts;
-  for (const auto& v : model.objects) ++counts[to_string(v.status)];
+  int moves = 0;  // pairs of reports: each move has a report at both ends
+  for (const auto& v : model.objects) {
+    ++counts[to_string(v.status)];
+    if (v.status == ChangeStatus::moved && v.match >= 0 && v.object->id < v.match) ++moves;
+  }
 
   std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
                      escape(options.title) + "</title>" + kStyle + "</head>\n<body>\n";
   html += "<h1>" + escape(options.title) + "</h1>\n<p>Missions: ";
   for (size_t m = 0; m < model.missions.size(); ++m)
     html += (m ? " &rarr; " : "") + escape(model.missions[m]);
-  html += "</p>\n<p class=\"summary\"><span class=\"removed\">removed: " + std::to_string(counts["removed"]) +
-          "</span><span class=\"added\">added: " + std::to_string(counts["added"]) +
-          "</span><span class=\"moved\">moved: " + std::to_string(counts["moved"]) +
-          "</span><span>objects: " + std::to_string(model.objects.size()) + "</span></p>\n";
-  // What went wrong on the way (a failed alignment, say) belongs at the top,
-  // not in a log that scrolled away.
+  html += "</p>\n";
+  // What went wrong on the way (a failed alignment, say) comes before any
+  // finding it may have spoilt, not in a log that scrolled away.
   if (!run.warnings.empty()) {
     html += "<div class=\"warnings\"><b>Warnings during the run (" + std::to_string(run.warnings.size()) +
-            ")</b><ul>\n";
+            "): read them before the findings below</b><ul>\n";
     for (const auto& w : run.warnings) html += "<li>" + escape(w) + "</li>\n";
     html += "</ul></div>\n";
   }
+  html += "<p class=\"summary\"><span class=\"removed\">removed: " + std::to_string(counts["removed"]) +
+          "</span><span class=\"added\">added: " + std::to_string(counts["added"]) +
+          "</span><span class=\"moved\">moved: " + std::to_string(moves) + (moves == 1 ? " move (" : " moves (") + std::to_string(counts["moved"]) +
+          " reports at their ends)</span><span>objects: " + std::to_string(model.objects.size()) +
+          "</span></p>\n";
 
   for (size_t a = 0; a + 1 < model.missions.size(); ++a) {
     const size_t b = a + 1;
     html += "<h2>Change map: " + escape(model.missions[a]) + " &rarr; " + escape(model.missions[b]) + "</h2>\n";
     html += "<p class=\"legend\"><span class=\"removed\">&#9632; removed</span><span class=\"added\">&#9632; added"
             "</span><span class=\"moved\">&#9632; moved (arrow: from " + escape(model.missions[a]) + " to " +
-            escape(model.missions[b]) + ")</span><span>grey: static map</span></p>\n";
+            escape(model.missions[b]) + "; points drawn darker in " + escape(model.missions[b]) +
+            ")</span><span>dashed box: confidence below " + fmt(kLowConfidence, 1) +
+            "</span><span>grey: static map</span></p>\n";
+    if (model.missions.size() > 2)
+      html += "<p class=\"legend\">Colours say what each object did between these two missions; the table's "
+              "status is the object's one report status, which may name its change against its other "
+              "neighbouring mission (see its history).</p>\n";
     html += render_topdown(missions, model, a, b, options.topdown);
     html += "<h2>Match matrix: " + escape(model.missions[a]) + " &times; " + escape(model.missions[b]) + "</h2>\n";
     html += "<p>Cell colour: object similarity (" +
@@ -106,16 +132,19 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
     }
   }
 
-  html += "<h2>Objects</h2>\n<table class=\"objects\"><tr><th>id</th><th>mission</th><th>status</th><th>group</th>"
+  html += "<h2>Objects</h2>\n<p>Highlighted confidence: below " + fmt(kLowConfidence, 1) +
+          ". Motion: one move said once for both of its reports, earlier mission first.</p>\n"
+          "<table class=\"objects\"><tr><th>id</th><th>mission</th><th>status</th><th>group</th>"
           "<th>confidence</th><th>match</th><th>centroid (m)</th><th>points</th><th>motion</th><th>history</th></tr>\n";
   for (const auto& v : model.objects) {
     const std::string status = to_string(v.status);
     html += "<tr class=\"object-row\" data-id=\"" + std::to_string(v.object->id) + "\"><td>" +
             std::to_string(v.object->id) + "</td><td class=\"text\">" + escape(model.missions[v.object->mission]) +
             "</td><td class=\"text " + status + "\">" + status + "</td><td>" +
-            (v.group >= 0 ? std::to_string(v.group) : "") + "</td><td>" + fmt(v.confidence) + "</td><td>" +
+            (v.group >= 0 ? std::to_string(v.group) : "") + "</td><td" +
+            (v.confidence < kLowConfidence ? " class=\"low\"" : "") + ">" + fmt(v.confidence) + "</td><td>" +
             (v.match >= 0 ? std::to_string(v.match) : "") + "</td><td>" + vec(v.object->centroid.cast<double>() + missions.origin) + "</td><td>" +
-            std::to_string(v.object->points.size()) + "</td><td>" + motion_text(v) + "</td><td class=\"text\">" +
+            std::to_string(v.object->points.size()) + "</td><td>" + motion_text(v, model) + "</td><td class=\"text\">" +
             history_text(v, model) + "</td></tr>\n";
   }
   html += "</table>\n";

@@ -69,17 +69,20 @@ Rgb status_colour(const std::string& status) {
 }
 
 Rgb palette(int index) {
-  static const Rgb colours[] = {{31, 119, 180},  {255, 127, 14}, {44, 160, 44},  {214, 39, 40},
-                                {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {127, 127, 127},
-                                {188, 189, 34},  {23, 190, 207}};
-  if (index < 0) return {0, 0, 0};
+  // Red, green and blue mean removed, added and moved on this page: groups
+  // take the other categorical colours.
+  static const Rgb colours[] = {{148, 103, 189}, {255, 127, 14}, {140, 86, 75}, {227, 119, 194},
+                                {188, 189, 34},  {23, 190, 207}, {127, 127, 127}, {0, 0, 0},
+                                {255, 187, 120}, {197, 176, 213}};
+  if (index < 0) return {90, 90, 90};
   return colours[index % 10];
 }
 
 Rgb heat(double t) {
   t = std::clamp(t, 0.0, 1.0);
-  // white -> orange -> dark red: readable on screen and in print.
-  const double r = 255 - t * 80, g = 255 - t * 230, b = 255 - t * 235;
+  // white -> dark purple: no status colour (red removed, green added, blue
+  // moved) means similarity; readable on screen and in print.
+  const double r = 250 - t * 166, g = 250 - t * 200, b = 252 - t * 92;
   return {uint8_t(r), uint8_t(g), uint8_t(b)};
 }
 

@@ -167,7 +167,7 @@ TEST(ReportHtml, WritesEveryPart) {
   EXPECT_NE(html.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos) << "embedded PNG";
   EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org")) << "no external resources";
   EXPECT_NE(html.find("removed: 1"), std::string::npos);
-  EXPECT_NE(html.find("moved: 2"), std::string::npos);
+  EXPECT_NE(html.find("moved: 1 move (2 reports at their ends)"), std::string::npos) << "moves, not reports";
   EXPECT_NE(html.find("io.missions"), std::string::npos) << "stage timings";
   EXPECT_NE(html.find("<th>stages at once (-j)</th><td class=\"text\">2</td>"), std::string::npos);
   EXPECT_NE(html.find("<th>describe weights_sha256</th><td class=\"text\">fe68557d</td>"), std::string::npos)
@@ -236,20 +236,37 @@ TEST(ReportHtml, RendersInHeadlessChromium) {
   fs::remove_all(dir);
 }
 
-// The table's motion is how far the object went (T c - c) and its signed
-// turn, not the size of T's translation, which depends on where the
-// frame's origin lies: here T turns about the origin only.
+// The table's motion is one move said once for both of its reports: the
+// distance between the two centroids and the earlier object's signed turn,
+// not the size of T's translation (which depends on where the frame's
+// origin lies: here T turns about the origin only), with its direction.
 TEST(ReportHtml, MotionIsTheCentroidsDisplacementAndTheSignedTurn) {
   Scene s = make_scene();
   Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
   T.block<3, 3>(0, 0) = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   s.matches.objects[2].transform = T;
-  const Eigen::Vector3d c = s.objects.objects[2].centroid.cast<double>();
-  char expected[64];
-  std::snprintf(expected, sizeof expected, "%.2f m, -90.0&deg;", (T.block<3, 3>(0, 0) * c - c).norm());
+  s.matches.objects[3].transform = T.inverse();
+  const double d = (s.objects.objects[3].centroid - s.objects.objects[2].centroid).norm();
+  char expected[96];
+  std::snprintf(expected, sizeof expected, "<td>%.2f m, -90.0&deg; A &rarr; B</td>", d);
   const fs::path dir = write_report(s, "motion");
   const std::string html = read(dir / "report.html");
-  EXPECT_NE(html.find(expected), std::string::npos) << expected;
+  EXPECT_EQ(count(html, expected), 2u) << expected << " on both rows of the move";
+  fs::remove_all(dir);
+}
+
+// Low confidence is seen, not only read: a dashed box on the map and a
+// highlighted table cell; warnings come before the findings.
+TEST(ReportHtml, LowConfidenceAndWarningsStandOut) {
+  Scene s = make_scene();
+  s.matches.objects[0].confidence = 0.3;  // the removed object
+  s.matches.objects[1].confidence = 0.9;
+  const fs::path dir = write_report(s, "low");
+  const std::string html = read(dir / "report.html");
+  EXPECT_EQ(count(html, "class=\"low-confidence\""), 1u);
+  EXPECT_EQ(count(html, "<td class=\"low\">0.3"), 1u);
+  EXPECT_NE(html.find("dashed box: confidence below 0.5"), std::string::npos);
+  EXPECT_NE(html.find("class=\"axes\""), std::string::npos) << "coordinates on the map's edges";
   fs::remove_all(dir);
 }
 

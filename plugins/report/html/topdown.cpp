@@ -170,8 +170,12 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
   std::string svg = "<svg class=\"topdown\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " +
                     std::to_string(r.width) + " " + std::to_string(r.height) + "\" data-pair=\"" +
                     escape(missions.missions[a].name + "-" + missions.missions[b].name) + "\">\n";
+  // Two arrowheads: a short move gets the small one, so its line still shows.
   svg += "<defs><marker id=\"arrow" + std::to_string(a) +
          "\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"6\" markerHeight=\"6\" "
+         "orient=\"auto-start-reverse\"><path d=\"M0,0 L10,5 L0,10 z\" fill=\"#111\"/></marker>"
+         "<marker id=\"arrow-small" + std::to_string(a) +
+         "\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"3\" markerHeight=\"3\" "
          "orient=\"auto-start-reverse\"><path d=\"M0,0 L10,5 L0,10 z\" fill=\"#111\"/></marker></defs>\n";
   svg += "<image width=\"" + std::to_string(r.width) + "\" height=\"" + std::to_string(r.height) +
          "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
@@ -182,7 +186,11 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
     const Rgb colour = status_colour(status);
     svg += "<rect x=\"" + fmt(x0, 1) + "\" y=\"" + fmt(y0, 1) + "\" width=\"" + fmt(x1 - x0, 1) +
            "\" height=\"" + fmt(y1 - y0, 1) + "\" fill=\"none\" stroke=\"" + colour.css() +
-           "\" stroke-width=\"" + fmt(font / 6, 1) + "\"/>\n";
+           "\" stroke-width=\"" + fmt(font / 6, 1) + "\"" +
+           (v->confidence < 0.5 ? " stroke-dasharray=\"" + fmt(font / 2, 1) + " " + fmt(font / 3, 1) +
+                                      "\" class=\"low-confidence\""
+                                : std::string()) +
+           "/>\n";
     svg += "<text x=\"" + fmt(x1 + 2, 1) + "\" y=\"" + fmt(y0 + font * 0.8, 1) + "\" font-size=\"" +
            fmt(font, 1) + "\" fill=\"" + colour.css() + "\" class=\"object-label\">" +
            std::to_string(v->object->id) + "</text>\n";
@@ -191,15 +199,36 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
       if (partner && partner->object->mission == b) {
         const auto [ax, ay] = px(v->object->centroid);
         const auto [bx, by] = px(partner->object->centroid);
+        // The big head is 6 stroke widths long: under 3 heads of line, the small one.
+        const double length = std::hypot(bx - ax, by - ay), head = 6.0 * font / 5.0;
         svg += "<line x1=\"" + fmt(ax, 1) + "\" y1=\"" + fmt(ay, 1) + "\" x2=\"" + fmt(bx, 1) +
                "\" y2=\"" + fmt(by, 1) + "\" stroke=\"#111\" stroke-width=\"" + fmt(font / 5, 1) +
-               "\" marker-end=\"url(#arrow" + std::to_string(a) + ")\"/>\n";
+               "\" marker-end=\"url(#" + (length < 3.0 * head ? "arrow-small" : "arrow") + std::to_string(a) +
+               ")\"/>\n";
       }
     }
   }
   // Scale bar: 1 m, 5 m or 10 m depending on the map size.
   const double bar_m = extent > 60 ? 10 : extent > 15 ? 5 : 1;
   const double bar_px = bar_m / r.res;
+  // Coordinates along the top and left edges, in the dataset's own frame
+  // (the object table's), one tick per scale-bar length: a centroid from the
+  // table can be found on the map.
+  svg += "<g class=\"axes\" font-size=\"" + fmt(font * 0.8, 1) + "\" fill=\"#555\">";
+  for (double x = std::ceil(lo.x() / bar_m) * bar_m; x <= hi.x(); x += bar_m) {
+    const double c = (x - r.x0) / r.res;
+    svg += "<line x1=\"" + fmt(c, 1) + "\" y1=\"0\" x2=\"" + fmt(c, 1) + "\" y2=\"" + fmt(font * 0.5, 1) +
+           "\" stroke=\"#555\"/><text x=\"" + fmt(c + 2, 1) + "\" y=\"" + fmt(font * 1.2, 1) + "\">" +
+           fmt(x + missions.origin.x(), 0) + "</text>";
+  }
+  for (double y = std::ceil(lo.y() / bar_m) * bar_m; y <= hi.y(); y += bar_m) {
+    const double w = (r.y1 - y) / r.res;
+    svg += "<line x1=\"0\" y1=\"" + fmt(w, 1) + "\" x2=\"" + fmt(font * 0.5, 1) + "\" y2=\"" + fmt(w, 1) +
+           "\" stroke=\"#555\"/><text x=\"" + fmt(font * 0.7, 1) + "\" y=\"" + fmt(w - 2, 1) + "\">" +
+           fmt(y + missions.origin.y(), 0) + "</text>";
+  }
+  svg += "<text x=\"" + fmt(r.width - 4, 1) + "\" y=\"" + fmt(r.height - 6, 1) +
+         "\" text-anchor=\"end\">x (m) &rarr;, y (m) &uarr;</text></g>\n";
   svg += "<g class=\"scale\"><rect x=\"10\" y=\"" + fmt(r.height - 20, 1) + "\" width=\"" + fmt(bar_px, 1) +
          "\" height=\"4\" fill=\"#111\"/><text x=\"10\" y=\"" + fmt(r.height - 26, 1) +
          "\" font-size=\"" + fmt(font, 1) + "\">" + fmt(bar_m, 0) + " m</text></g>\n";
