@@ -5,7 +5,8 @@
 #                  [TEST_LIBS targets...])
 # Builds lib/lista-plugins/liblista_<kind>_<name>.so (dots and dashes become
 # underscores) with RUNPATH $ORIGIN/.., so it finds liblista_sdk.so next to
-# the core. The test executable links the plugin itself (its classes are
+# the core; out of LiSTA's tree (find_package(lista)) the RUNPATH also names
+# the SDK's own folder, so the library loads on its own too (ldd, Python). The test executable links the plugin itself (its classes are
 # visible) and gets LISTA_PLUGIN_PATH pointing at the plugin folder.
 function(lista_add_plugin)
   cmake_parse_arguments(P "" "NAME" "SOURCES;LIBS;TESTS;TEST_LIBS" ${ARGN})
@@ -19,7 +20,7 @@ function(lista_add_plugin)
   set_target_properties(${target} PROPERTIES
     LIBRARY_OUTPUT_DIRECTORY ${LISTA_PLUGIN_OUTPUT_DIR}
     BUILD_WITH_INSTALL_RPATH ON
-    INSTALL_RPATH "$ORIGIN/.."
+    INSTALL_RPATH "$ORIGIN/..;${LISTA_SDK_LIBRARY_DIR}"
     LISTA_PLUGIN_NAME "${P_NAME}")
   # -Bsymbolic-functions: the library's manifest alias binds to its own
   # manifest() even when a program already holds another plugin's (a plugin

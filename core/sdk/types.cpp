@@ -51,6 +51,8 @@ std::string contract_problem(const DescriptorSet& d) {
   if (rows != d.object_ids.size())
     return "descriptors have " + std::to_string(rows) + " rows but " + std::to_string(d.object_ids.size()) +
            " object ids (one row per object)";
+  if (rows > 0 && d.values.cols() == 0)
+    return "descriptors have no columns (0-d): every object needs at least one value";
   std::set<int> ids;
   for (int id : d.object_ids)
     if (!ids.insert(id).second) return "descriptors name object " + std::to_string(id) + " twice";

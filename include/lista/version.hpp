@@ -11,8 +11,10 @@
 #define LISTA_STRINGIFY(x) LISTA_STRINGIFY_IMPL(x)
 
 // Everything that changes the binary layout of SDK types: compiler family and
-// major version, libstdc++ string ABI, pointer size and Eigen version (Eigen
-// types cross the boundary). A plugin built with a different fingerprint is
+// major version, libstdc++ string ABI, pointer size, Eigen version and Eigen's
+// static alignment (Eigen types cross the boundary; -mavx/-march=native
+// raises the alignment from 16 to 32 bytes and moves every member after a
+// fixed-size Eigen matrix). A plugin built with a different fingerprint is
 // refused with a message naming both.
 #if defined(LISTA_FINGERPRINT_OVERRIDE)
 #define LISTA_BUILD_FINGERPRINT LISTA_FINGERPRINT_OVERRIDE
@@ -32,5 +34,6 @@
 #define LISTA_BUILD_FINGERPRINT                                            \
   LISTA_COMPILER_ID "/" LISTA_STRING_ABI "/ptr" LISTA_STRINGIFY(           \
       __SIZEOF_POINTER__) "/eigen" LISTA_STRINGIFY(EIGEN_WORLD_VERSION) "." \
-      LISTA_STRINGIFY(EIGEN_MAJOR_VERSION) "." LISTA_STRINGIFY(EIGEN_MINOR_VERSION)
+      LISTA_STRINGIFY(EIGEN_MAJOR_VERSION) "." LISTA_STRINGIFY(EIGEN_MINOR_VERSION) "/align" \
+      LISTA_STRINGIFY(EIGEN_MAX_STATIC_ALIGN_BYTES)
 #endif

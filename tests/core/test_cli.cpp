@@ -167,6 +167,19 @@ TEST(Cli, CtrlCAndSigtermCancelWithExit130) {
 
 // The folder a plugin author builds into is easy to get wrong; a --plugin-dir
 // that is missing or is a file says so instead of "unknown plugin" later.
+// An unknown plugin whose library failed to load is told that library's
+// error (liblista_test_no_manifest.so for test.no_manifest), not the first
+// failure's.
+TEST(Cli, UnknownPluginQuotesItsOwnLibrarysLoadError) {
+  lista_test::TempDir dir;
+  const std::string file = dir.write("nm.toml", "[stages.a]\nplugin = \"test.no_manifest\"\n");
+  const auto r = lista_run("--plugin-dir " + lista_test::bad_dir() + " " + file + " --validate");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.out.find("failed to load: " + lista_test::bad_dir() + "/liblista_test_no_manifest.so: not a LiSTA plugin"),
+            std::string::npos)
+      << r.out;
+}
+
 TEST(Cli, PluginDirMustBeAFolder) {
   lista_test::TempDir dir;
   const auto missing = lista_run("--plugin-dir " + dir.path.string() + "/nope --list-plugins");

@@ -150,7 +150,8 @@ TEST(Executor, DescriptorsMustKeepTheirContract) {
            {"unknown_id", "descriptors name object 99, which is not among the input objects"},
            {"twice", "descriptors name object 0 twice"},
            {"not_finite", "the descriptor of object 0 holds a NaN"},
-           {"not_unit", "descriptors are marked normalized but the row of object 0 has norm 2"}}) {
+           {"not_unit", "descriptors are marked normalized but the row of object 0 has norm 2"},
+           {"no_columns", "descriptors have no columns (0-d)"}}) {
     expect_stage_failure(checked_plan(base, {"desc.mode=" + mode}), "desc", "output 'descriptors': " + text);
   }
 }

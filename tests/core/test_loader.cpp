@@ -59,6 +59,15 @@ TEST(Loader, UndefinedSymbolNamesFileAndSymbol) {
   EXPECT_NE(e.find("cannot load plugin library: undefined symbol"), std::string::npos) << e;  // the path once
 }
 
+// A missing lista:: symbol means other SDK headers or another string ABI:
+// the loader says so, since the fingerprint check never gets to run.
+TEST(Loader, MissingSdkSymbolSaysToRebuildAgainstThisLista) {
+  const std::string e = load_error(bad_dir() + "/../oldsdk/liblista_test_old_sdk.so");
+  EXPECT_NE(e.find("undefined symbol: _ZN5lista"), std::string::npos) << e;
+  EXPECT_NE(e.find("a LiSTA SDK symbol this core does not have"), std::string::npos) << e;
+  EXPECT_NE(e.find("-D_GLIBCXX_USE_CXX11_ABI=0"), std::string::npos) << e;
+}
+
 TEST(Loader, LibraryWithoutManifestIsRefused) {
   const std::string e = load_error(bad_dir() + "/liblista_test_no_manifest.so");
   EXPECT_NE(e.find("liblista_test_no_manifest.so"), std::string::npos) << e;

@@ -61,6 +61,12 @@ void load_plugin_library(Registry& registry, const std::string& path) {
     }
     // dlerror() starts with the path itself; say it once.
     if (cause.rfind(path + ": ", 0) == 0) cause.erase(0, path.size() + 2);
+    // A LiSTA symbol the core lacks: the plugin was built against other SDK
+    // headers, or with the old string ABI, before its fingerprint could be read.
+    if (cause.find("undefined symbol: _ZN5lista") != std::string::npos ||
+        cause.find("undefined symbol: _ZNK5lista") != std::string::npos)
+      cause += " (a LiSTA SDK symbol this core does not have: the plugin was built against other SDK headers or "
+               "with another C++ string ABI, e.g. -D_GLIBCXX_USE_CXX11_ABI=0; rebuild it against this LiSTA)";
     throw Error(path + ": cannot load plugin library: " + cause);
   }
   if (!lib.has("lista_plugin_manifest"))

@@ -224,9 +224,17 @@ Plan build_plan(const PipelineSpec& spec, const std::vector<Override>& overrides
     const RegisteredStage* reg = s.plugin.empty() ? nullptr : registry.find(s.plugin);
     if (!s.plugin.empty() && !reg) {
       std::string msg = "unknown plugin '" + s.plugin + "'" + did_you_mean(s.plugin, registry.names());
-      if (!load_errors.empty())
-        msg += "; " + std::to_string(load_errors.size()) + " plugin librar" +
-               (load_errors.size() == 1 ? "y" : "ies") + " failed to load: " + load_errors.front();
+      if (!load_errors.empty()) {
+        // Quote the library the plugin would live in (liblista_<kind>_<name>.so)
+        // if it is among those that failed, else the first.
+        std::string stem = s.plugin;
+        std::replace_if(stem.begin(), stem.end(), [](char c) { return c == '.' || c == '-'; }, '_');
+        const std::string file = "liblista_" + stem + ".so";
+        const auto named = std::find_if(load_errors.begin(), load_errors.end(),
+                                        [&](const std::string& e) { return e.find("/" + file + ":") != std::string::npos; });
+        msg += "; " + std::to_string(load_errors.size()) + " plugin librar" + (load_errors.size() == 1 ? "y" : "ies") +
+               " failed to load: " + (named != load_errors.end() ? *named : load_errors.front());
+      }
       else
         msg += "; see lista-run --list-plugins";
       d.error(s.plugin_where.known() ? s.plugin_where : s.where, s.id, msg);

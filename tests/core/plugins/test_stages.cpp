@@ -244,7 +244,7 @@ class Describe : public Stage {
     return declare("test.describe", "unit rows, or a broken contract", {{"objects", "objects", "objects"}},
                    {{"descriptors", "descriptors", "one row per object"}},
                    {ParamSpec::text("mode", "ok", "how to misbehave")
-                        .one_of({"ok", "missing_row", "extra_id", "unknown_id", "twice", "not_finite", "not_unit"})});
+                        .one_of({"ok", "missing_row", "extra_id", "unknown_id", "twice", "not_finite", "not_unit", "no_columns"})});
   }
   Outputs run(const Inputs& in, Context&) override {
     DescriptorSet d;
@@ -262,6 +262,10 @@ class Describe : public Stage {
     if (mode_ == "twice") d.object_ids.back() = d.object_ids.front();
     if (mode_ == "not_finite") d.values(0, 1) = std::numeric_limits<float>::quiet_NaN();
     if (mode_ == "not_unit") d.values(0, 0) = 2.f;
+    if (mode_ == "no_columns") {
+      d.normalized = false;
+      d.values.resize(long(d.object_ids.size()), 0);
+    }
     Outputs out;
     out.put("descriptors", std::move(d));
     return out;
