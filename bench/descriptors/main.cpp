@@ -18,6 +18,7 @@
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>
 #include <lista_bench/plugin_settings.hpp>
+#include <lista_core/cancel.hpp>
 #include <lista_bench/stage_finder.hpp>
 #include <lista_objfeat/retrieval.hpp>
 #include <lista_objfeat/views.hpp>
@@ -45,6 +46,7 @@ using namespace lista;
 struct Row {
   std::string name;    // the entry's name: the plugin's, or the one given in --plugins
   std::string plugin;
+  std::string library, version;  // which build of the plugin ran (a user's may shadow a shipped one)
   // The table's first column: `mine (describe.learned)` for a renamed entry.
   std::string title() const { return name == plugin ? name : name + " (" + plugin + ")"; }
   int dim = 0;
@@ -262,8 +264,15 @@ int main(int argc, char** argv) {
           finder.find(entry.plugin, "objects", "descriptors", "a descriptor stage", "lista-bench-descriptors");
       stages.push_back({&entry, &stage, bench::params_of(entry.name, stage.info, settings)});
     }
-    for (const Compared& c : stages)
+    // A plugin that crashes is named by the crash line (lista_core/cancel.hpp).
+    core::install_crash_handler("lista-bench descriptors");
+    for (const Compared& c : stages) {
+      core::set_running_stages(c.entry->name + " (" + c.stage->info.name + ", " + c.stage->library + ")");
       rows.push_back(run_plugin(c.entry->name, *c.stage, objects, labels, variants, c.params));
+      rows.back().library = c.stage->library;
+      rows.back().version = c.stage->info.version;
+    }
+    core::set_running_stages("");
 
     std::string floor_text = no_floor ? "withheld" : "given";
     if (floor_error > 0) floor_text += ", off by " + std::to_string(std::lround(floor_error * 1000)) + " mm (sigma)";
@@ -277,9 +286,9 @@ int main(int argc, char** argv) {
     std::printf("|---|---:|---:|---:|---:|---:|---:|---:|\n");
     nlohmann::json j = nlohmann::json::array();
     for (const auto& r : rows) {
-      std::printf("| %s | %d | %.2f | %.2f | %.3f | %.3f | %.3f | %.3f |\n", r.title().c_str(), r.dim, r.median_ms,
+      std::printf("| %s | %d | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n", r.title().c_str(), r.dim, r.median_ms,
                   r.p95_ms, r.scores.top1, r.scores.map, r.scores.purity, r.variant_top1);
-      j.push_back({{"name", r.name}, {"plugin", r.plugin}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
+      j.push_back({{"name", r.name}, {"plugin", r.plugin}, {"library", r.library}, {"version", r.version}, {"dim", r.dim}, {"median_ms", r.median_ms}, {"p95_ms", r.p95_ms},
                    {"top1", r.scores.top1}, {"map", r.scores.map}, {"purity", r.scores.purity},
                    {"top1_variants", r.variant_top1}, {"objects", objects.objects.size()},
                    {"shapes", per_label.size()}, {"variants", per_variant.size()}, {"floor_given", !no_floor},

@@ -167,6 +167,20 @@ TEST(Cli, CtrlCAndSigtermCancelWithExit130) {
 
 // The folder a plugin author builds into is easy to get wrong; a --plugin-dir
 // that is missing or is a file says so instead of "unknown plugin" later.
+// A plugin that crashes kills the run, but not silently: the last line
+// names the stage and plugin that were running.
+TEST(Cli, ACrashNamesTheStageThatWasRunning) {
+  lista_test::TempDir dir;
+  const std::string file = dir.write(
+      "crash.toml", "[stages.src]\nplugin = \"test.source\"\n"
+                    "[stages.boom]\nplugin = \"test.crash\"\ninputs = { missions = \"src.missions\" }\n");
+  const auto r = lista_run(file + " --quiet");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.err.find("lista-run: crashed (signal 11) while running: boom (test.crash); a bug in that stage's plugin"),
+            std::string::npos)
+      << r.err;
+}
+
 // An unknown plugin whose library failed to load is told that library's
 // error (liblista_test_no_manifest.so for test.no_manifest), not the first
 // failure's.

@@ -34,6 +34,9 @@ TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
   ASSERT_EQ(rows.size(), 2u);
   const json& r = rows[0];
   EXPECT_EQ(r.at("plugin"), "describe.esf");
+  // Which build ran: a user's plugin of the same name may shadow the shipped one.
+  EXPECT_NE(r.at("library").get<std::string>().find("liblista_describe_esf.so"), std::string::npos) << r.dump();
+  EXPECT_FALSE(r.at("version").get<std::string>().empty());
   EXPECT_EQ(r.at("objects").get<size_t>(), held_out);
   EXPECT_GE(r.at("variants").get<int>(), r.at("shapes").get<int>());
   for (const char* key : {"top1", "map", "purity", "top1_variants"}) {

@@ -185,6 +185,7 @@ int run(const Options& o) {
   options.quiet = o.quiet;
   options.min_level = o.verbose ? lista::LogLevel::debug : lista::LogLevel::info;
   install_sigint_handler();
+  install_crash_handler("lista-run");
   try {
     execute(plan, options);
   } catch (const lista::Cancelled&) {

@@ -149,6 +149,15 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
   std::condition_variable changed;
   std::map<std::pair<size_t, std::string>, Data> values;
   std::vector<int> state(n, 0);  // 0 waiting, 1 running, 2 done
+  // The running stages, for the crash handler's last line (cancel.hpp).
+  // Called with `mutex` held.
+  auto publish_running = [&] {
+    std::string text;
+    for (size_t k = 0; k < n; ++k)
+      if (state[k] == 1)
+        text += (text.empty() ? "" : ", ") + plan.stages[k].id + " (" + plan.stages[k].stage->info.name + ")";
+    set_running_stages(text);
+  };
   std::vector<std::thread> threads(n);
   std::vector<std::pair<size_t, std::exception_ptr>> failures;  // in failing order
   int running = 0;
@@ -197,6 +206,7 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
     state[i] = 2;
     --running;
     ++done;
+    publish_running();
     changed.notify_all();
   };
 
@@ -214,6 +224,7 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
           for (const auto& in : s.inputs) inputs.set(in.port, values.at({index_of.at(in.from_stage), in.from_port}));
           state[i] = 1;
           ++running;
+          publish_running();
           if (!options.quiet && run.min_level <= LogLevel::info)
             display.line("info: " + s.id + " (" + s.stage->info.name + ") started");
           threads[i] = std::thread(run_stage, i, std::move(inputs));

@@ -2,7 +2,10 @@
 
 #include <lista_core/cancel.hpp>
 
+#include <algorithm>
 #include <csignal>
+#include <cstring>
+#include <mutex>
 #include <fstream>
 #include <string>
 #include <unistd.h>
@@ -30,6 +33,45 @@ extern "C" void on_stop_signal(int sig) {
   (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
 }
 }  // namespace
+
+namespace {
+// The running stages as text, for the crash handler: a fixed buffer, written
+// under a lock, read (without one) only when the process is dying anyway.
+char g_running[512] = "";
+char g_program[64] = "lista";
+std::mutex g_running_mutex;
+
+extern "C" void on_crash(int sig) {
+  static const char head[] = ": crashed (signal ";
+  static const char mid[] = ") while running: ";
+  static const char tail[] = "; a bug in that stage's plugin: rerun it alone, or under gdb, to see where\n";
+  char num[4] = {char('0' + (sig / 10) % 10), char('0' + sig % 10), 0, 0};
+  (void)!write(STDERR_FILENO, g_program, strnlen(g_program, sizeof g_program));
+  (void)!write(STDERR_FILENO, head, sizeof head - 1);
+  (void)!write(STDERR_FILENO, num, 2);
+  (void)!write(STDERR_FILENO, mid, sizeof mid - 1);
+  (void)!write(STDERR_FILENO, g_running, strnlen(g_running, sizeof g_running));
+  (void)!write(STDERR_FILENO, tail, sizeof tail - 1);
+  signal(sig, SIG_DFL);  // die of the same signal (core dump, exit status)
+  raise(sig);
+}
+}  // namespace
+
+void set_running_stages(const std::string& text) {
+  std::lock_guard<std::mutex> lock(g_running_mutex);
+  const size_t n = std::min(text.size(), sizeof g_running - 1);
+  std::memcpy(g_running, text.data(), n);
+  g_running[n] = 0;
+}
+
+void install_crash_handler(const char* program) {
+  std::strncpy(g_program, program, sizeof g_program - 1);
+  struct sigaction sa {};
+  sa.sa_handler = on_crash;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESETHAND;
+  for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) sigaction(sig, &sa, nullptr);
+}
 
 void install_sigint_handler() {
   struct sigaction sa {};

@@ -1,6 +1,7 @@
 // Small stages on SDK types for the core's tests: sources, pass-throughs,
 // sinks and stages that misbehave on purpose. Never installed.
 #include <chrono>
+#include <csignal>
 #include <limits>
 #include <lista/plugin.hpp>
 #include <random>
@@ -162,6 +163,20 @@ class Sink : public Stage {
   }
 };
 
+// A plugin bug: dies of SIGSEGV inside run().
+class Crash : public Stage {
+ public:
+  explicit Crash(const Params&) {}
+  static StageInfo info() {
+    return declare("test.crash", "crashes (a plugin bug)", {{"missions", "missions", "missions"}},
+                   {{"missions", "missions", "never produced"}}, {});
+  }
+  Outputs run(const Inputs&, Context&) override {
+    std::raise(SIGSEGV);
+    return {};
+  }
+};
+
 // Waits until cancelled (at most `timeout_ms`), then honours it.
 class WaitCancel : public Stage {
  public:
@@ -309,6 +324,7 @@ void register_stages(Registrar& r) {
   add<ToPoints>(r);
   add<Sink>(r);
   add<WaitCancel>(r);
+  add<Crash>(r);
   add<BadOutput>(r);
   add<ToObjects>(r);
   add<Describe>(r);
