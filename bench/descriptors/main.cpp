@@ -19,6 +19,7 @@
 #include <lista/data.hpp>
 #include <lista_bench/plugin_settings.hpp>
 #include <lista_core/cancel.hpp>
+#include <lista_core/executor.hpp>
 #include <lista_bench/stage_finder.hpp>
 #include <lista_objfeat/retrieval.hpp>
 #include <lista_objfeat/views.hpp>
@@ -144,12 +145,9 @@ Row run_plugin(const std::string& name, const core::RegisteredStage& s, const Ob
     auto t0 = std::chrono::steady_clock::now();
     Outputs out = guarded(s, [&] { return stage->run(in, ctx); });
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    // The checks lista-run makes of a descriptors output, and one width for all.
-    const DescriptorSet& d = guarded(s, [&]() -> const DescriptorSet& {
-      return out.at(s.info.outputs.at(0).name).as<DescriptorSet>();
-    });
-    const ObjectSet& asked = in.get<ObjectSet>(s.info.inputs.at(0).name);
-    if (std::string why = contract_problem(d, asked); !why.empty()) plugin_failed(s, why);
+    // The checks lista-run makes of every output, and one width for all.
+    guarded(s, [&] { core::check_outputs(s.info, in, out); });
+    const DescriptorSet& d = out.at(s.info.outputs.at(0).name).as<DescriptorSet>();
     if (values.rows() == 0) values.resize(long(objects.objects.size()), d.dim());
     if (d.dim() != values.cols() || d.dim() == 0)
       plugin_failed(s, "gave " + std::to_string(d.dim()) + "-d descriptors after " + std::to_string(values.cols()) +

@@ -154,6 +154,8 @@ TEST(Executor, DescriptorsMustKeepTheirContract) {
            {"no_columns", "descriptors have no columns (0-d)"}}) {
     expect_stage_failure(checked_plan(base, {"desc.mode=" + mode}), "desc", "output 'descriptors': " + text);
   }
+  expect_stage_failure(checked_plan(base, {"desc.mode=extra_output"}), "desc",
+                       "produced output 'extra' that test.describe does not declare");
 }
 
 TEST(Executor, CancellationStopsCleanly) {

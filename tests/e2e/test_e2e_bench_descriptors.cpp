@@ -120,6 +120,31 @@ TEST(BenchDescriptors, APluginComparedWithItselfUnderAnotherName) {
   }
 }
 
+// The bench checks a plugin's outputs as lista-run does: an undeclared
+// output or a broken descriptor contract is one line naming the plugin.
+TEST(BenchDescriptors, ChecksOutputsAsListaRunDoes) {
+#ifndef TEST_PLUGIN_GOOD_DIR
+  GTEST_SKIP() << "core test plugins not built";
+#else
+  e2e::TempDir dir("bench-desc-check");
+  const std::string views = (dir.path() / "views").string();
+  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 12 --views-per-object 2 --seed 4 --out " +
+                            views + " --threads 2 2>&1");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  for (const auto& [mode, says] : std::vector<std::pair<std::string, std::string>>{
+           {"extra_output", "produced output 'extra' that test.describe does not declare"},
+           {"no_columns", "descriptors have no columns (0-d)"},
+           {"not_finite", "holds a NaN or infinite value"}}) {
+    const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views + " --plugin-dir " +
+                            TEST_PLUGIN_GOOD_DIR + " --plugins test.describe --set test.describe.mode=" + mode +
+                            " --all-splits 2>&1");
+    EXPECT_NE(r.status, 0) << mode;
+    EXPECT_NE(r.output.find(says), std::string::npos) << mode << ": " << r.output;
+    EXPECT_NE(r.output.find("test.describe"), std::string::npos) << r.output;
+  }
+#endif
+}
+
 TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
   const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views /nonexistent/views 2>&1");
   EXPECT_NE(r.status, 0);

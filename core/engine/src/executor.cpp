@@ -34,34 +34,6 @@ std::string mib(uint64_t bytes) {
   return os.str();
 }
 
-// Checks a stage's outputs against its declaration, and the values whose
-// type has a contract (descriptors: one finite row per input object) against
-// it, so a broken plugin fails itself instead of a stage downstream.
-void check_outputs(const StageInfo& info, const Inputs& inputs, const Outputs& outputs) {
-  for (const auto& [port, value] : outputs.values()) {
-    const PortSpec* spec = info.output(port);
-    if (!spec) throw Error("produced output '" + port + "' that " + info.name + " does not declare");
-    if (!value) throw Error("output '" + port + "' is empty");
-    if (value.type() != spec->type)
-      throw Error("output '" + port + "' is '" + value.type() + "' but is declared '" + spec->type + "'");
-  }
-  for (const auto& port : info.outputs)
-    if (!outputs.has(port.name)) throw Error("declared output '" + port.name + "' was not produced");
-  const ObjectSet* objects = nullptr;  // the input objects, when there is exactly one such input
-  int object_inputs = 0;
-  for (const auto& [port, value] : inputs.values())
-    if (value && value.type() == PortTraits<ObjectSet>::name) {
-      ++object_inputs;
-      objects = &value.as<ObjectSet>();
-    }
-  for (const auto& [port, value] : outputs.values()) {
-    if (value.type() != PortTraits<DescriptorSet>::name) continue;
-    const auto& d = value.as<DescriptorSet>();
-    const std::string why = object_inputs == 1 ? contract_problem(d, *objects) : contract_problem(d);
-    if (!why.empty()) throw Error("output '" + port + "': " + why);
-  }
-}
-
 // The dataset as an absolute path: a report must say which folder it was
 // made from, and "data/demo" means nothing away from the shell it ran in.
 std::string absolute_folder(const std::string& dir) {
@@ -95,6 +67,34 @@ Error stage_error(const PlannedStage& s, std::exception_ptr failure) {
 }
 
 }  // namespace
+
+// Checks a stage's outputs against its declaration, and the values whose
+// type has a contract (descriptors: one finite row per input object) against
+// it, so a broken plugin fails itself instead of a stage downstream.
+void check_outputs(const StageInfo& info, const Inputs& inputs, const Outputs& outputs) {
+  for (const auto& [port, value] : outputs.values()) {
+    const PortSpec* spec = info.output(port);
+    if (!spec) throw Error("produced output '" + port + "' that " + info.name + " does not declare");
+    if (!value) throw Error("output '" + port + "' is empty");
+    if (value.type() != spec->type)
+      throw Error("output '" + port + "' is '" + value.type() + "' but is declared '" + spec->type + "'");
+  }
+  for (const auto& port : info.outputs)
+    if (!outputs.has(port.name)) throw Error("declared output '" + port.name + "' was not produced");
+  const ObjectSet* objects = nullptr;  // the input objects, when there is exactly one such input
+  int object_inputs = 0;
+  for (const auto& [port, value] : inputs.values())
+    if (value && value.type() == PortTraits<ObjectSet>::name) {
+      ++object_inputs;
+      objects = &value.as<ObjectSet>();
+    }
+  for (const auto& [port, value] : outputs.values()) {
+    if (value.type() != PortTraits<DescriptorSet>::name) continue;
+    const auto& d = value.as<DescriptorSet>();
+    const std::string why = object_inputs == 1 ? contract_problem(d, *objects) : contract_problem(d);
+    if (!why.empty()) throw Error("output '" + port + "': " + why);
+  }
+}
 
 RunInfo execute(const Plan& plan, const RunOptions& options) {
   std::ostream& log = options.log ? *options.log : std::cerr;

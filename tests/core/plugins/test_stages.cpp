@@ -259,7 +259,7 @@ class Describe : public Stage {
     return declare("test.describe", "unit rows, or a broken contract", {{"objects", "objects", "objects"}},
                    {{"descriptors", "descriptors", "one row per object"}},
                    {ParamSpec::text("mode", "ok", "how to misbehave")
-                        .one_of({"ok", "missing_row", "extra_id", "unknown_id", "twice", "not_finite", "not_unit", "no_columns"})});
+                        .one_of({"ok", "missing_row", "extra_id", "unknown_id", "twice", "not_finite", "not_unit", "no_columns", "extra_output"})});
   }
   Outputs run(const Inputs& in, Context&) override {
     DescriptorSet d;
@@ -283,6 +283,7 @@ class Describe : public Stage {
     }
     Outputs out;
     out.put("descriptors", std::move(d));
+    if (mode_ == "extra_output") out.put("extra", DescriptorSet());
     return out;
   }
 

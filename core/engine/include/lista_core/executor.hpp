@@ -29,4 +29,10 @@ struct RunOptions {
 // stage (with stage id, plugin and TOML location) or lista::Cancelled.
 RunInfo execute(const Plan& plan, const RunOptions& options);
 
+// What execute() checks of every stage's outputs: each declared port put,
+// nothing undeclared, the declared type, and the contract of typed values
+// (descriptors: one finite row per input object). Throws lista::Error.
+// Programs that run stages themselves (lista-bench) check the same way.
+void check_outputs(const StageInfo& info, const Inputs& inputs, const Outputs& outputs);
+
 }  // namespace lista::core
