@@ -49,9 +49,15 @@ extern "C" void on_crash(int sig) {
   (void)!write(STDERR_FILENO, g_program, strnlen(g_program, sizeof g_program));
   (void)!write(STDERR_FILENO, head, sizeof head - 1);
   (void)!write(STDERR_FILENO, num, 2);
-  (void)!write(STDERR_FILENO, mid, sizeof mid - 1);
-  (void)!write(STDERR_FILENO, g_running, strnlen(g_running, sizeof g_running));
-  (void)!write(STDERR_FILENO, tail, sizeof tail - 1);
+  const size_t running = strnlen(g_running, sizeof g_running);
+  if (running > 0) {
+    (void)!write(STDERR_FILENO, mid, sizeof mid - 1);
+    (void)!write(STDERR_FILENO, g_running, running);
+    (void)!write(STDERR_FILENO, tail, sizeof tail - 1);
+  } else {
+    static const char outside[] = ") outside any stage\n";
+    (void)!write(STDERR_FILENO, outside, sizeof outside - 1);
+  }
   signal(sig, SIG_DFL);  // die of the same signal (core dump, exit status)
   raise(sig);
 }
