@@ -51,7 +51,9 @@ std::string list_plugins(const lista::core::Registry& registry) {
     }
     os << "  " << name << std::string(width - name.size() + 2, ' ') << info.version << "  " << info.summary << "\n";
   }
-  if (registry.size() == 0) os << "no plugins found (searched LISTA_PLUGIN_PATH, --plugin-dir and lib/lista-plugins)\n";
+  if (registry.size() == 0)
+    os << "no plugins found (searched LISTA_PLUGIN_PATH, --plugin-dir and, unless --no-default-plugins, "
+          "lib/lista-plugins)\n";
   return os.str();
 }
 

@@ -219,7 +219,9 @@ int main(int argc, char** argv) {
           "SEED >= 0"));
   app.add_flag("-q,--quiet", o.quiet, "warnings and errors only: no progress, no info lines");
   app.add_flag("-v,--verbose", o.verbose, "also debug messages");
-  app.add_option("--plugin-dir", o.plugin_dirs, "extra folder with plugin libraries (repeatable)")
+  app.add_option("--plugin-dir", o.plugin_dirs,
+                 "extra folder with plugin libraries (repeatable; searched after LISTA_PLUGIN_PATH, a "
+                 "colon-separated list, and before lib/lista-plugins)")
       ->allow_extra_args(false);
   app.add_flag("--no-default-plugins", o.no_default_plugins,
                "do not load lib/lista-plugins next to liblista_core (test plugins in isolation)");
