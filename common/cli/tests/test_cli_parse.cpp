@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <algorithm>
 #include <sstream>
 #include <vector>
@@ -82,38 +84,38 @@ TEST(CliParse, FloatOptionsRefuseNanAndInfinity) {
   }
 }
 
+namespace {
+// Parses `--value <value>` checked by `validator`; returns the stderr text,
+// or nullopt when the value was accepted.
+std::optional<std::string> check_value(const CLI::Validator& validator, const char* value) {
+  CLI::App app{"a test program"};
+  double v = 0.0;
+  app.add_option("--value", v, "a value")->check(validator);
+  const char* args[] = {"prog", "--value", value};
+  std::ostringstream err;
+  auto* old = std::cerr.rdbuf(err.rdbuf());
+  const auto code = lista::cli::parse_command_line(app, 3, args, "lista-prog");
+  std::cerr.rdbuf(old);
+  if (!code) return std::nullopt;
+  return err.str();
+}
+}  // namespace
+
 // at_least: the bound said plainly, the bound itself accepted.
 TEST(CliParse, AtLeastSaysItsBoundPlainly) {
-  for (const auto& [value, ok] : std::vector<std::pair<const char*, bool>>{{"-1", false}, {"0", true}, {"2.5", true}}) {
-    CLI::App app{"a test program"};
-    double range = 30.0;
-    app.add_option("--range", range, "a range")->check(lista::cli::at_least(0.0));
-    const char* args[] = {"prog", "--range", value};
-    std::ostringstream err;
-    auto* old = std::cerr.rdbuf(err.rdbuf());
-    const auto code = lista::cli::parse_command_line(app, 3, args, "lista-prog");
-    std::cerr.rdbuf(old);
-    EXPECT_EQ(code.has_value(), !ok) << value;
-    if (!ok) EXPECT_NE(err.str().find("--range: must be at least 0, got -1 (see --help)"), std::string::npos) << err.str();
-  }
+  for (const char* ok : {"0", "2.5"}) EXPECT_FALSE(check_value(lista::cli::at_least(0.0), ok)) << ok;
+  const auto err = check_value(lista::cli::at_least(0.0), "-1");
+  ASSERT_TRUE(err);
+  EXPECT_NE(err->find("--value: must be at least 0, got -1 (see --help)"), std::string::npos) << *err;
 }
 
 // between: both bounds said plainly and accepted, outside refused.
 TEST(CliParse, BetweenSaysItsBoundsPlainly) {
-  for (const auto& [value, ok] : std::vector<std::pair<const char*, bool>>{
-           {"0", false}, {"0.005", true}, {"1", true}, {"1.5", false}}) {
-    CLI::App app{"a test program"};
-    double spacing = 0.02;
-    app.add_option("--spacing", spacing, "a spacing")->check(lista::cli::between(0.005, 1.0));
-    const char* args[] = {"prog", "--spacing", value};
-    std::ostringstream err;
-    auto* old = std::cerr.rdbuf(err.rdbuf());
-    const auto code = lista::cli::parse_command_line(app, 3, args, "lista-prog");
-    std::cerr.rdbuf(old);
-    EXPECT_EQ(code.has_value(), !ok) << value;
-    if (!ok)
-      EXPECT_NE(err.str().find("--spacing: must be between 0.005 and 1, got " + std::string(value)), std::string::npos)
-          << err.str();
+  for (const char* ok : {"0.005", "1"}) EXPECT_FALSE(check_value(lista::cli::between(0.005, 1.0), ok)) << ok;
+  for (const std::string bad : {"0", "1.5"}) {
+    const auto err = check_value(lista::cli::between(0.005, 1.0), bad.c_str());
+    ASSERT_TRUE(err) << bad;
+    EXPECT_NE(err->find("--value: must be between 0.005 and 1, got " + bad), std::string::npos) << *err;
   }
 }
 
