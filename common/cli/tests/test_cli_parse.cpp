@@ -124,9 +124,9 @@ TEST(CliParse, BetweenSaysItsBoundsPlainly) {
 TEST(CliFolders, OutputInsideTheDatasetIsRefused) {
   using lista::cli::output_inside_dataset;
   const std::string d = "/tmp/lista-cli-test/data";
-  for (const std::string out : {d, d + "/", d + "/A/out", d + "/../data/run"})
+  for (const std::string& out : {d, d + "/", d + "/A/out", d + "/../data/run"})
     EXPECT_EQ(output_inside_dataset(d, out, "--out").find("--out " + out + " lies inside the dataset " + d), 0u) << out;
-  for (const std::string out : {std::string("/tmp/lista-cli-test/data2"), std::string("/tmp/lista-cli-test"),
+  for (const std::string& out : {std::string("/tmp/lista-cli-test/data2"), std::string("/tmp/lista-cli-test"),
                                 std::string("/tmp/other/run"), std::string()})
     EXPECT_EQ(output_inside_dataset(d, out, "--out"), "") << out;
 }

@@ -186,7 +186,7 @@ TEST_F(LearnedTest, FirstModelLayoutStillLoadsAndBadOptionsAreErrors) {
 
   // Three globals (no such preprocessing) and 0xFFFFFFFF (which must not
   // wrap into a valid count).
-  for (const std::string count : {std::string("\x03\0\0\0", 4), std::string(4, '\xff')}) {
+  for (const std::string& count : {std::string("\x03\0\0\0", 4), std::string(4, '\xff')}) {
     std::string bad = bytes;
     bad.replace(options + 4, 4, count);
     write_with_checksum(dir_ / "bad.bin", bad);
