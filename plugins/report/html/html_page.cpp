@@ -103,10 +103,17 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
           "</span><span class=\"moved\">moved: " + std::to_string(moves) + (moves == 1 ? " move (" : " moves (") + std::to_string(counts["moved"]) +
           " reports at their ends)</span><span>objects: " + std::to_string(model.objects.size()) +
           "</span></p>\n";
+  // Contents: with many missions the page runs to thousands of pixels.
+  html += "<p class=\"contents\">Contents: ";
+  for (size_t a = 0; a + 1 < model.missions.size(); ++a)
+    html += "<a href=\"#map-" + std::to_string(a) + "\">" + escape(model.missions[a]) + " &rarr; " +
+            escape(model.missions[a + 1]) + "</a> &middot; ";
+  html += "<a href=\"#objects\">objects</a> &middot; <a href=\"#stages\">stages</a> &middot; "
+          "<a href=\"#provenance\">provenance</a></p>\n";
 
   for (size_t a = 0; a + 1 < model.missions.size(); ++a) {
     const size_t b = a + 1;
-    html += "<h2>Change map: " + escape(model.missions[a]) + " &rarr; " + escape(model.missions[b]) + "</h2>\n";
+    html += "<h2 id=\"map-" + std::to_string(a) + "\">Change map: " + escape(model.missions[a]) + " &rarr; " + escape(model.missions[b]) + "</h2>\n";
     html += "<p class=\"legend\"><span class=\"removed\">&#9632; removed</span><span class=\"added\">&#9632; added"
             "</span><span class=\"moved\">&#9632; moved (arrow: from " + escape(model.missions[a]) + " to " +
             escape(model.missions[b]) + "; points drawn darker in " + escape(model.missions[b]) +
@@ -132,7 +139,7 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
     }
   }
 
-  html += "<h2>Objects</h2>\n<p>Highlighted confidence: below " + fmt(kLowConfidence, 1) +
+  html += "<h2 id=\"objects\">Objects</h2>\n<p>Highlighted confidence: below " + fmt(kLowConfidence, 1) +
           ". Motion: one move said once for both of its reports, earlier mission first.</p>\n"
           "<table class=\"objects\"><tr><th>id</th><th>mission</th><th>status</th><th>group</th>"
           "<th>confidence</th><th>match</th><th>centroid (m)</th><th>points</th><th>motion</th><th>history</th></tr>\n";
@@ -149,12 +156,12 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
   }
   html += "</table>\n";
 
-  html += "<h2>Stages</h2>\n<table class=\"timings\"><tr><th>stage</th><th>plugin</th><th>time (s)</th>"
+  html += "<h2 id=\"stages\">Stages</h2>\n<table class=\"timings\"><tr><th>stage</th><th>plugin</th><th>time (s)</th>"
           "<th>peak memory (MiB)</th></tr>\n";
   for (const auto& s : run.finished)
     html += "<tr><td class=\"text\">" + escape(s.id) + "</td><td class=\"text\">" + escape(s.plugin) + "</td><td>" +
             fmt(s.seconds, 3) + "</td><td>" + fmt(s.peak_rss_bytes / 1048576.0, 0) + "</td></tr>\n";
-  html += "</table>\n<h2>Provenance</h2>\n<table class=\"provenance\">";
+  html += "</table>\n<h2 id=\"provenance\">Provenance</h2>\n<table class=\"provenance\">";
   auto row = [&](const std::string& k, const std::string& v) {
     html += "<tr><th>" + escape(k) + "</th><td class=\"text\">" + escape(v) + "</td></tr>";
   };

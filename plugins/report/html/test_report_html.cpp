@@ -267,6 +267,8 @@ TEST(ReportHtml, LowConfidenceAndWarningsStandOut) {
   EXPECT_EQ(count(html, "<td class=\"low\">0.3"), 1u);
   EXPECT_NE(html.find("dashed box: confidence below 0.5"), std::string::npos);
   EXPECT_NE(html.find("class=\"axes\""), std::string::npos) << "coordinates on the map's edges";
+  EXPECT_NE(html.find("<a href=\"#map-0\">A &rarr; B</a>"), std::string::npos) << "contents";
+  EXPECT_NE(html.find("<h2 id=\"map-0\">"), std::string::npos);
   fs::remove_all(dir);
 }
 
