@@ -40,6 +40,21 @@ lista::PointSet box_points(const Eigen::Vector3f& centre, float half, int n, std
   return p;
 }
 
+
+// One object's entry; a move gets cost 0.1, confidence 0.95 and a transform.
+lista::ObjectChange change(int id, lista::ChangeStatus status, int match = -1) {
+  lista::ObjectChange c;
+  c.object_id = id;
+  c.status = status;
+  c.match = match;
+  if (status == lista::ChangeStatus::moved) {
+    c.cost = 0.1;
+    c.confidence = 0.95;
+    c.has_transform = true;
+  }
+  return c;
+}
+
 Scene make_scene() {
   Scene s;
   std::mt19937 rng(7);
@@ -76,10 +91,8 @@ Scene make_scene() {
   s.groups.group = {0, 1, 2, 2};
   s.groups.confidence = {0.9, 0.8, 0.95, 0.95};
   s.groups.count = 3;
-  s.matches.objects = {{0, lista::ChangeStatus::removed},
-                       {1, lista::ChangeStatus::added},
-                       {2, lista::ChangeStatus::moved, 3, 0.1, 0.95, true},
-                       {3, lista::ChangeStatus::moved, 2, 0.1, 0.95, true}};
+  s.matches.objects = {change(0, lista::ChangeStatus::removed), change(1, lista::ChangeStatus::added),
+                       change(2, lista::ChangeStatus::moved, 3), change(3, lista::ChangeStatus::moved, 2)};
   s.matches.objects[2].transform(0, 3) = 1.0;
   s.matches.objects[3].transform(0, 3) = -1.0;
   s.descriptors.method = "test";
@@ -295,8 +308,8 @@ TEST(ReportHtml, EachChangeMapShowsOnlyItsPairsChanges) {
   s.groups.group = {0, 1, 2, 2, 2, 3};
   s.groups.confidence = {0.9, 0.8, 0.95, 0.95, 0.95, 0.9};
   s.matches.objects[3].match = 4;  // B's box moves on to C
-  s.matches.objects.push_back({4, lista::ChangeStatus::moved, 3, 0.1, 0.95, true});
-  s.matches.objects.push_back({5, lista::ChangeStatus::removed});
+  s.matches.objects.push_back(change(4, lista::ChangeStatus::moved, 3));
+  s.matches.objects.push_back(change(5, lista::ChangeStatus::removed));
   const fs::path dir = write_report(s, "three", false);
   const std::string html = read(dir / "report.html");
   const size_t second = html.find("<svg class=\"topdown\"", html.find("<svg class=\"topdown\"") + 1);
