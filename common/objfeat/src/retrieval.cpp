@@ -60,8 +60,15 @@ RetrievalScores score_retrieval(const Rows& x, const std::vector<int>& labels, u
     for (int j = 0; j < n; ++j)
       if (j != q) ranked.emplace_back((x.row(j) - x.row(q)).squaredNorm(), j);
     std::sort(ranked.begin(), ranked.end());
-    s.top1_hits[size_t(q)] = labels[ranked[0].second] == labels[q];
-    top1 += s.top1_hits[size_t(q)];
+    // Rows tied at the nearest distance are equally near: the query gets the
+    // share of them with its label, not whichever comes first in row order
+    // (a constant descriptor scores chance, not chance plus tie order).
+    size_t tied = 0, same = 0;
+    for (; tied < ranked.size() && ranked[tied].first == ranked[0].first; ++tied)
+      same += labels[ranked[tied].second] == labels[q];
+    const double share = double(same) / double(tied);
+    s.top1_hits[size_t(q)] = share >= 0.5;
+    top1 += share;
     int hits = 0;
     double ap = 0.0;
     for (size_t r = 0; r < ranked.size(); ++r)

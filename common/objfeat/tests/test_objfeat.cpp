@@ -197,6 +197,16 @@ TEST(Retrieval, PerfectAndShuffledLabels) {
   EXPECT_THROW(score_retrieval(x, {1, 2}), lista::Error);
 }
 
+// A constant descriptor ties every row: each query gets the share of the
+// others with its label (chance), not the label of whichever row comes first.
+TEST(Retrieval, TiesCountByTheirShare) {
+  Rows x = Rows::Ones(6, 3);
+  const std::vector<int> labels = {1, 1, 2, 2, 2, 3};
+  // Queries: the 1s (1 of 5 others shares the label) and the 2s (2 of 5).
+  const double chance = (2 * 1.0 / 5 + 3 * 2.0 / 5) / 5;
+  EXPECT_NEAR(score_retrieval(x, labels).top1, chance, 1e-12);  // row order alone gave 0.4
+}
+
 // A view that misses the bottom 0.3 m of a 0.8 m box (a sensor close above
 // it): from the floor, heights are the box's own; from the lowest point they
 // are 0.3 m short, and the gap global says how much was missed.
