@@ -209,6 +209,10 @@ TEST(Overrides, ParsedAsTomlOrBareString) {
   EXPECT_THROW(parse_override("count=3"), lista::Error);
   EXPECT_THROW(parse_override("src.count"), lista::Error);
   EXPECT_THROW(parse_override(".count=3"), lista::Error);
+  // Numbers toml11 would clamp to the type's limit are not what was written.
+  EXPECT_EQ(parse_override("src.scale=1e400").problem, "the number is too large for a 64-bit value");
+  EXPECT_EQ(parse_override("src.count=99999999999999999999").problem, "the number is too large for a 64-bit value");
+  EXPECT_TRUE(parse_override("src.scale=1e300").problem.empty());
   // A value that opens a table of its own on a new line is refused, not half-taken.
   try {
     parse_override("src.count=3\n[stages.evil]\nplugin = \"io.missions\"");

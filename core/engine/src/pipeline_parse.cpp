@@ -6,6 +6,8 @@
 #include <toml.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -65,10 +67,27 @@ const char* toml_type_name(const toml::value& v) {
 
 // A TOML value as a parameter value, or the reason it cannot be one.
 std::optional<ParamValue> to_param(const toml::value& v, std::string& problem) {
+  // toml11 clamps a number it cannot hold (1e400, a 20-digit integer) to the
+  // type's limit instead of failing: such a value is not what was written.
+  const char* too_big = "the number is too large for a 64-bit value";
   switch (v.type()) {
     case toml::value_t::boolean: return ParamValue(v.as_boolean());
-    case toml::value_t::integer: return ParamValue(static_cast<int64_t>(v.as_integer()));
-    case toml::value_t::floating: return ParamValue(static_cast<double>(v.as_floating()));
+    case toml::value_t::integer: {
+      const int64_t i = v.as_integer();
+      if (i == std::numeric_limits<int64_t>::max() || i == std::numeric_limits<int64_t>::min()) {
+        problem = too_big;
+        return std::nullopt;
+      }
+      return ParamValue(i);
+    }
+    case toml::value_t::floating: {
+      const double d = v.as_floating();
+      if (std::abs(d) == std::numeric_limits<double>::max()) {
+        problem = too_big;
+        return std::nullopt;
+      }
+      return ParamValue(d);
+    }
     case toml::value_t::string: return ParamValue(static_cast<std::string>(v.as_string()));
     case toml::value_t::array: {
       const auto& a = v.as_array();
