@@ -28,6 +28,8 @@ std::string StageInfo::declaration_problem() const {
   std::set<std::string> seen;
   for (const auto& p : params) {
     if (!seen.insert(p.name).second) return "declares parameter '" + p.name + "' twice";
+    if (p.min && p.max && *p.min > *p.max)
+      return "parameter '" + p.name + "': its range " + p.range_text() + " is empty (lower bound above upper)";
     if (std::string why = p.check(p.default_value); !why.empty())
       return "parameter '" + p.name + "': its default " + why;
   }

@@ -129,6 +129,8 @@ TEST(Registry, RefusesDeclarationsThatDoNotHoldTogether) {
        "stage 'mine.stage' declares parameter 'bins' twice"},
       {[](lista::StageInfo& i) { i.params.push_back(lista::ParamSpec::real("weight", 50.0, "").range(0, 10)); },
        "parameter 'weight': its default must be in [0.0, 10.0], got 50.0"},
+      {[](lista::StageInfo& i) { i.params.push_back(lista::ParamSpec::integer("n", 5, "").range(10, 1)); },
+       "parameter 'n': its range [10, 1] is empty (lower bound above upper)"},
       {[](lista::StageInfo& i) { i.params.push_back(lista::ParamSpec::text("mode", "x", "").one_of({"a", "b"})); },
        "parameter 'mode': its default must be one of"},
       {[](lista::StageInfo& i) { i.outputs[0].type = "descriptor"; },
