@@ -1,12 +1,22 @@
 #include <lista_core/registry.hpp>
 #include <lista_core/text.hpp>
 
+#include <algorithm>
+#include <cctype>
+
 namespace lista::core {
 
 void Registry::add(StageInfo info, StageFactory factory) {
   const std::string where = current_library_.empty() ? "the program itself" : current_library_;
-  if (info.name.find('.') == std::string::npos || info.name.front() == '.' || info.name.back() == '.')
-    throw Error("stage name '" + info.name + "' from " + where + " is not of the form <kind>.<name>");
+  // A name is written in TOML (plugin = "kind.name") and on command lines
+  // (--set, --plugins, --describe): letters, digits, '_', '-' and dots.
+  const bool plain = std::all_of(info.name.begin(), info.name.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '_' || c == '-' || c == '.';
+  });
+  if (info.name.empty() || !plain || info.name.find('.') == std::string::npos || info.name.front() == '.' ||
+      info.name.back() == '.')
+    throw Error("stage name '" + info.name + "' from " + where +
+                " is not of the form <kind>.<name> (letters, digits, '_', '-' and dots)");
   if (!factory) throw Error("stage '" + info.name + "' from " + where + " has no factory");
   if (std::string why = info.declaration_problem(); !why.empty())
     throw Error(where + ": stage '" + info.name + "' " + why);
