@@ -13,6 +13,16 @@
 
 namespace lista::pcl_search {
 
+namespace {
+// FLANN computes squared distances in float: a query beyond 1e18 m (a stray
+// return, a corrupt point) overflows them to inf, and FLANN then finds no
+// neighbour or worse. Such a query has no neighbour: answered without FLANN.
+bool searchable(const pcl::PointXYZ& p) {
+  constexpr float kReach = 1e18f;
+  return std::abs(p.x) < kReach && std::abs(p.y) < kReach && std::abs(p.z) < kReach;
+}
+}  // namespace
+
 struct FastKdTree::Index {
   std::vector<float> xyz;      // packed coordinates of the indexed points
   std::vector<int> to_cloud;   // index position -> point of the input cloud
@@ -52,7 +62,7 @@ int FastKdTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& 
                                std::vector<float>& k_sqr_distances) const {
   k_indices.clear();
   k_sqr_distances.clear();
-  if (!index_->tree || k <= 0) return 0;
+  if (!index_->tree || k <= 0 || !searchable(point)) return 0;
   k = std::min<int>(k, static_cast<int>(index_->to_cloud.size()));
   std::vector<int> idx(static_cast<size_t>(k));
   k_sqr_distances.resize(static_cast<size_t>(k));
@@ -76,7 +86,7 @@ int FastKdTree::radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Ind
                              std::vector<float>& k_sqr_distances, unsigned int max_nn) const {
   k_indices.clear();
   k_sqr_distances.clear();
-  if (!index_->tree) return 0;
+  if (!index_->tree || !searchable(point)) return 0;
   std::vector<std::vector<int>> idx(1);
   std::vector<std::vector<float>> dist(1);
   float q[3] = {point.x, point.y, point.z};
@@ -90,7 +100,7 @@ int FastKdTree::radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Ind
 }
 
 float FastKdTree::nearest_sqr_distance(const pcl::PointXYZ& point) const {
-  if (!index_->tree) return -1.0f;
+  if (!index_->tree || !searchable(point)) return -1.0f;
   int idx = 0;
   float d2 = 0.0f;
   float q[3] = {point.x, point.y, point.z};
