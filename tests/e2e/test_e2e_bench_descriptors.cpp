@@ -15,12 +15,20 @@
 
 using nlohmann::json;
 
+namespace {
+// A small `lista-sim views` set in `views`; false (the failure recorded)
+// when lista-sim failed.
+bool simulate_views(const std::string& views, const std::string& args) {
+  const auto sim = e2e::run(e2e::bin("lista-sim") + " views " + args + " --out " + views + " 2>&1");
+  EXPECT_EQ(sim.status, 0) << sim.output;
+  return sim.status == 0;
+}
+}  // namespace
+
 TEST(BenchDescriptors, ScoresTheHeldOutViewsOfASimulatedSet) {
   e2e::TempDir dir("bench_descriptors");
   const std::string views = (dir.path() / "views").string(), out = (dir.path() / "esf.json").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 120 --views-per-object 3 --seed 2 --out " +
-                            views + " 2>&1");
-  ASSERT_EQ(sim.status, 0) << sim.output;
+  ASSERT_TRUE(simulate_views(views, "--objects 120 --views-per-object 3 --seed 2"));
   const auto bench = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
                               " --plugins describe.esf,describe.shot --set describe.shot.voxel=0.05 --json " + out + " 2>&1");
   ASSERT_EQ(bench.status, 0) << bench.output;
@@ -90,9 +98,7 @@ TEST(BenchDescriptors, APluginComparedWithItselfUnderAnotherName) {
   e2e::TempDir dir("bench_descriptors_named");
   const std::string views = (dir.path() / "views").string(), out = (dir.path() / "named.json").string(),
                     rows_dir = (dir.path() / "rows").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 30 --views-per-object 3 --seed 3 --out " +
-                            views + " 2>&1");
-  ASSERT_EQ(sim.status, 0) << sim.output;
+  ASSERT_TRUE(simulate_views(views, "--objects 30 --views-per-object 3 --seed 3"));
   const std::string bench = e2e::bin("lista-bench-descriptors") + " --views " + views + " --all-splits --max-views 12";
   const auto r = e2e::run(bench + " --plugins describe.shot,coarse=describe.shot --set coarse.voxel=0.08 --json " +
                           out + " --rows " + rows_dir + " 2>&1");
@@ -128,9 +134,7 @@ TEST(BenchDescriptors, ChecksOutputsAsListaRunDoes) {
 #else
   e2e::TempDir dir("bench-desc-check");
   const std::string views = (dir.path() / "views").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 12 --views-per-object 2 --seed 4 --out " +
-                            views + " --threads 2 2>&1");
-  ASSERT_EQ(sim.status, 0) << sim.output;
+  ASSERT_TRUE(simulate_views(views, "--objects 12 --views-per-object 2 --seed 4 --threads 2"));
   for (const auto& [mode, says] : std::vector<std::pair<std::string, std::string>>{
            {"extra_output", "produced output 'extra' that test.describe does not declare"},
            {"no_columns", "descriptors have no columns (0-d)"},
@@ -157,9 +161,7 @@ TEST(BenchDescriptors, AMissingViewsFolderIsAnErrorNamingIt) {
 TEST(BenchDescriptors, AFolderWithNothingHeldOutIsAnErrorUnlessAllSplitsAreScored) {
   e2e::TempDir dir("bench_no_held_out");
   const std::string views = (dir.path() / "views").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 12 --views-per-object 2 --seed 4 --out " +
-                            views + " 2>&1");
-  ASSERT_EQ(sim.status, 0) << sim.output;
+  ASSERT_TRUE(simulate_views(views, "--objects 12 --views-per-object 2 --seed 4"));
   std::string index = e2e::read_file(views + "/index.json");
   for (const std::string held : {"\"split\": \"val\"", "\"split\": \"test\""})
     for (size_t at = index.find(held); at != std::string::npos; at = index.find(held))
@@ -196,9 +198,7 @@ TEST(BenchDescriptors, TheFloorIsGivenUnlessWithheld) {
 #endif
   e2e::TempDir dir("bench_floor");
   const std::string views = (dir.path() / "views").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 40 --views-per-object 2 --seed 3 --out " +
-                            views + " 2>&1");
-  ASSERT_EQ(sim.status, 0) << sim.output;
+  ASSERT_TRUE(simulate_views(views, "--objects 40 --views-per-object 2 --seed 3"));
   auto bench = [&](const std::string& name, const std::string& extra) {
     const std::string base = (dir.path() / name).string();
     const auto r = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
@@ -242,9 +242,7 @@ TEST(BenchDescriptors, ConfusionsScriptAgreesWithTheBenchmark) {
   e2e::TempDir dir("bench_confusions");
   const std::string views = (dir.path() / "views").string(), rows = (dir.path() / "rows").string();
   const std::string out = (dir.path() / "esf.json").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " views --objects 40 --views-per-object 3 --seed 2 --out " +
-                            views + " 2>&1");
-  ASSERT_EQ(sim.status, 0) << sim.output;
+  ASSERT_TRUE(simulate_views(views, "--objects 40 --views-per-object 3 --seed 2"));
   const auto bench = e2e::run(e2e::bin("lista-bench-descriptors") + " --views " + views +
                               " --plugins describe.esf --json " + out + " --rows " + rows + " 2>&1");
   ASSERT_EQ(bench.status, 0) << bench.output;
