@@ -126,7 +126,8 @@ StageInfo info() {
       "(match = partner in the next mission, else the previous one); an unmatched object is 'removed' when "
       "it changed against the next mission (or is in the first), 'added' when only against the previous one "
       "(or is in the last). history chains matches across all missions. Confidence of a move = 0.5 * (1 - "
-      "ambiguity) + 0.5 * group confidence, ambiguity = w / (cost of the best rival pair of either end); "
+      "ambiguity) + 0.5 * group confidence, ambiguity = w / (cost of the best rival pair of either end), "
+      "the lower of its two ends' for both (one move, one confidence); "
       "of an unmatched object = 0.5 * min(1, cheapest rejected candidate cost / max_cost; 1 if none) + "
       "0.5 * group confidence.";
   s.inputs = {{"objects", "objects", "changed objects of all missions"},

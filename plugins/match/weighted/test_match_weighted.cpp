@@ -222,6 +222,25 @@ TEST(MatchWeighted, WeightedGateAndGroups) {
   EXPECT_EQ(run_stage(s, {{"max_descriptor_distance", 1.0}}).find(a)->status, ChangeStatus::removed);
 }
 
+// Both reports of one move carry one confidence, the less sure end's: the
+// ends' group confidences differ (0.9 vs 0.3), the move does not.
+TEST(MatchWeighted, BothEndsOfAMoveCarryOneConfidence) {
+  Scene s;
+  s.objects.missions = {"A", "B"};
+  const int a = s.add(0, {0, 0, 0}, chair);
+  const int b = s.add(1, {1.5, 0.5, 0}, chair);
+  Groups g;
+  g.object_ids = {a, b};
+  g.group = {0, 0};
+  g.confidence = {0.9, 0.3};
+  g.group_confidence = {1};
+  g.count = 1;
+  const Matches m = run_stage(s, {}, &g);
+  ASSERT_EQ(m.find(a)->match, b);
+  EXPECT_DOUBLE_EQ(m.find(a)->confidence, m.find(b)->confidence);
+  EXPECT_LE(m.find(a)->confidence, 0.5 * 1.0 + 0.5 * 0.3 + 1e-12) << "the less sure end's";
+}
+
 TEST(MatchWeighted, SoftGroupsDecideBetweenRivals) {
   // Two look-alike candidates: the nearer one is in another group.
   Scene s;

@@ -295,6 +295,17 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
     });
     for (size_t k : members) c.history.push_back(objects.objects[k].id);
   }
+  // A move is as sure as its less sure end: both reports of one move say the
+  // same (with two missions exactly; a middle object takes the lower of its
+  // two moves). Per end they differed by the ends' own group confidence.
+  std::map<int, size_t> index_of;
+  for (size_t i = 0; i < n_obj; ++i) index_of[objects.objects[i].id] = i;
+  std::vector<double> own(n_obj);
+  for (size_t i = 0; i < n_obj; ++i) own[i] = out.objects[i].confidence;
+  for (size_t i = 0; i < n_obj; ++i)
+    for (int partner : {next[i], prev[i]})
+      if (partner >= 0)
+        out.objects[i].confidence = std::min(out.objects[i].confidence, own[index_of.at(partner)]);
   return out;
 }
 
