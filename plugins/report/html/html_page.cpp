@@ -44,9 +44,6 @@ std::string motion_text(const ObjectView& v, const ReportModel& model) {
          escape(model.missions[to.object->mission]);
 }
 
-// Below this a report is a guess more than a finding: shown dashed on the
-// maps and highlighted in the table.
-constexpr double kLowConfidence = 0.5;
 
 // With 3+ missions `match` names one partner; the chain of the object's
 // reports ("5 A → 8 B → 19 C") shows where it was in every mission.

@@ -10,6 +10,10 @@
 
 namespace lista::report_html {
 
+// Below this a report is a guess more than a finding: dashed on the maps,
+// highlighted in the table.
+constexpr double kLowConfidence = 0.5;
+
 struct ObjectView {
   const Object* object = nullptr;
   ChangeStatus status = ChangeStatus::added;

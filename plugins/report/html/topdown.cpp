@@ -187,7 +187,7 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
     svg += "<rect x=\"" + fmt(x0, 1) + "\" y=\"" + fmt(y0, 1) + "\" width=\"" + fmt(x1 - x0, 1) +
            "\" height=\"" + fmt(y1 - y0, 1) + "\" fill=\"none\" stroke=\"" + colour.css() +
            "\" stroke-width=\"" + fmt(font / 6, 1) + "\"" +
-           (v->confidence < 0.5 ? " stroke-dasharray=\"" + fmt(font / 2, 1) + " " + fmt(font / 3, 1) +
+           (v->confidence < kLowConfidence ? " stroke-dasharray=\"" + fmt(font / 2, 1) + " " + fmt(font / 3, 1) +
                                       "\" class=\"low-confidence\""
                                 : std::string()) +
            "/>\n";
