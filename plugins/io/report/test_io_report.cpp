@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sys/wait.h>
 #include <unistd.h>
 
 using namespace lista;
@@ -167,6 +168,27 @@ TEST(IoReport, ChangeCloudsOfMissionsNotInTheRunAreRemoved) {
   EXPECT_FALSE(fs::exists(out / "poses" / "C.txt"));
   EXPECT_TRUE(fs::exists(out / "poses" / "B.txt"));
   EXPECT_TRUE(fs::exists(out / "changes" / "notes.txt"));
+}
+
+// A run killed while writing (SIGKILL) leaves its hidden temp folder: the
+// next run into the folder removes it, but not one whose process still runs.
+TEST(IoReport, TempFoldersOfDeadRunsAreCleared) {
+  Fixture f;
+  const fs::path out = out_dir("killed");
+  const pid_t dead = fork();
+  if (dead == 0) _exit(0);
+  ASSERT_GT(dead, 0);
+  waitpid(dead, nullptr, 0);
+  const fs::path left = out / (".lista-report.tmp." + std::to_string(dead));
+  const fs::path running = out / (".lista-report.tmp." + std::to_string(getppid()));
+  fs::create_directories(left / "changes");
+  fs::create_directories(running);
+  BasicContext ctx("report");
+  ctx.info.output_dir = out.string();
+  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  EXPECT_FALSE(fs::exists(left));
+  EXPECT_TRUE(fs::exists(running)) << "a live run's temp folder is not ours to remove";
+  EXPECT_TRUE(fs::exists(out / "report.json"));
 }
 
 TEST(IoReport, WithoutMatchesStatusFollowsMissionOrder) {
