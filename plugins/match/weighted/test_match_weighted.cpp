@@ -4,6 +4,8 @@
 #include <lista/basic_context.hpp>
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <random>
@@ -100,6 +102,17 @@ const std::vector<Box> table_shape{{{0, 0, 0.7f}, {0.8f, 0.5f, 0.74f}},
                                    {{0.38f, 0.08f, 0.04f}, {0.42f, 0.12f, 0.7f}},
                                    {{0.2f, 0.0f, 0}, {0.6f, 0.2f, 0.04f}}};
 const std::map<std::string, ParamValue> no_shape_check{{"min_shape_fit", 0.0}, {"shape_weight", 0.0}};
+
+// Groups of the given objects: one label and confidence each, every group sure.
+Groups groups_of(std::vector<int> ids, std::vector<int> group, std::vector<double> confidence) {
+  Groups g;
+  g.object_ids = std::move(ids);
+  g.group = std::move(group);
+  g.confidence = std::move(confidence);
+  g.count = g.group.empty() ? 0 : *std::max_element(g.group.begin(), g.group.end()) + 1;
+  g.group_confidence.assign(size_t(g.count), 1.0);
+  return g;
+}
 
 Matches run_stage(const Scene& s, std::map<std::string, ParamValue> p = {}, const Groups* g = nullptr) {
   auto stage = stage_test::make_stage("match.weighted", p);
@@ -199,12 +212,7 @@ TEST(MatchWeighted, WeightedGateAndGroups) {
   s.objects.missions = {"A", "B"};
   const int a = s.add(0, {0, 0, 0}, chair);
   const int b = s.add(1, {1, 0, 0}, table);
-  Groups g;
-  g.object_ids = {a, b};
-  g.group = {0, 1};
-  g.confidence = {1, 1};
-  g.group_confidence = {1, 1};
-  g.count = 2;
+  const Groups g = groups_of({a, b}, {0, 1}, {1, 1});
   // Soft: a group never vetoes a pair the gates accept; the only candidate
   // is taken across groups, whatever the penalty, and costs the penalty more.
   const Matches soft = run_stage(s, {}, &g);
@@ -229,12 +237,7 @@ TEST(MatchWeighted, BothEndsOfAMoveCarryOneConfidence) {
   s.objects.missions = {"A", "B"};
   const int a = s.add(0, {0, 0, 0}, chair);
   const int b = s.add(1, {1.5, 0.5, 0}, chair);
-  Groups g;
-  g.object_ids = {a, b};
-  g.group = {0, 0};
-  g.confidence = {0.9, 0.3};
-  g.group_confidence = {1};
-  g.count = 1;
+  const Groups g = groups_of({a, b}, {0, 0}, {0.9, 0.3});
   const Matches m = run_stage(s, {}, &g);
   ASSERT_EQ(m.find(a)->match, b);
   EXPECT_DOUBLE_EQ(m.find(a)->confidence, m.find(b)->confidence);
@@ -248,12 +251,7 @@ TEST(MatchWeighted, SoftGroupsDecideBetweenRivals) {
   const int a = s.add(0, {0, 0, 0}, chair);
   const int near_other_group = s.add(1, {1, 0, 0}, chair);
   const int far_same_group = s.add(1, {2, 0, 0}, chair);
-  Groups g;
-  g.object_ids = {a, near_other_group, far_same_group};
-  g.group = {0, 1, 0};
-  g.confidence = {1, 1, 1};
-  g.group_confidence = {1, 1};
-  g.count = 2;
+  const Groups g = groups_of({a, near_other_group, far_same_group}, {0, 1, 0}, {1, 1, 1});
   EXPECT_EQ(run_stage(s, {}, &g).find(a)->match, far_same_group);
   EXPECT_EQ(run_stage(s, {{"group_mode", std::string("ignore")}}, &g).find(a)->match, near_other_group);
   // The loser is left unpaired: an addition.
