@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <regex>
 #include <tuple>
 #include <sstream>
 
@@ -364,4 +365,48 @@ TEST(ReportHtml, EachChangeMapShowsOnlyItsPairsChanges) {
   EXPECT_TRUE(labelled(html3.substr(second3), 5));
   fs::remove_all(both);
   fs::remove_all(next);
+}
+
+// A row of removed boxes side by side: each id goes where it covers no
+// other object's box and no other label (right of its box was the only
+// spot, and there it sat on the neighbour's box).
+TEST(ReportHtml, LabelsKeepOffOtherBoxes) {
+  Scene s = make_scene();
+  std::mt19937 rng(5);
+  for (int k = 0; k < 3; ++k) {
+    lista::Object o;
+    o.id = 10 + k;
+    o.mission = 0;
+    o.points = box_points({-3.f + 0.62f * float(k), 2.f, 0.4f}, 0.3f, 200, rng);
+    o.update_geometry();
+    s.objects.objects.push_back(o);
+    s.matches.objects.push_back(change(10 + k, lista::ChangeStatus::removed));
+  }
+  const fs::path dir = write_report(s, "labels", false);
+  const std::string html = read(dir / "report.html");
+  // Boxes: <rect x= y= width= height= fill="none" ...>; labels: <text x= y= font-size= ... class="object-label">.
+  struct R { double x0, y0, x1, y1; };
+  std::vector<R> boxes, labels;
+  const std::regex box("<rect x=\"([-0-9.]+)\" y=\"([-0-9.]+)\" width=\"([-0-9.]+)\" height=\"([-0-9.]+)\" fill=\"none\"");
+  const std::regex label("<text x=\"([-0-9.]+)\" y=\"([-0-9.]+)\" font-size=\"([0-9.]+)\"[^>]*class=\"object-label\">([0-9]+)<");
+  const size_t end = html.find("</svg>");
+  const std::string map = html.substr(0, end);
+  for (std::sregex_iterator it(map.begin(), map.end(), box), e; it != e; ++it) {
+    const double x = std::stod((*it)[1]), y = std::stod((*it)[2]);
+    boxes.push_back({x, y, x + std::stod((*it)[3]), y + std::stod((*it)[4])});
+  }
+  std::vector<std::string> ids;
+  for (std::sregex_iterator it(map.begin(), map.end(), label), e; it != e; ++it) {
+    const double x = std::stod((*it)[1]), base = std::stod((*it)[2]), f = std::stod((*it)[3]);
+    const std::string id = (*it)[4];
+    labels.push_back({x, base - 0.8 * f, x + 0.6 * f * double(id.size()), base + 0.2 * f});
+    ids.push_back(id);
+  }
+  ASSERT_EQ(boxes.size(), labels.size());
+  ASSERT_GE(boxes.size(), 6u);
+  auto overlap = [](const R& a, const R& b) { return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1; };
+  for (size_t i = 0; i < labels.size(); ++i)
+    for (size_t j = 0; j < boxes.size(); ++j)
+      if (i != j) EXPECT_FALSE(overlap(labels[i], boxes[j])) << "label " << ids[i] << " covers box " << j;
+  fs::remove_all(dir);
 }

@@ -180,9 +180,21 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
   svg += "<image width=\"" + std::to_string(r.width) + "\" height=\"" + std::to_string(r.height) +
          "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
   const double font = std::max(10.0, r.width / 70.0);
+  // Every box in pixels first: a label goes where it covers no other box
+  // and no label placed before it.
+  struct Rect {
+    double x0, y0, x1, y1;
+    bool overlaps(const Rect& o) const { return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1; }
+  };
+  std::vector<Rect> boxes, labels;
   for (const auto& [v, status] : shown) {
-    const auto [x0, y0] = px(Eigen::Vector3f(v->object->bbox_min.x(), v->object->bbox_max.y(), 0));
-    const auto [x1, y1] = px(Eigen::Vector3f(v->object->bbox_max.x(), v->object->bbox_min.y(), 0));
+    const auto [bx0, by0] = px(Eigen::Vector3f(v->object->bbox_min.x(), v->object->bbox_max.y(), 0));
+    const auto [bx1, by1] = px(Eigen::Vector3f(v->object->bbox_max.x(), v->object->bbox_min.y(), 0));
+    boxes.push_back({bx0, by0, bx1, by1});
+  }
+  for (size_t k = 0; k < shown.size(); ++k) {
+    const auto& [v, status] = shown[k];
+    const double x0 = boxes[k].x0, y0 = boxes[k].y0, x1 = boxes[k].x1, y1 = boxes[k].y1;
     const Rgb colour = status_colour(status);
     svg += "<rect x=\"" + fmt(x0, 1) + "\" y=\"" + fmt(y0, 1) + "\" width=\"" + fmt(x1 - x0, 1) +
            "\" height=\"" + fmt(y1 - y0, 1) + "\" fill=\"none\" stroke=\"" + colour.css() +
@@ -191,9 +203,26 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
                                       "\" class=\"low-confidence\""
                                 : std::string()) +
            "/>\n";
-    svg += "<text x=\"" + fmt(x1 + 2, 1) + "\" y=\"" + fmt(y0 + font * 0.8, 1) + "\" font-size=\"" +
-           fmt(font, 1) + "\" fill=\"" + colour.css() + "\" class=\"object-label\">" +
-           std::to_string(v->object->id) + "</text>\n";
+    // Right of the box's top, else left of it, above it, below it; the
+    // first spot clear of other boxes and labels (else the first).
+    const std::string id = std::to_string(v->object->id);
+    const double w = 0.6 * font * double(id.size()), h = font;
+    const std::pair<double, double> spots[] = {
+        {x1 + 2, y0}, {x0 - 2 - w, y0}, {x0, y0 - 2 - h}, {x0, y1 + 2}};  // top-left corners
+    Rect label{spots[0].first, spots[0].second, spots[0].first + w, spots[0].second + h};
+    for (const auto& [sx, sy] : spots) {
+      const Rect r{sx, sy, sx + w, sy + h};
+      bool clear = true;
+      for (size_t o = 0; o < boxes.size() && clear; ++o) clear = o == k || !r.overlaps(boxes[o]);
+      for (size_t o = 0; o < labels.size() && clear; ++o) clear = !r.overlaps(labels[o]);
+      if (clear) {
+        label = r;
+        break;
+      }
+    }
+    labels.push_back(label);
+    svg += "<text x=\"" + fmt(label.x0, 1) + "\" y=\"" + fmt(label.y0 + font * 0.8, 1) + "\" font-size=\"" +
+           fmt(font, 1) + "\" fill=\"" + colour.css() + "\" class=\"object-label\">" + id + "</text>\n";
     if (status == "moved" && v->object->mission == a && v->match >= 0) {
       const ObjectView* partner = model.find(v->match);
       if (partner && partner->object->mission == b) {
