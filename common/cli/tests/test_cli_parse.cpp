@@ -117,6 +117,13 @@ TEST(CliParse, BetweenSaysItsBoundsPlainly) {
     ASSERT_TRUE(err) << bad;
     EXPECT_NE(err->find("--value: must be between 0.005 and 1, got " + bad), std::string::npos) << *err;
   }
+  // Numbers a double cannot hold would become inf or 0 and skip the check.
+  for (const std::string huge : {"1e400", "1e-400"})
+    for (const CLI::Validator& v : {lista::cli::between(0.005, 1.0), lista::cli::at_least(0.0)}) {
+      const auto err = check_value(v, huge.c_str());
+      ASSERT_TRUE(err) << huge;
+      EXPECT_NE(err->find("is out of range for a number, got " + huge), std::string::npos) << *err;
+    }
 }
 
 // An output at or under the dataset is refused; a sibling sharing a name

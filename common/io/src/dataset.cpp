@@ -30,11 +30,18 @@ std::vector<std::string> files_in(const fs::path& dir, bool pcd_only, bool listi
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     std::error_code type_ec;
-    if (listing && !it->is_regular_file(type_ec)) continue;
+    const bool regular = it->is_regular_file(type_ec);
+    if (listing && !regular) continue;
     const fs::path& p = it->path();
     // Hidden files are not scans: macOS leaves "._000001.pcd" metadata beside copied files.
     if (p.filename().string().front() == '.') continue;
-    if (pcd_only ? p.extension() == ".pcd" : is_scan_file(p)) out.push_back(p.string());
+    if (!(pcd_only ? p.extension() == ".pcd" : is_scan_file(p))) continue;
+    // A folder or a broken link named like a scan is named here, before a
+    // count of scans against poses would blame the poses.
+    if (!regular)
+      throw Error(p.string() + (it->is_directory(type_ec) ? ": is a folder, not a scan file"
+                                                           : ": is not a readable scan file (a broken link?)"));
+    out.push_back(p.string());
   }
   if (ec) throw Error(dir.string() + ": cannot list (" + ec.message() + ")");
   std::sort(out.begin(), out.end());  // by file name: same folder, so full path order = name order
@@ -71,7 +78,9 @@ std::string escaped(const std::string& s) {
 }
 
 bool is_mission_dir(const fs::path& dir) {
-  if (fs::is_regular_file(dir / "poses.txt")) return true;
+  // Any poses.txt (a folder by mistake too): reading it then says what is wrong.
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(dir / "poses.txt", ec))) return true;
   return !files_in(dir, true, true).empty();  // VIEWPOINT layout
 }
 

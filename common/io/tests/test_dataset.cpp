@@ -5,6 +5,7 @@
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace lista;
@@ -167,11 +168,19 @@ TEST(Dataset, OddEntriesAreErrorsNamingThem) {
   make_mission(root / "A", 2, 4);
   fs::remove(root / "A" / "scans" / "000001.pcd");
   fs::create_directory(root / "A" / "scans" / "000001.pcd");
-  expect_error([&] { read_mission((root / "A").string()); }, "000001.pcd: is a folder, not a file");
+  expect_error([&] { read_mission((root / "A").string()); }, "000001.pcd: is a folder, not a scan file");
+  // An extra folder named like a scan is named, not counted against the poses.
+  make_mission(root / "A2", 2, 4);
+  fs::create_directory(root / "A2" / "scans" / "000002.pcd");
+  expect_error([&] { read_mission((root / "A2").string()); }, "000002.pcd: is a folder, not a scan file");
   make_mission(root / "B", 1, 4);
   fs::remove(root / "B" / "poses.txt");
   fs::create_directory(root / "B" / "poses.txt");
   expect_error([&] { read_mission((root / "B").string()); }, "poses.txt: is a folder, not a file");
+  // Found by listing the dataset too (it was taken for a VIEWPOINT mission).
+  expect_error([&] { read_dataset(root.string(), DatasetOptions{{"B"}, true, 1}); }, "poses.txt: is a folder");
+  const std::vector<std::string> listed = list_missions(root.string());
+  EXPECT_NE(std::find(listed.begin(), listed.end(), "B"), listed.end()) << "B is a mission (its poses.txt is wrong)";
   make_mission(root / "C\xe9", 1, 4);
   expect_error([&] { read_dataset(root.string(), DatasetOptions{{"C\xe9"}, true, 1}); },
                "mission folder name 'C\\xE9' is not UTF-8");

@@ -52,9 +52,9 @@ std::vector<std::string> unpinned_placements(const MissionSet& set, const std::v
     char text[512];
     std::snprintf(text, sizeof text,
                   "mission '%s' may be placed wrongly: against '%s' a rival fit turned %.0f deg (%.1f m) from the "
-                  "chosen one puts about as many points on the other map (%.1f %% against %.1f %%), and no other "
-                  "mission pins it, as in a near-symmetric place; check the change maps of report.html, or give "
-                  "poses_gt.txt to be told",
+                  "chosen one puts %.1f %% of its points on the other map against %.1f %%, within the margin "
+                  "where the closures' vote decides, and no other mission pins it (a near-symmetric place?); "
+                  "check the change maps of report.html, or give poses_gt.txt to be told",
                   set.missions[m].name.c_str(),
                   set.missions[closest->query == m ? closest->reference : closest->query].name.c_str(),
                   closest->turn_deg, closest->shift_m, 100.0 * closest->rival_agreement,

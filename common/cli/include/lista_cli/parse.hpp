@@ -9,6 +9,7 @@
 #include <cctype>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 namespace lista::cli {
@@ -54,6 +55,8 @@ inline CLI::Validator at_least(double lo) {
       [lo](std::string& v) {
         try {
           if (std::stod(v) >= lo) return std::string();
+        } catch (const std::out_of_range&) {
+          return "is out of range for a number, got " + v;  // 1e400 would become inf
         } catch (const std::exception&) {
           return std::string();  // not a number: the option's own conversion says so
         }
@@ -69,6 +72,8 @@ inline CLI::Validator between(double lo, double hi) {
         try {
           const double x = std::stod(v);
           if (x >= lo && x <= hi) return std::string();
+        } catch (const std::out_of_range&) {
+          return "is out of range for a number, got " + v;  // 1e400 would become inf, 1e-400 zero
         } catch (const std::exception&) {
           return std::string();  // not a number: the option's own conversion says so
         }
