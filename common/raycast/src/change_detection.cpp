@@ -19,11 +19,9 @@ void check_missions(const MissionSet& missions) {
 }
 
 std::vector<std::string> undetectable_pairs(const MissionSet& missions, const VolumetricConfig& c) {
-  auto logit = [](double p) { return std::log(p / (1.0 - p)); };
-  auto sigmoid = [](double l) { return 1.0 / (1.0 + std::exp(-l)); };
   // Most extreme P a mission of n scans can give a voxel (n updates at most).
-  auto most = [&](size_t n) { return std::min(c.clamping_max, sigmoid(double(n) * logit(c.prob_hit))); };
-  auto least = [&](size_t n) { return std::max(c.clamping_min, sigmoid(double(n) * logit(c.prob_miss))); };
+  auto most = [&](size_t n) { return std::min(c.clamping_max, probability(float(n) * logodds(c.prob_hit))); };
+  auto least = [&](size_t n) { return std::max(c.clamping_min, probability(float(n) * logodds(c.prob_miss))); };
   std::vector<std::string> out;
   for (size_t m = 0; m + 1 < missions.missions.size(); ++m) {
     const Mission &a = missions.missions[m], &b = missions.missions[m + 1];
