@@ -1,4 +1,5 @@
 // poses.txt / poses_gt.txt: TUM (8 fields) or KITTI (12 fields) per line.
+#include "rotation_check.hpp"
 #include "text_util.hpp"
 
 #include <lista/error.hpp>
@@ -12,7 +13,6 @@
 namespace lista::io {
 
 namespace {
-constexpr double kOrthoTolerance = 1e-3;
 constexpr double kMaxPosition = 1e8;  // m
 }
 
@@ -54,18 +54,14 @@ std::vector<PoseRecord> read_poses(const std::string& path) {
       rec.timestamp = v[0];
       t = Eigen::Vector3d(v[1], v[2], v[3]);
       Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
-      if (std::abs(q.norm() - 1.0) > kOrthoTolerance)
+      if (std::abs(q.norm() - 1.0) > detail::kOrthoTolerance)
         throw fail("rotation quaternion has norm " + std::to_string(q.norm()) + ", expected 1");
       R = q.normalized().toRotationMatrix();
     } else {
       rec.timestamp = static_cast<double>(out.size());
       R << v[0], v[1], v[2], v[4], v[5], v[6], v[8], v[9], v[10];
       t = Eigen::Vector3d(v[3], v[7], v[11]);
-      const double err = (R.transpose() * R - Eigen::Matrix3d::Identity()).norm();
-      if (err > kOrthoTolerance)
-        throw fail("rotation is not orthonormal (|R^T R - I| = " + std::to_string(err) + ")");
-      if (R.determinant() < 0)
-        throw fail("rotation is a reflection (det R = -1): a mirrored axis, e.g. a left-handed frame");
+      if (const std::string why = detail::rotation_problem(R); !why.empty()) throw fail(why);
       // Re-orthonormalise: nearest rotation via SVD.
       Eigen::JacobiSVD<Eigen::Matrix3d> svd(R, Eigen::ComputeFullU | Eigen::ComputeFullV);
       R = svd.matrixU() * svd.matrixV().transpose();

@@ -1,12 +1,12 @@
 // report.json and ground_truth.json: strict reading (every required field
 // checked, errors name the file and the field) and atomic writing.
+#include "rotation_check.hpp"
 #include "text_util.hpp"
 
 #include <lista/error.hpp>
 #include <lista_io/atomic_file.hpp>
 #include <lista_io/report.hpp>
 
-#include <Eigen/LU>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -57,10 +57,10 @@ struct Reader {
   // all-zero or scaled matrix would otherwise be scored as if it were a pose.
   Eigen::Matrix4d rigid(const json& v, const std::string& where) const {
     const Eigen::Matrix4d m = matrix(v, where);
-    const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
-    if (!m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1), 1e-6) ||
-        (r.transpose() * r - Eigen::Matrix3d::Identity()).norm() > 1e-3 || r.determinant() < 0)
-      fail(where, "is not a rigid transform (rotation orthonormal with det +1, last row 0 0 0 1)");
+    if (!m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1), 1e-6))
+      fail(where, "is not a rigid transform (its last row must be 0 0 0 1)");
+    if (const std::string why = detail::rotation_problem(m.topLeftCorner<3, 3>()); !why.empty())
+      fail(where, "is not a rigid transform: " + why);
     return m;
   }
   std::string text(const json& v, const std::string& where) const {
