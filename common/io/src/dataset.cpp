@@ -1,5 +1,7 @@
 // Reading missions and datasets (data contract, sect. 1): poses.txt + scans/,
 // or the VIEWPOINT layout (map-frame .pcd scans carrying the sensor pose).
+#include "text_util.hpp"
+
 #include <lista/error.hpp>
 #include <lista/parallel.hpp>
 #include <lista_io/dataset.hpp>
@@ -60,21 +62,6 @@ bool valid_utf8(const std::string& s) {
     i += len;
   }
   return true;
-}
-
-// Bytes outside ASCII as \xHH, so an error message stays readable.
-std::string escaped(const std::string& s) {
-  std::string out;
-  for (unsigned char c : s) {
-    if (c >= 0x20 && c < 0x7f) {
-      out += char(c);
-    } else {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02X", c);
-      out += hex;
-    }
-  }
-  return out;
 }
 
 bool is_mission_dir(const fs::path& dir) {
@@ -176,7 +163,7 @@ MissionSet read_dataset(const std::string& dataset_dir, const DatasetOptions& op
   for (const auto& name : names) {
     const fs::path dir = name == "." ? fs::path(dataset_dir) : fs::path(dataset_dir) / name;
     if (!valid_utf8(name))
-      throw Error(dataset_dir + ": mission folder name '" + escaped(name) +
+      throw Error(dataset_dir + ": mission folder name '" + detail::escaped(name) +
                   "' is not UTF-8; rename it (report.json names missions in UTF-8)");
     if (!fs::is_directory(dir)) throw Error(dataset_dir + ": no mission '" + name + "'");
     for (const auto& seen : set.missions)

@@ -132,8 +132,7 @@ void load_pcd(const std::string& path, PcdData& d) {
       break;
     } else {
       // A file that is not a PCD at all: say so, without its bytes on the terminal.
-      std::string shown;
-      for (char c : key.substr(0, 24)) shown += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
+      const std::string shown = escaped(key.substr(0, 24));
       const bool binary = shown != key.substr(0, 24);
       throw fail(binary ? "not a PCD file (binary data where the header should be)"
                         : "unknown PCD header keyword '" + shown + "'");

@@ -60,4 +60,18 @@ bool parse_int(const std::string& s, long long& out) {
   return errno == 0 && end == s.c_str() + s.size();
 }
 
+std::string escaped(const std::string& s) {
+  std::string out;
+  for (unsigned char c : s) {
+    if (c >= 0x20 && c < 0x7f) {
+      out += char(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
 }  // namespace lista::io::detail

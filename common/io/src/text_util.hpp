@@ -12,5 +12,8 @@ std::vector<std::string> split_ws(const std::string& line);
 // Strict: the whole token must be a number (nan/inf accepted for doubles).
 bool parse_double(const std::string& s, double& out);
 bool parse_int(const std::string& s, long long& out);
+// Bytes outside printable ASCII as \xHH, so an error message quoting file
+// content or a file name stays readable.
+std::string escaped(const std::string& s);
 
 }  // namespace lista::io::detail
