@@ -25,33 +25,35 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// Map-frame points (the VIEWPOINT layout) brought into the sensor frame while
-// read, in double: a georeferenced map frame puts them hundreds of km from
-// zero, where a float keeps only decimetres. Float32 coordinates that far out
-// lost their precision in the file already: an error, not a silent 0.5 m grid.
-void read_map_frame(const std::string& path, const detail::PcdData& d, int fx, int fy, int fz, int fi, int fl,
-                    uint32_t scan_id, ScanFile& s) {
-  // Float32 spacing accepted near the sensor: 1 cm, i.e. within 2^17 m of
-  // zero. Judged at the sensor (VIEWPOINT), not per point: a stray return
-  // far out is the sensor's noise, not the file's precision.
-  constexpr double kFloat32Reach = 131072.0;
-  const bool float32 = d.fields[fx].size == 4 || d.fields[fy].size == 4 || d.fields[fz].size == 4;
-  const double sensor_range = d.viewpoint.translation().cwiseAbs().maxCoeff();
-  if (float32 && sensor_range >= kFloat32Reach) {
-    char where[64];
-    std::snprintf(where, sizeof where, "%.0f", sensor_range);
-    throw Error(path + ": map-frame float32 coordinates around a sensor " + where +
-                " m from zero keep only decimetres; store x y z as F8 (double), or the points in the sensor frame "
-                "with poses.txt");
-  }
-  const Eigen::Isometry3d to_sensor = d.viewpoint.inverse();
+// Every point through PcdData::value (any field type), moved by `to_sensor`
+// in double before the float conversion: map-frame points of the VIEWPOINT
+// layout may lie hundreds of km from zero (georeferenced), where a float
+// keeps only decimetres.
+void read_by_value(const detail::PcdData& d, int fx, int fy, int fz, int fi, int fl,
+                   const Eigen::Isometry3d& to_sensor, uint32_t scan_id, ScanFile& s) {
   for (size_t i = 0; i < d.points; ++i) {
     const Eigen::Vector3d p = to_sensor * Eigen::Vector3d(d.value(fx, i), d.value(fy, i), d.value(fz, i));
     const float in = fi >= 0 ? static_cast<float>(d.value(fi, i)) : 0.f;
     const uint32_t lb = fl >= 0 ? detail::to_label(d.value(fl, i), s) : 0u;
     detail::add_point(s, scan_id, uint32_t(i), float(p.x()), float(p.y()), float(p.z()), fi >= 0, in, fl >= 0, lb);
   }
-  if (!d.viewpoint_identity) s.viewpoint = d.viewpoint;
+}
+
+// Float32 map-frame coordinates around a sensor far from zero lost their
+// precision in the file already: an error, not a silent 0.5 m grid. Spacing
+// accepted near the sensor: 1 cm, i.e. within 2^17 m of zero; judged at the
+// sensor (VIEWPOINT), not per point: a stray return far out is the sensor's
+// noise, not the file's precision.
+void check_map_frame_precision(const std::string& path, const detail::PcdData& d, int fx, int fy, int fz) {
+  constexpr double kFloat32Reach = 131072.0;
+  const bool float32 = d.fields[fx].size == 4 || d.fields[fy].size == 4 || d.fields[fz].size == 4;
+  const double sensor_range = d.viewpoint.translation().cwiseAbs().maxCoeff();
+  if (!float32 || sensor_range < kFloat32Reach) return;
+  char where[64];
+  std::snprintf(where, sizeof where, "%.0f", sensor_range);
+  throw Error(path + ": map-frame float32 coordinates around a sensor " + where +
+              " m from zero keep only decimetres; store x y z as F8 (double), or the points in the sensor frame "
+              "with poses.txt");
 }
 
 ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id, bool map_frame) {
@@ -67,10 +69,9 @@ ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id, bool map_frame
   if (fi >= 0) s.points.intensity.reserve(n);
   if (fl >= 0) s.points.label.reserve(n);
   if (map_frame) {
-    read_map_frame(path, d, fx, fy, fz, fi, fl, scan_id, s);
-    return s;
-  }
-  if (d.encoding != "ascii" && d.fields[fx].type == 'F' && d.fields[fx].size == 4 && d.fields[fy].size == 4 &&
+    check_map_frame_precision(path, d, fx, fy, fz);
+    read_by_value(d, fx, fy, fz, fi, fl, d.viewpoint.inverse(), scan_id, s);
+  } else if (d.encoding != "ascii" && d.fields[fx].type == 'F' && d.fields[fx].size == 4 && d.fields[fy].size == 4 &&
       d.fields[fy].type == 'F' && d.fields[fz].type == 'F' && d.fields[fz].size == 4) {
     // Fast path: float32 coordinates read straight from the buffer.
     const bool fast_i = fi >= 0 && d.fields[fi].type == 'F' && d.fields[fi].size == 4;
@@ -92,12 +93,7 @@ ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id, bool map_frame
       detail::add_point(s, scan_id, uint32_t(i), x, y, z, fi >= 0, in, fl >= 0, lb);
     }
   } else {
-    for (size_t i = 0; i < n; ++i) {
-      const float in = fi >= 0 ? static_cast<float>(d.value(fi, i)) : 0.f;
-      const uint32_t lb = fl >= 0 ? detail::to_label(d.value(fl, i), s) : 0u;
-      detail::add_point(s, scan_id, uint32_t(i), float(d.value(fx, i)), float(d.value(fy, i)),
-                        float(d.value(fz, i)), fi >= 0, in, fl >= 0, lb);
-    }
+    read_by_value(d, fx, fy, fz, fi, fl, Eigen::Isometry3d::Identity(), scan_id, s);
   }
   if (!d.viewpoint_identity) s.viewpoint = d.viewpoint;
   return s;
