@@ -32,9 +32,7 @@ extern "C" void on_stop_signal(int sig) {
   static const char msg[] = "\nlista-run: cancelling after the running stages notice (Ctrl-C again to stop now)\n";
   (void)!write(STDERR_FILENO, msg, sizeof msg - 1);
 }
-}  // namespace
 
-namespace {
 // The running stages as text, for the crash handler: a fixed buffer, written
 // under a lock, read (without one) only when the process is dying anyway.
 char g_running[512] = "";
