@@ -149,8 +149,9 @@ void load_pcd(const std::string& path, PcdData& d) {
   constexpr long long kMaxPoints = 0xFFFFFFFFll;
   if (width > kMaxPoints || height > kMaxPoints || (height > 0 && width > kMaxPoints / height) ||
       points > kMaxPoints)
-    throw fail("WIDTH " + std::to_string(width) + " x HEIGHT " + std::to_string(height) + " (POINTS " +
-               std::to_string(points) + ") exceeds 4294967295 points: a corrupt header");
+    throw fail("WIDTH " + std::to_string(width) + " x HEIGHT " + std::to_string(height) +
+               (points >= 0 ? " (POINTS " + std::to_string(points) + ")" : std::string()) +
+               " exceeds 4294967295 points: a corrupt header");
   if (points < 0) points = width * height;
   if (points != width * height)
     throw fail("POINTS " + std::to_string(points) + " != WIDTH*HEIGHT " + std::to_string(width * height));
