@@ -2,7 +2,8 @@
 # End-to-end measurement: runs a pipeline (default pipelines/lista.toml) on
 # each dataset, scores it with lista-eval and prints one markdown table
 # (per-point scores beside the paper's, object-level scores) and the
-# per-stage wall time of every run (from report.json's timings_s).
+# per-stage wall time of every run (from report.json's timings_s: every stage
+# before the report stage).
 #   bench/e2e/run.sh [BUILD_DIR] [DATASET_DIR...]
 # defaults: BUILD_DIR=build, datasets /work/data/exp1 /work/data/exp2 /work/data/exp3
 # env: PIPELINE (default pipelines/lista.toml), OUT (default /tmp/lista-e2e-bench),

@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
   run_opt->excludes(truth_opt);
   app.add_flag("--json", json, "print the scores as JSON (per-object verdicts included)");
   app.add_flag("--objects", objects, "also list every truly changed object: its report, status, match and verdict");
-  app.add_option("-j,--threads", threads, "threads for reading the dataset")->check(lista::cli::at_least(1));
+  app.add_option("--threads", threads, "threads for reading the dataset")->check(lista::cli::at_least(1));
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-eval")) return *code;
   if (run.empty() && truth_out.empty()) {
     std::cerr << "lista-eval: error: give --run OUT (to score) or --truth OUT (to write the perfect run)\n";
