@@ -23,6 +23,7 @@ class CompleteStage : public Stage {
     c_.static_check = p.get<bool>("static_check");
     c_.static_share = p.get<double>("static_share");
     c_.nested_share = p.get<double>("nested_share");
+    c_.floor_share = p.get<double>("floor_share");
   }
 
   static StageInfo info() {
@@ -31,7 +32,9 @@ class CompleteStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Grows partial change clusters of short moves into whole objects";
     i.doc =
-        "An object moved by less than its own size keeps occupying the overlap of its two poses, so "
+        "First, an object with at least floor_share of its points within the floor clearance of its local floor "
+        "(below) is the floor itself, which the difference flags where beams graze uneven ground: it is dropped "
+        "before anything pairs with it. An object moved by less than its own size keeps occupying the overlap of its two poses, so "
         "the volumetric difference finds only slivers of it. For consecutive missions, clusters whose "
         "boxes are at most pair_gap apart are paired (nearest first, each at most once); each grows "
         "through its own mission's full cloud (breadth-first over occupied voxels of edge `voxel`, "
@@ -54,7 +57,7 @@ class CompleteStage : public Stage {
         "from. Last, an object with at least nested_share of its points inside the box of a larger object of the same "
         "mission (grown by half a voxel) joins it: growth never takes another object's points, so one object cut "
         "in two by the difference stays two clusters interleaved in one box. Ids and order are kept, except that "
-        "when any object joins another the ids are renumbered 0..n-1.";
+        "when any object is dropped as floor or joins another the ids are renumbered 0..n-1.";
     i.inputs = {{"objects", "objects", "per-mission change clusters"},
                 {"missions", "missions", "the aligned missions the clusters came from"}};
     i.outputs = {{"objects", "objects", "clusters, completed where a pair agreed"}};
@@ -76,6 +79,10 @@ class CompleteStage : public Stage {
                         "share of an object's points inside the box of a larger object of its mission from which "
                         "it joins that object (a fragment of it); 0 = never")
             .range(0, 1),
+        ParamSpec::real("floor_share", 0.9,
+                        "share of an object's points within the floor clearance from which it is the floor "
+                        "itself and dropped; 0 = never")
+            .range(0, 1),
         ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
     };
     return i;
@@ -94,6 +101,7 @@ class CompleteStage : public Stage {
     context.record("points_added", double(st.points_added));
     context.record("floors", double(st.floors));
     context.record("absorbed", double(st.absorbed));
+    context.record("floor_only", double(st.floor_only));
     context.info("completed " + std::to_string(st.completed) + " of " + std::to_string(st.pairs) +
                  " pairs, " + std::to_string(st.points_added) + " points added" +
                  (st.absorbed ? ", " + std::to_string(st.absorbed) + " fragments joined to the object around them" : ""));

@@ -363,58 +363,94 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       throw Error("segment.complete: object " + std::to_string(o.id) + " names mission index " +
                   std::to_string(o.mission) + " of " + std::to_string(out.missions.size()));
 
-  // 1. Candidate pairs across consecutive missions, nearest first.
-  std::vector<std::tuple<float, size_t, size_t>> candidates;
-  for (size_t i = 0; i < out.objects.size(); ++i)
-    for (size_t j = 0; j < out.objects.size(); ++j) {
-      const Object &a = out.objects[i], &b = out.objects[j];
-      if (b.mission != a.mission + 1 || a.points.empty() || b.points.empty()) continue;
-      const float gap = box_gap(a, b);
-      if (gap <= c.pair_gap) candidates.emplace_back(gap, i, j);
-    }
-  std::sort(candidates.begin(), candidates.end());
-  std::vector<char> used(out.objects.size(), 0);
-  struct Pair {
-    size_t a, b;
-    Box region, floor_region;
-  };
-  std::vector<Pair> pairs;
   const float margin = float(c.box_margin);
-  for (const auto& [gap, i, j] : candidates) {
-    if (used[i] || used[j]) continue;
-    used[i] = used[j] = 1;
-    Box r;
-    for (const Object* o : {&out.objects[i], &out.objects[j]}) r.extend(Box{o->bbox_min, o->bbox_max});
-    // Down to the floor: the region's lower bound is set once the floor is known.
-    pairs.push_back({i, j, r.grown(margin, 0.f, margin), r.grown(margin + 0.75f, 1.5f, margin)});
-  }
-  CompletionStats st;
-  st.pairs = pairs.size();
-
-  // 2. Each mission's points around its pairs, and what its objects own.
-  const size_t nm = out.missions.size();
-  std::vector<std::vector<Box>> regions(nm);
-  for (const auto& p : pairs)
-    for (size_t k : {p.a, p.b}) regions[out.objects[k].mission].push_back(p.floor_region);
   auto own_floor_region = [&](const Object& o) {
     return Box{o.bbox_min, o.bbox_max}.grown(margin + 0.75f, 1.5f, margin);
   };
+  auto pair_region = [&](const Object& a, const Object& b) {
+    Box r;
+    for (const Object* o : {&a, &b}) r.extend(Box{o->bbox_min, o->bbox_max});
+    return r;
+  };
+  // Candidate pairs across consecutive missions, nearest first.
+  auto candidate_pairs = [&] {
+    std::vector<std::tuple<float, size_t, size_t>> candidates;
+    for (size_t i = 0; i < out.objects.size(); ++i)
+      for (size_t j = 0; j < out.objects.size(); ++j) {
+        const Object &a = out.objects[i], &b = out.objects[j];
+        if (b.mission != a.mission + 1 || a.points.empty() || b.points.empty()) continue;
+        const float gap = box_gap(a, b);
+        if (gap <= c.pair_gap) candidates.emplace_back(gap, i, j);
+      }
+    std::sort(candidates.begin(), candidates.end());
+    return candidates;
+  };
+  CompletionStats st;
+
+  // Each mission's points around its objects and around every candidate
+  // pair (a superset of the pairs taken below), and what its objects own.
+  const size_t nm = out.missions.size();
   auto neighbours = [&](size_t m) {
     std::vector<size_t> n;
     if (m > 0) n.push_back(m - 1);
     if (m + 1 < nm) n.push_back(m + 1);
     return n;
   };
-  // Every object's own region: its floor is measured (rule 7) whether or
-  // not it self-completes.
+  std::vector<std::vector<Box>> regions(nm);
+  for (const auto& [gap, i, j] : candidate_pairs()) {
+    const Box r = pair_region(out.objects[i], out.objects[j]).grown(margin + 0.75f, 1.5f, margin);
+    regions[out.objects[i].mission].push_back(r);
+    regions[out.objects[j].mission].push_back(r);
+  }
+  // Every object's own region: its floor is measured (rules 0 and 7)
+  // whether or not it self-completes.
   for (const auto& o : out.objects) {
     if (o.points.empty()) continue;
     regions[o.mission].push_back(own_floor_region(o));
     if (c.self_complete && c.static_check)
-        for (size_t n : neighbours(o.mission)) regions[n].push_back(own_floor_region(o));
-    }
+      for (size_t n : neighbours(o.mission)) regions[n].push_back(own_floor_region(o));
+  }
   std::vector<LocalCloud> clouds(nm);
   for (size_t m = 0; m < nm; ++m) clouds[m] = gather(*mission_of[m], regions[m], float(c.voxel), c.threads);
+
+  // 0. The floor itself is no object: a cluster lying (floor_share of its
+  // points) within the floor clearance of its local floor is ground the
+  // difference flagged (grazing beams, uneven ground between scans), never
+  // a thing that moved. Dropped before pairing so it pairs with nothing.
+  if (c.floor_share > 0.0) {
+    std::vector<Object> kept;
+    for (auto& o : out.objects) {
+      Floor f;
+      if (!o.points.empty() && local_floor(clouds[o.mission].points, own_floor_region(o), c.floor_percentile,
+                                           c.floor_clearance, f)) {
+        size_t low = 0;
+        for (const auto& p : o.points.xyz) low += p.z() < f.clear_z;
+        if (double(low) >= c.floor_share * double(o.points.size())) {
+          ++st.floor_only;
+          continue;
+        }
+      }
+      kept.push_back(std::move(o));
+    }
+    out.objects = std::move(kept);
+    if (st.floor_only) out.renumber();
+  }
+
+  // 1. Pairs, nearest first, each object in at most one.
+  std::vector<char> used(out.objects.size(), 0);
+  struct Pair {
+    size_t a, b;
+    Box region, floor_region;
+  };
+  std::vector<Pair> pairs;
+  for (const auto& [gap, i, j] : candidate_pairs()) {
+    if (used[i] || used[j]) continue;
+    used[i] = used[j] = 1;
+    const Box r = pair_region(out.objects[i], out.objects[j]);
+    // Down to the floor: the region's lower bound is set once the floor is known.
+    pairs.push_back({i, j, r.grown(margin, 0.f, margin), r.grown(margin + 0.75f, 1.5f, margin)});
+  }
+  st.pairs = pairs.size();
   std::vector<std::unordered_set<uint64_t>> owned(nm);
   for (const auto& o : out.objects)
     for (size_t i = 0; i < o.points.size(); ++i) owned[o.mission].insert(point_key(o.points.scan[i], o.points.index[i]));

@@ -7,6 +7,11 @@
 // of recall (Exp. 3) and as the cause of clusters too small to describe.
 //
 // The rule, for consecutive missions m and n = m + 1:
+//  0. Floor (`floor_share` > 0): an object with at least floor_share of its
+//     points within the floor clearance of its local floor (below) is the
+//     floor itself, flagged by the difference where beams graze uneven
+//     ground; it is dropped before pairing, so it pairs with nothing, and
+//     ids are renumbered 0..n-1 when any is dropped.
 //  1. Pairs. An object a of m and an object b of n whose bounding boxes are at
 //     most `pair_gap` apart are a candidate pair (both slivers of one object
 //     seen at two poses). Pairs are taken greedily by increasing gap, each
@@ -82,6 +87,7 @@ struct CompletionConfig {
   bool static_check = true;       // rule 5 adds nothing every neighbouring mission also holds
   double static_share = 0.8;      // ... once at least this share of the growth is held there
   double nested_share = 0.5;      // rule 6: share of a fragment inside a larger object's box; 0 = off
+  double floor_share = 0.9;       // rule 0: share of an object within the floor clearance that makes it floor; 0 = off
   int threads = 1;
 };
 
@@ -94,11 +100,13 @@ struct CompletionStats {
   size_t points_static = 0;   // rule 5 candidates left out as static (static_check)
   size_t floors = 0;          // objects given their floor_z (rule 7)
   size_t absorbed = 0;        // fragments joined to a larger object (rule 6)
+  size_t floor_only = 0;      // objects dropped as the floor itself (rule 0)
 };
 
 // `missions` must be the aligned missions the objects were detected in (same
 // names, same order as objects.missions). Objects keep their ids and order
-// unless rule 6 joins fragments (then ids are renumbered 0..n-1 in order).
+// unless rule 0 drops floor or rule 6 joins fragments (then ids are
+// renumbered 0..n-1 in order).
 ObjectSet complete_objects(const ObjectSet& objects, const MissionSet& missions,
                            const CompletionConfig& config, CompletionStats* stats = nullptr);
 

@@ -327,3 +327,43 @@ TEST(SegmentComplete, FragmentInsideALargerObjectsBoxJoinsIt) {
   std::set<uint32_t> idx(out.objects[0].points.index.begin(), out.objects[0].points.index.end());
   EXPECT_EQ(idx.size(), out.objects[0].points.size()) << "a point twice";
 }
+
+// Rule 0: a cluster of floor points (ground the difference flagged, as
+// grazing beams do outdoors) is no object. It is dropped before pairing:
+// beside A's sliver it is nearer than B's sliver and would otherwise take
+// the pair, so the short move would not be completed. A low object (12 cm:
+// the step rounds the 10 cm asked for; a pallet's height is 15) stays.
+TEST(SegmentComplete, TheFloorItselfIsNoObject) {
+  Scene s = make_scene();
+  add_box_surface(s.cloud[1], {3.2f, 1.5f, 0.f}, {3.8f, 2.1f, 0.1f}, kStep);
+  for (size_t i = 0; i < s.cloud[1].size(); ++i) s.cloud[1].index[i] = uint32_t(i);
+  s.missions.missions[1].scans[0].points = std::make_shared<const PointSet>(s.cloud[1]);
+  ObjectSet in = slivers(s);
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 1.0f && p.x() <= 1.25f && p.y() >= 0.5f && p.y() <= 0.9f && std::abs(p.z()) < 0.005f;
+  }));
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 3.19f && p.y() >= 1.49f && p.z() > 0.05f;
+  }));
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int32_t(i);
+  ASSERT_GT(in.objects[2].points.size(), 20u);
+  ASSERT_GT(in.objects[3].points.size(), 20u);
+
+  seg::CompletionConfig off;
+  off.floor_share = 0.0;
+  seg::CompletionStats st_off;
+  EXPECT_EQ(seg::complete_objects(in, s.missions, off, &st_off).objects.size(), 4u);
+  EXPECT_EQ(st_off.completed, 0u) << "the floor patch took the sliver's pair";
+
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  ASSERT_EQ(out.objects.size(), 3u);
+  EXPECT_EQ(st.floor_only, 1u);
+  EXPECT_EQ(st.completed, 1u);
+  for (size_t i = 0; i < out.objects.size(); ++i) {
+    EXPECT_EQ(out.objects[i].id, int32_t(i)) << "renumbered in order";
+    EXPECT_EQ(count_in_box(out.objects[i].points, {-1.f, -1.f, -0.01f}, {4.f, 3.f, 0.01f}), 0u) << "floor kept";
+  }
+  EXPECT_GE(out.objects[2].points.size(), in.objects[3].points.size()) << "the low box is kept";
+  EXPECT_EQ(count_in_box(out.objects[2].points, {3.2f, 1.5f, 0.f}, {3.8f, 2.1f, 0.13f}), out.objects[2].points.size());
+}
