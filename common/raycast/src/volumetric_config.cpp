@@ -29,7 +29,8 @@ std::vector<ParamSpec> volumetric_params() {
       ParamSpec::real("change_threshold", d.change_threshold,
                       "a point's voxel changed when its occupancy probability in the point's "
                       "mission exceeds that in a neighbouring mission by more than this; a voxel "
-                      "never observed in the other mission is unknown, never changed")
+                      "never observed in the other mission is unknown, never changed; 0.35 asks three "
+                      "updates in all, at least one in each mission (the paper's 0.5: four to five)")
           .range(0.0, 1.0),
       ParamSpec::integer("neighbourhood", d.neighbourhood,
                          "radius in voxels (Chebyshev) that must hold no occupied voxel in the other "

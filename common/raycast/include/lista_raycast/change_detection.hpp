@@ -48,7 +48,7 @@ void check_missions(const MissionSet& missions);
 // Pairs of consecutive missions between which no change can pass the
 // thresholds at all: a voxel gets at most one update per scan, so with few
 // scans P stays near 0.5 (one scan each: at most prob_hit against at least
-// prob_miss, 0.3 apart at the defaults, under change_threshold 0.5). One
+// prob_miss, 0.3 apart at the defaults, under change_threshold 0.35). One
 // warning per such pair, saying which change_threshold would do.
 std::vector<std::string> undetectable_pairs(const MissionSet& missions, const VolumetricConfig& config);
 
