@@ -1,9 +1,10 @@
 // The 3D DDA both volumetric backends walk: connectivity, length, the
-// backward walk and its early stop.
+// backward walk and its early stop; where a grazing beam stops being free.
 #include <lista_raycast/dda.hpp>
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -83,4 +84,31 @@ TEST(Dda, BackwardWalkStopsWhenTheVisitorSaysSo) {
   ASSERT_EQ(seen.size(), 5u);
   EXPECT_EQ(seen.front(), Voxel(19, 0, 0));
   EXPECT_EQ(seen.back(), Voxel(15, 0, 0));
+}
+
+// beam_margin: a beam going down stops being free where it runs within
+// graze_height above its return, at most graze_max short of it; level or
+// rising beams and steep ones keep hit_margin.
+TEST(Dda, GrazingBeamsStopShortOfTheirReturn) {
+  const Eigen::Vector3d origin(0, 0, 1.2);
+  const double margin = 0.25, h = 0.05, cap = 2.0;
+  // 30 deg down: within 5 cm of the return's height for its last 10 cm, under hit_margin.
+  const Eigen::Vector3d steep = origin + 2.0 * Eigen::Vector3d(std::cos(M_PI / 6), 0, -std::sin(M_PI / 6));
+  EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, steep, margin, h, cap), margin);
+  // 2 deg down (a floor 34 m away): 5 cm / sin(2 deg) = 1.43 m.
+  const double a = 2.0 * M_PI / 180.0;
+  const Eigen::Vector3d shallow = origin + 34.0 * Eigen::Vector3d(std::cos(a), 0, -std::sin(a));
+  EXPECT_NEAR(lista::raycast::beam_margin(origin, shallow, margin, h, cap), h / std::sin(a), 1e-9);
+  // 0.5 deg down: capped.
+  const double b = 0.5 * M_PI / 180.0;
+  EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, origin + 20.0 * Eigen::Vector3d(std::cos(b), 0, -std::sin(b)), margin, h, cap),
+                   cap);
+  // Level and rising beams, and graze_height 0: hit_margin only.
+  EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, origin + Eigen::Vector3d(10, 0, 0), margin, h, cap), margin);
+  EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, origin + Eigen::Vector3d(10, 0, 1), margin, h, cap), margin);
+  EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, shallow, margin, 0.0, cap), margin);
+  // The free part ends that far before the return.
+  const Eigen::Vector3d f = lista::raycast::free_end(origin, shallow, lista::raycast::beam_margin(origin, shallow, margin, h, cap));
+  EXPECT_NEAR((shallow - f).norm(), h / std::sin(a), 1e-9);
+  EXPECT_NEAR(f.z() - shallow.z(), h, 1e-9);
 }

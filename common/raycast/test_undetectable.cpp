@@ -36,7 +36,8 @@ TEST(UndetectablePairs, OneScanEachCannotPassTheDefaultThreshold) {
 // What the default change_threshold asks of a voxel (one update per scan):
 // three updates in all, at least one in each mission. One hit against one
 // miss is not change; one hit against two misses, or two hits against one
-// miss, is. The paper's 0.5 asked one hit against four misses.
+// miss, is. The paper's 0.5 asked four to five (one hit against four
+// misses, two against two, three against one).
 TEST(UndetectablePairs, DefaultThresholdAsksThreeUpdates) {
   const raycast::VolumetricConfig c;
   auto p = [&](int hits, int misses) {
@@ -51,5 +52,5 @@ TEST(UndetectablePairs, DefaultThresholdAsksThreeUpdates) {
   EXPECT_TRUE(changed(2, 1, c.change_threshold));
   EXPECT_FALSE(changed(1, 3, 0.5));
   EXPECT_TRUE(changed(1, 4, 0.5));
-  EXPECT_EQ(raycast::undetectable_pairs(missions_of({1, 2}), c).size(), 0u);  // one hit, two misses
+  EXPECT_EQ(raycast::undetectable_pairs(missions_of({1, 2}), c).size(), 0u);  // two hits against one miss: 0.45
 }

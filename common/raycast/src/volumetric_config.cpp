@@ -46,6 +46,18 @@ std::vector<ParamSpec> volumetric_params() {
                       "closer than this to the surface behind it along the beam is not carved")
           .range(0.0, 1.0)
           .unit("m"),
+      ParamSpec::real("graze_height", d.graze_height,
+                      "a beam going down is not marked free where it runs within this height above its "
+                      "return (graze_height / sin(descent) before it, at most graze_max): far floor beams "
+                      "run within one voxel of the floor for metres and would clear floor voxels the other "
+                      "mission holds; 0 = only hit_margin (default; 0.05 for outdoor ground, see "
+                      "docs/volumetric.md)")
+          .range(0.0, 1.0)
+          .unit("m"),
+      ParamSpec::real("graze_max", d.graze_max,
+                      "longest stretch before a return that graze_height keeps from being marked free")
+          .range(0.0, 10.0)
+          .unit("m"),
   };
 }
 
@@ -60,6 +72,7 @@ void validate(const VolumetricConfig& c) {
   if (!(c.resolution > 0)) throw Error("resolution must be > 0");
   if (c.neighbourhood < 0) throw Error("neighbourhood must be >= 0");
   if (c.hit_margin < 0) throw Error("hit_margin must be >= 0");
+  if (c.graze_height < 0 || c.graze_max < 0) throw Error("graze_height and graze_max must be >= 0");
 }
 
 VolumetricConfig volumetric_config(const Params& p) {
@@ -74,6 +87,8 @@ VolumetricConfig volumetric_config(const Params& p) {
   c.change_threshold = p.get<double>("change_threshold");
   c.neighbourhood = p.get<int>("neighbourhood");
   c.hit_margin = p.get<double>("hit_margin");
+  c.graze_height = p.get<double>("graze_height");
+  c.graze_max = p.get<double>("graze_max");
   validate(c);
   return c;
 }

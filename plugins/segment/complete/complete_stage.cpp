@@ -104,6 +104,7 @@ class CompleteStage : public Stage {
     context.record("floor_only", double(st.floor_only));
     context.info("completed " + std::to_string(st.completed) + " of " + std::to_string(st.pairs) +
                  " pairs, " + std::to_string(st.points_added) + " points added" +
+                 (st.floor_only ? ", " + std::to_string(st.floor_only) + " clusters of floor dropped" : "") +
                  (st.absorbed ? ", " + std::to_string(st.absorbed) + " fragments joined to the object around them" : ""));
     Outputs out;
     out.put("objects", std::move(objects));

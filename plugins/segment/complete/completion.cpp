@@ -122,6 +122,21 @@ LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float
   return cloud;
 }
 
+// The points of `cloud` inside any of `regions`, in the same order: what
+// gather(regions) would have returned, without reading the mission again.
+LocalCloud restrict_to(const LocalCloud& cloud, const std::vector<Box>& regions) {
+  LocalCloud out;
+  out.inv_voxel = cloud.inv_voxel;
+  for (size_t i = 0; i < cloud.points.size(); ++i)
+    for (const auto& r : regions)
+      if (r.contains(cloud.points.xyz[i])) {
+        out.points.push_back_from(cloud.points, i);
+        break;
+      }
+  out.index();
+  return out;
+}
+
 // The local floor under `region`: the `percentile` of the lowest z per 0.2 m
 // cell gives a first guess f0 (robust to objects covering part of the cells);
 // the floor is the median of the points within 6 cm above f0 and its noise
@@ -388,7 +403,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   CompletionStats st;
 
   // Each mission's points around its objects and around every candidate
-  // pair (a superset of the pairs taken below), and what its objects own.
+  // pair: rule 0 needs each object's floor before the pairs are known.
   const size_t nm = out.missions.size();
   auto neighbours = [&](size_t m) {
     std::vector<size_t> n;
@@ -396,35 +411,40 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     if (m + 1 < nm) n.push_back(m + 1);
     return n;
   };
-  std::vector<std::vector<Box>> regions(nm);
-  for (const auto& [gap, i, j] : candidate_pairs()) {
-    const Box r = pair_region(out.objects[i], out.objects[j]).grown(margin + 0.75f, 1.5f, margin);
-    regions[out.objects[i].mission].push_back(r);
-    regions[out.objects[j].mission].push_back(r);
-  }
   // Every object's own region: its floor is measured (rules 0 and 7)
   // whether or not it self-completes.
-  for (const auto& o : out.objects) {
-    if (o.points.empty()) continue;
-    regions[o.mission].push_back(own_floor_region(o));
-    if (c.self_complete && c.static_check)
-      for (size_t n : neighbours(o.mission)) regions[n].push_back(own_floor_region(o));
+  auto add_own_regions = [&](std::vector<std::vector<Box>>& regions) {
+    for (const auto& o : out.objects) {
+      if (o.points.empty()) continue;
+      regions[o.mission].push_back(own_floor_region(o));
+      if (c.self_complete && c.static_check)
+        for (size_t n : neighbours(o.mission)) regions[n].push_back(own_floor_region(o));
+    }
+  };
+  std::vector<std::vector<Box>> first_regions(nm);
+  for (const auto& [gap, i, j] : candidate_pairs()) {
+    const Box r = pair_region(out.objects[i], out.objects[j]).grown(margin + 0.75f, 1.5f, margin);
+    first_regions[out.objects[i].mission].push_back(r);
+    first_regions[out.objects[j].mission].push_back(r);
   }
+  add_own_regions(first_regions);
   std::vector<LocalCloud> clouds(nm);
-  for (size_t m = 0; m < nm; ++m) clouds[m] = gather(*mission_of[m], regions[m], float(c.voxel), c.threads);
+  for (size_t m = 0; m < nm; ++m) clouds[m] = gather(*mission_of[m], first_regions[m], float(c.voxel), c.threads);
 
   // 0. The floor itself is no object: a cluster lying (floor_share of its
-  // points) within the floor clearance of its local floor is ground the
-  // difference flagged (grazing beams, uneven ground between scans), never
-  // a thing that moved. Dropped before pairing so it pairs with nothing.
+  // points) within the floor clearance of its local floor, at most
+  // kFloorObjectHeight, is ground the difference flagged (grazing beams,
+  // uneven ground between scans), never a thing that moved. Dropped before
+  // pairing so it pairs with nothing.
   if (c.floor_share > 0.0) {
     std::vector<Object> kept;
     for (auto& o : out.objects) {
       Floor f;
       if (!o.points.empty() && local_floor(clouds[o.mission].points, own_floor_region(o), c.floor_percentile,
                                            c.floor_clearance, f)) {
+        const float top = std::min(f.clear_z, f.z + kFloorObjectHeight);
         size_t low = 0;
-        for (const auto& p : o.points.xyz) low += p.z() < f.clear_z;
+        for (const auto& p : o.points.xyz) low += p.z() < top;
         if (double(low) >= c.floor_share * double(o.points.size())) {
           ++st.floor_only;
           continue;
@@ -451,6 +471,15 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     pairs.push_back({i, j, r.grown(margin, 0.f, margin), r.grown(margin + 0.75f, 1.5f, margin)});
   }
   st.pairs = pairs.size();
+
+  // 2. Each mission's points around its pairs and kept objects, exactly: the
+  // leak check counts points just outside a region, so points gathered for
+  // a candidate pair not taken, or for a dropped object, must not be there.
+  std::vector<std::vector<Box>> regions(nm);
+  for (const auto& p : pairs)
+    for (size_t k : {p.a, p.b}) regions[out.objects[k].mission].push_back(p.floor_region);
+  add_own_regions(regions);
+  for (size_t m = 0; m < nm; ++m) clouds[m] = restrict_to(clouds[m], regions[m]);
   std::vector<std::unordered_set<uint64_t>> owned(nm);
   for (const auto& o : out.objects)
     for (size_t i = 0; i < o.points.size(); ++i) owned[o.mission].insert(point_key(o.points.scan[i], o.points.index[i]));

@@ -74,6 +74,11 @@ namespace lista::seg {
 // stands on it (metres); farther up it stands on something else.
 constexpr float kOnFloorGap = 0.3f;
 
+// Rule 0 counts a point as floor within the floor clearance, but never
+// higher than this above the floor (metres): on rough ground 4 sigma of
+// its noise reaches 0.18 m, a pallet's height.
+constexpr float kFloorObjectHeight = 0.1f;
+
 struct CompletionConfig {
   double voxel = 0.1;             // m, connectivity grid of the growth
   double pair_gap = 1.0;          // m, largest box-to-box gap of a pair

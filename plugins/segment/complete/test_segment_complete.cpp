@@ -338,6 +338,7 @@ TEST(SegmentComplete, TheFloorItselfIsNoObject) {
   add_box_surface(s.cloud[1], {3.2f, 1.5f, 0.f}, {3.8f, 2.1f, 0.1f}, kStep);
   for (size_t i = 0; i < s.cloud[1].size(); ++i) s.cloud[1].index[i] = uint32_t(i);
   s.missions.missions[1].scans[0].points = std::make_shared<const PointSet>(s.cloud[1]);
+  s.missions.missions[1].scans[0].points_in_file = uint32_t(s.cloud[1].size());
   ObjectSet in = slivers(s);
   in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
     return p.x() >= 1.0f && p.x() <= 1.25f && p.y() >= 0.5f && p.y() <= 0.9f && std::abs(p.z()) < 0.005f;
@@ -362,7 +363,7 @@ TEST(SegmentComplete, TheFloorItselfIsNoObject) {
   EXPECT_EQ(st.completed, 1u);
   for (size_t i = 0; i < out.objects.size(); ++i) {
     EXPECT_EQ(out.objects[i].id, int32_t(i)) << "renumbered in order";
-    EXPECT_EQ(count_in_box(out.objects[i].points, {-1.f, -1.f, -0.01f}, {4.f, 3.f, 0.01f}), 0u) << "floor kept";
+    EXPECT_EQ(count_in_box(out.objects[i].points, {-1.f, -1.f, -0.01f}, {4.f, 3.f, 0.01f}), 0u) << "a floor point in an object";
   }
   EXPECT_GE(out.objects[2].points.size(), in.objects[3].points.size()) << "the low box is kept";
   EXPECT_EQ(count_in_box(out.objects[2].points, {3.2f, 1.5f, 0.f}, {3.8f, 2.1f, 0.13f}), out.objects[2].points.size());

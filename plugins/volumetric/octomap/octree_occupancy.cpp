@@ -79,7 +79,8 @@ std::unique_ptr<OccupancyMap> build_octree_map(const Mission& mission, const Vol
       for (long j = 0; j < static_cast<long>(pts.size()); ++j) {
         Eigen::Vector3d e = pose * pts.xyz[j].cast<double>();
         const bool hit = clip_ray(o, e, c.max_range);
-        const Eigen::Vector3d f = hit ? free_end(o, e, c.hit_margin) : e;
+        const Eigen::Vector3d f =
+            hit ? free_end(o, e, beam_margin(o, e, c.hit_margin, c.graze_height, c.graze_max)) : e;
         const octomap::point3d end(static_cast<float>(e.x()), static_cast<float>(e.y()), static_cast<float>(e.z()));
         const octomap::point3d free_to(static_cast<float>(f.x()), static_cast<float>(f.y()), static_cast<float>(f.z()));
         if (!tree->computeRayKeys(origin, free_to, rays[t])) {

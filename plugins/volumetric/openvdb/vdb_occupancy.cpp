@@ -124,6 +124,7 @@ void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, Thre
   const double inv_res = 1.0 / c.resolution;
   const double max_range = c.max_range > 0 ? c.max_range * inv_res : 0.0;
   const double margin = c.hit_margin * inv_res;
+  const double graze_height = c.graze_height * inv_res, graze_max = c.graze_max * inv_res;
   const Eigen::Affine3d to_index = Eigen::Scaling(inv_res) * mission.sensor_to_common(i);
   const Eigen::Vector3d origin = to_index.translation();
   auto& ends = work.ends;
@@ -137,7 +138,8 @@ void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, Thre
   }
   uint64_t visits = 0, walked = 0;
   for (size_t j = 0; j < pts.size(); ++j) {
-    const Eigen::Vector3d end = is_hit[j] ? free_end(origin, ends[j], margin) : ends[j];
+    const Eigen::Vector3d end =
+        is_hit[j] ? free_end(origin, ends[j], beam_margin(origin, ends[j], margin, graze_height, graze_max)) : ends[j];
     visits += ray_voxels(origin, end);
     int run = 0;
     walked += walk_ray_back(origin, end, [&](const Voxel& v) {

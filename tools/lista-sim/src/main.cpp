@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
                         "sensors each view draws from (default os0-128,xt32,vlp16; also os1-64, hdl32)")
       ->delimiter(',');
   views_cmd->add_option("--seed", views.seed, "random seed");
+  views.threads = default_threads();
   views_cmd->add_option("--threads", views.threads, "worker threads")->check(lista::cli::at_least(1));
   views_cmd->add_flag("--overwrite", views.overwrite, "replace views already in --out");
   views_cmd
@@ -108,7 +109,6 @@ int main(int argc, char** argv) {
 
   try {
     if (views_cmd->parsed()) {
-      if (views.threads <= 0) views.threads = default_threads();
       views.progress = isatty(STDERR_FILENO);
       views.procedural = !no_procedural;
       if (!furniture.empty()) {

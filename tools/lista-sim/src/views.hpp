@@ -22,7 +22,7 @@ struct ViewsOptions {
   // draw takes the same random numbers whatever the list, so one seed gives
   // the same shapes and viewpoints with other sensors.
   std::vector<std::string> sensors;
-  int threads = 0;  // 0: all cores (lista-sim resolves it)
+  int threads = 1;
   bool overwrite = false;
   bool progress = false;
   // Shapes whose surfaces lie within this distance (metres, symmetric

@@ -5,6 +5,7 @@
 
 #include <lista_raycast/voxel.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <limits>
@@ -110,6 +111,21 @@ inline bool clip_ray(const Eigen::Vector3d& origin, Eigen::Vector3d& end, double
   if (len2 <= max_range * max_range) return true;
   end = origin + d * (max_range / std::sqrt(len2));
   return false;
+}
+
+// How far short of its return a hitting beam stops being free: `margin`, or
+// for a beam going down (-z) the stretch where it runs within `graze_height`
+// above the return's height (graze_height / sin(descent)), at most
+// `graze_max`, if longer. All three in the units of origin and hit.
+inline double beam_margin(const Eigen::Vector3d& origin, const Eigen::Vector3d& hit, double margin,
+                          double graze_height, double graze_max) {
+  if (graze_height <= 0 || graze_max <= margin) return margin;
+  const Eigen::Vector3d d = hit - origin;
+  const double len = d.norm();
+  const double drop = -d.z();  // len * sin(descent)
+  if (drop <= 0 || len <= 0) return margin;
+  const double graze = drop * graze_max >= graze_height * len ? graze_height * len / drop : graze_max;
+  return std::max(margin, graze);
 }
 
 // The end of the free part of a beam that hits: `margin` (index units) short

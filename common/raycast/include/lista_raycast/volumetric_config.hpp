@@ -25,6 +25,14 @@ struct VolumetricConfig {
   double change_threshold = 0.35;
   int neighbourhood = 1;             // voxels: other mission must be clear around the point
   double hit_margin = 0.25;          // m of each beam before its return not carved free
+  // A beam going down ends its free part where it is graze_height above its
+  // return's height (graze_height / sin(descent) short of the return), at
+  // most graze_max: a far floor return's beam runs within one voxel of the
+  // floor for metres, and would otherwise clear floor voxels the other
+  // mission holds. 0 = off (the default: on fresh sets it lost as much
+  // recall near floors as it removed phantom floor change; docs/volumetric.md).
+  double graze_height = 0.0;         // m
+  double graze_max = 2.0;            // m
 };
 
 // The declarations, defaults equal to VolumetricConfig's.
