@@ -10,12 +10,15 @@
 #include <fstream>
 #include <gtest/gtest.h>
 #include <unistd.h>
+#include <utility>
 
 namespace {
 
 namespace fs = std::filesystem;
 
 struct ViewEntry {
+  ViewEntry(std::string shape_, std::string split_, std::string variant_ = "")
+      : shape(std::move(shape_)), split(std::move(split_)), variant(std::move(variant_)) {}
   std::string shape, split, variant;  // variant: written only when not empty
 };
 

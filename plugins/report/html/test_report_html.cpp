@@ -407,6 +407,8 @@ TEST(ReportHtml, LabelsKeepOffOtherBoxes) {
   auto overlap = [](const R& a, const R& b) { return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1; };
   for (size_t i = 0; i < labels.size(); ++i)
     for (size_t j = 0; j < boxes.size(); ++j)
-      if (i != j) EXPECT_FALSE(overlap(labels[i], boxes[j])) << "label " << ids[i] << " covers box " << j;
+      if (i != j) {
+        EXPECT_FALSE(overlap(labels[i], boxes[j])) << "label " << ids[i] << " covers box " << j;
+      }
   fs::remove_all(dir);
 }

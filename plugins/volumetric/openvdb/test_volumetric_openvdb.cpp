@@ -108,9 +108,13 @@ TEST(VolumetricOpenVdb, EachChangePointNamesTheNeighboursItChangedAgainst) {
   ASSERT_GT(removed.count(1), 0u);
   ASSERT_GT(added.count(3), 0u);
   for (size_t i = 0; i < ch.sets[1].size(); ++i)
-    if (ch.sets[1].label[i] == 1) EXPECT_EQ(ch.sets[1].changed_against[i], changed_against_next);
+    if (ch.sets[1].label[i] == 1) {
+      EXPECT_EQ(ch.sets[1].changed_against[i], changed_against_next);
+    }
   for (size_t i = 0; i < ch.sets[2].size(); ++i)
-    if (ch.sets[2].label[i] == 3) EXPECT_EQ(ch.sets[2].changed_against[i], changed_against_previous);
+    if (ch.sets[2].label[i] == 3) {
+      EXPECT_EQ(ch.sets[2].changed_against[i], changed_against_previous);
+    }
   // With B in the middle (A, B, A2), B's added box changed against both.
   three.missions = {scene().missions[0], scene().missions[1], scene().missions[0]};
   three.missions[2].name = "A2";
