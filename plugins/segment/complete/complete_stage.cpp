@@ -24,6 +24,7 @@ class CompleteStage : public Stage {
     c_.static_share = p.get<double>("static_share");
     c_.nested_share = p.get<double>("nested_share");
     c_.floor_share = p.get<double>("floor_share");
+    c_.thin_height = p.get<double>("thin_height");
   }
 
   static StageInfo info() {
@@ -34,7 +35,9 @@ class CompleteStage : public Stage {
     i.doc =
         "First, an object with at least floor_share of its points within the floor clearance of its local floor "
         "(below) is the floor itself, which the difference flags where beams graze uneven ground: it is dropped "
-        "before anything pairs with it. An object moved by less than its own size keeps occupying the overlap of its two poses, so "
+        "before anything pairs with it; so is an object thinner than thin_height whose voxels every neighbouring "
+        "mission also holds (static_share of its points): an unchanged horizontal surface such as a table top "
+        "grazed by beams. An object moved by less than its own size keeps occupying the overlap of its two poses, so "
         "the volumetric difference finds only slivers of it. For consecutive missions, clusters whose "
         "boxes are at most pair_gap apart are paired (nearest first, each at most once); each grows "
         "through its own mission's full cloud (breadth-first over occupied voxels of edge `voxel`, "
@@ -83,6 +86,11 @@ class CompleteStage : public Stage {
                         "share of an object's points within the floor clearance from which it is the floor "
                         "itself and dropped; 0 = never")
             .range(0, 1),
+        ParamSpec::real("thin_height", 0.05,
+                        "objects thinner than this whose voxels every neighbouring mission also holds (see "
+                        "static_share) are unchanged horizontal surfaces and dropped; 0 = never")
+            .range(0, 1)
+            .unit("m"),
         ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
     };
     return i;
@@ -102,9 +110,11 @@ class CompleteStage : public Stage {
     context.record("floors", double(st.floors));
     context.record("absorbed", double(st.absorbed));
     context.record("floor_only", double(st.floor_only));
+    context.record("thin_static", double(st.thin_static));
     context.info("completed " + std::to_string(st.completed) + " of " + std::to_string(st.pairs) +
                  " pairs, " + std::to_string(st.points_added) + " points added" +
                  (st.floor_only ? ", " + std::to_string(st.floor_only) + " clusters of floor dropped" : "") +
+                 (st.thin_static ? ", " + std::to_string(st.thin_static) + " unchanged thin surfaces dropped" : "") +
                  (st.absorbed ? ", " + std::to_string(st.absorbed) + " fragments joined to the object around them" : ""));
     Outputs out;
     out.put("objects", std::move(objects));

@@ -285,35 +285,46 @@ std::vector<uint32_t> base_points(const Object& o, const LocalCloud& cloud, cons
   return added;
 }
 
+// Whether every one of the `neighbours`' clouds holds a point in a voxel,
+// above its own local floor under `floor_region`. Not valid when a neighbour
+// has no points there: it saw nothing of the place and cannot say it is
+// static.
+struct HeldElsewhere {
+  std::vector<std::pair<const LocalCloud*, float>> others;  // cloud, lowest z that counts
+  bool valid = false;
+
+  HeldElsewhere(const Box& floor_region, const std::vector<size_t>& neighbours, const std::vector<LocalCloud>& clouds,
+                const CompletionConfig& c) {
+    if (neighbours.empty()) return;
+    for (size_t n : neighbours) {
+      Floor f;
+      if (!local_floor(clouds[n].points, floor_region, c.floor_percentile, c.floor_clearance, f)) return;
+      others.emplace_back(&clouds[n], f.clear_z);
+    }
+    valid = true;
+  }
+  bool everywhere(const Eigen::Vector3i& v) const {
+    for (const auto& [other, min_z] : others) {
+      const auto [b, e] = other->in_voxel(v);
+      bool held = false;
+      for (size_t k = b; k < e && !held; ++k) held = other->points.xyz[other->grid[k].second].z() >= min_z;
+      if (!held) return false;
+    }
+    return true;
+  }
+};
+
 // The points of `add` (in `cloud`) whose voxel is not occupied, above the
 // local floor, in every one of the `neighbours`' clouds: the rest is there in
 // the other missions too, so it did not change.
 std::vector<uint32_t> not_static(const std::vector<uint32_t>& add, const LocalCloud& cloud, const Box& floor_region,
                                  const std::vector<size_t>& neighbours, const std::vector<LocalCloud>& clouds,
                                  const CompletionConfig& c) {
-  if (neighbours.empty()) return add;
-  std::vector<std::pair<const LocalCloud*, float>> others;  // cloud, lowest z that counts
-  for (size_t n : neighbours) {
-    Floor f;
-    // A neighbour with no points there saw nothing of the place: it cannot
-    // say the place is static.
-    if (!local_floor(clouds[n].points, floor_region, c.floor_percentile, c.floor_clearance, f)) return add;
-    others.emplace_back(&clouds[n], f.clear_z);
-  }
-  auto held_by = [&](const LocalCloud& other, float min_z, const Eigen::Vector3i& v) {
-    const auto [b, e] = other.in_voxel(v);
-    for (size_t k = b; k < e; ++k)
-      if (other.points.xyz[other.grid[k].second].z() >= min_z) return true;
-    return false;
-  };
+  const HeldElsewhere held(floor_region, neighbours, clouds, c);
+  if (!held.valid) return add;
   std::vector<uint32_t> keep;
-  for (uint32_t i : add) {
-    const Eigen::Vector3i v = cloud.voxel_of(cloud.points.xyz[i]);
-    bool everywhere = true;
-    for (const auto& [other, min_z] : others)
-      if (!(everywhere = held_by(*other, min_z, v))) break;
-    if (!everywhere) keep.push_back(i);
-  }
+  for (uint32_t i : add)
+    if (!held.everywhere(cloud.voxel_of(cloud.points.xyz[i]))) keep.push_back(i);
   return keep;
 }
 
@@ -413,11 +424,11 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   };
   // Every object's own region: its floor is measured (rules 0 and 7)
   // whether or not it self-completes.
-  auto add_own_regions = [&](std::vector<std::vector<Box>>& regions) {
+  auto add_own_regions = [&](std::vector<std::vector<Box>>& regions, bool with_neighbours) {
     for (const auto& o : out.objects) {
       if (o.points.empty()) continue;
       regions[o.mission].push_back(own_floor_region(o));
-      if (c.self_complete && c.static_check)
+      if (with_neighbours)
         for (size_t n : neighbours(o.mission)) regions[n].push_back(own_floor_region(o));
     }
   };
@@ -427,7 +438,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     first_regions[out.objects[i].mission].push_back(r);
     first_regions[out.objects[j].mission].push_back(r);
   }
-  add_own_regions(first_regions);
+  add_own_regions(first_regions, (c.self_complete && c.static_check) || c.thin_height > 0.0);
   std::vector<LocalCloud> clouds(nm);
   for (size_t m = 0; m < nm; ++m) clouds[m] = gather(*mission_of[m], first_regions[m], float(c.voxel), c.threads);
 
@@ -453,8 +464,30 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       kept.push_back(std::move(o));
     }
     out.objects = std::move(kept);
-    if (st.floor_only) out.renumber();
   }
+  // 0b. A thin cluster (under thin_height tall) whose voxels every
+  // neighbouring mission also holds is a horizontal surface that did not
+  // change (a table top grazed by beams); a thin object that did change (a
+  // cart's deck seen from above) is not held where it was.
+  if (c.thin_height > 0.0) {
+    std::vector<Object> kept;
+    for (auto& o : out.objects) {
+      if (!o.points.empty() && o.bbox_max.z() - o.bbox_min.z() < float(c.thin_height)) {
+        const HeldElsewhere held(own_floor_region(o), neighbours(o.mission), clouds, c);
+        if (held.valid) {
+          size_t n = 0;
+          for (const auto& p : o.points.xyz) n += held.everywhere(clouds[o.mission].voxel_of(p));
+          if (double(n) >= c.static_share * double(o.points.size())) {
+            ++st.thin_static;
+            continue;
+          }
+        }
+      }
+      kept.push_back(std::move(o));
+    }
+    out.objects = std::move(kept);
+  }
+  if (st.floor_only || st.thin_static) out.renumber();
 
   // 1. Pairs, nearest first, each object in at most one.
   std::vector<char> used(out.objects.size(), 0);
@@ -478,7 +511,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   std::vector<std::vector<Box>> regions(nm);
   for (const auto& p : pairs)
     for (size_t k : {p.a, p.b}) regions[out.objects[k].mission].push_back(p.floor_region);
-  add_own_regions(regions);
+  add_own_regions(regions, c.self_complete && c.static_check);
   for (size_t m = 0; m < nm; ++m) clouds[m] = restrict_to(clouds[m], regions[m]);
   std::vector<std::unordered_set<uint64_t>> owned(nm);
   for (const auto& o : out.objects)

@@ -12,6 +12,10 @@
 //     floor itself, flagged by the difference where beams graze uneven
 //     ground; it is dropped before pairing, so it pairs with nothing, and
 //     ids are renumbered 0..n-1 when any is dropped.
+//     0b (`thin_height` > 0): an object thinner than thin_height whose points
+//     lie, static_share of them, in voxels every neighbouring mission also
+//     holds above its floor (the static check of rule 5) is a horizontal
+//     surface that did not change, such as a table top grazed by beams.
 //  1. Pairs. An object a of m and an object b of n whose bounding boxes are at
 //     most `pair_gap` apart are a candidate pair (both slivers of one object
 //     seen at two poses). Pairs are taken greedily by increasing gap, each
@@ -93,6 +97,7 @@ struct CompletionConfig {
   double static_share = 0.8;      // ... once at least this share of the growth is held there
   double nested_share = 0.5;      // rule 6: share of a fragment inside a larger object's box; 0 = off
   double floor_share = 0.9;       // rule 0: share of an object within the floor clearance that makes it floor; 0 = off
+  double thin_height = 0.05;      // rule 0b: m, thinner objects held by every neighbouring mission are dropped; 0 = off
   int threads = 1;
 };
 
@@ -106,6 +111,7 @@ struct CompletionStats {
   size_t floors = 0;          // objects given their floor_z (rule 7)
   size_t absorbed = 0;        // fragments joined to a larger object (rule 6)
   size_t floor_only = 0;      // objects dropped as the floor itself (rule 0)
+  size_t thin_static = 0;     // thin objects every neighbouring mission also holds (rule 0b)
 };
 
 // `missions` must be the aligned missions the objects were detected in (same

@@ -368,3 +368,32 @@ TEST(SegmentComplete, TheFloorItselfIsNoObject) {
   EXPECT_GE(out.objects[2].points.size(), in.objects[3].points.size()) << "the low box is kept";
   EXPECT_EQ(count_in_box(out.objects[2].points, {3.2f, 1.5f, 0.f}, {3.8f, 2.1f, 0.13f}), out.objects[2].points.size());
 }
+
+// Rule 0b: a thin cluster every neighbouring mission also holds is an
+// unchanged horizontal surface (the static box's top, as grazing beams flag
+// table tops); a thin cluster the other mission does not hold (the moved
+// box's top where B has nothing) is kept.
+TEST(SegmentComplete, UnchangedThinSurfacesAreDropped) {
+  const Scene s = make_scene();
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects.push_back(object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+    return p.x() >= 2.49f && p.y() <= 0.51f && p.z() > 0.59f;  // the static box's top
+  }));
+  in.objects.push_back(object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+    return p.x() >= 0.99f && p.x() <= 1.19f && p.y() <= 0.41f && p.z() > 0.79f;  // A's moved box, top
+  }));
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int32_t(i);
+  ASSERT_GT(in.objects[0].points.size(), 20u);
+  ASSERT_GT(in.objects[1].points.size(), 10u);
+  seg::CompletionConfig c;
+  c.self_complete = false;  // keep the kept object as it came
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  EXPECT_EQ(st.thin_static, 1u);
+  ASSERT_EQ(out.objects.size(), 1u);
+  EXPECT_EQ(out.objects[0].id, 0);
+  EXPECT_EQ(out.objects[0].points.size(), in.objects[1].points.size());
+  c.thin_height = 0.0;
+  EXPECT_EQ(seg::complete_objects(in, s.missions, c).objects.size(), 2u);
+}
