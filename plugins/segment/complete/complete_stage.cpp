@@ -60,7 +60,7 @@ class CompleteStage : public Stage {
         "from. Last, an object with at least nested_share of its points inside the box of a larger object of the same "
         "mission (grown by half a voxel) joins it: growth never takes another object's points, so one object cut "
         "in two by the difference stays two clusters interleaved in one box. Ids and order are kept, except that "
-        "when any object is dropped as floor or joins another the ids are renumbered 0..n-1.";
+        "when any object is dropped (floor, unchanged thin surface) or joins another the ids are renumbered 0..n-1.";
     i.inputs = {{"objects", "objects", "per-mission change clusters"},
                 {"missions", "missions", "the aligned missions the clusters came from"}};
     i.outputs = {{"objects", "objects", "clusters, completed where a pair agreed"}};
@@ -76,7 +76,8 @@ class CompleteStage : public Stage {
         ParamSpec::boolean("static_check", true,
                            "self-completion leaves out points every neighbouring mission also holds (see static_share)"),
         ParamSpec::real("static_share", 0.8,
-                        "share of a self-completion held unchanged by every neighbouring mission from which on those points are left out")
+                        "share of a self-completion held unchanged by every neighbouring mission from which on those points "
+                        "are left out; also the share that makes a thin object an unchanged surface (thin_height)")
             .range(0, 1),
         ParamSpec::real("nested_share", 0.5,
                         "share of an object's points inside the box of a larger object of its mission from which "

@@ -128,8 +128,9 @@ inline double beam_margin(const Eigen::Vector3d& origin, const Eigen::Vector3d& 
   return std::max(margin, graze);
 }
 
-// The end of the free part of a beam that hits: `margin` (index units) short
-// of the return, or the origin for beams shorter than that.
+// The end of the free part of a beam that hits: `margin` (in the units of
+// origin and hit) short of the return, or the origin for beams shorter than
+// that.
 inline Eigen::Vector3d free_end(const Eigen::Vector3d& origin, const Eigen::Vector3d& hit, double margin) {
   if (margin <= 0) return hit;
   const Eigen::Vector3d d = hit - origin;
