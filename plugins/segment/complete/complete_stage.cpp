@@ -64,6 +64,10 @@ class CompleteStage : public Stage {
     i.inputs = {{"objects", "objects", "per-mission change clusters"},
                 {"missions", "missions", "the aligned missions the clusters came from"}};
     i.outputs = {{"objects", "objects", "clusters, completed where a pair agreed"}};
+    // A share of points: a fraction in [0, 1].
+    auto share = [](const char* name, double value, const char* doc) {
+      return ParamSpec::real(name, value, doc).range(0, 1);
+    };
     i.params = {
         ParamSpec::real("voxel", 0.1, "connectivity grid of the growth").range(0.01, 1).unit("m"),
         ParamSpec::real("pair_gap", 1.0, "largest box-to-box gap of a pair").range(0, 10).unit("m"),
@@ -75,18 +79,15 @@ class CompleteStage : public Stage {
         ParamSpec::boolean("self_complete", true, "also complete every object inside its own box grown by box_margin (its base, mostly)"),
         ParamSpec::boolean("static_check", true,
                            "self-completion leaves out points every neighbouring mission also holds (see static_share)"),
-        ParamSpec::real("static_share", 0.8,
-                        "share of a self-completion held unchanged by every neighbouring mission from which on those points "
-                        "are left out; also the share that makes a thin object an unchanged surface (thin_height)")
-            .range(0, 1),
-        ParamSpec::real("nested_share", 0.5,
-                        "share of an object's points inside the box of a larger object of its mission from which "
-                        "it joins that object (a fragment of it); 0 = never")
-            .range(0, 1),
-        ParamSpec::real("floor_share", 0.9,
-                        "share of an object's points within the floor clearance from which it is the floor "
-                        "itself and dropped; 0 = never")
-            .range(0, 1),
+        share("static_share", 0.8,
+              "share of a self-completion held unchanged by every neighbouring mission from which on those points "
+              "are left out; also the share that makes a thin object an unchanged surface (thin_height)"),
+        share("nested_share", 0.5,
+              "share of an object's points inside the box of a larger object of its mission from which "
+              "it joins that object (a fragment of it); 0 = never"),
+        share("floor_share", 0.9,
+              "share of an object's points within the floor clearance from which it is the floor "
+              "itself and dropped; 0 = never"),
         ParamSpec::real("thin_height", 0.05,
                         "objects thinner than this whose voxels every neighbouring mission also holds (see "
                         "static_share) are unchanged horizontal surfaces and dropped; 0 = never")
