@@ -88,7 +88,8 @@ TEST(Dda, BackwardWalkStopsWhenTheVisitorSaysSo) {
 
 // beam_margin: a beam going down stops being free where it runs within
 // graze_height above its return, at most graze_max short of it; level or
-// rising beams and steep ones keep hit_margin.
+// rising beams, beams dropping less than graze_height and steep ones keep
+// hit_margin.
 TEST(Dda, GrazingBeamsStopShortOfTheirReturn) {
   const Eigen::Vector3d origin(0, 0, 1.2);
   const double margin = 0.25, h = 0.05, cap = 2.0;
@@ -107,6 +108,11 @@ TEST(Dda, GrazingBeamsStopShortOfTheirReturn) {
   EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, origin + Eigen::Vector3d(10, 0, 0), margin, h, cap), margin);
   EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, origin + Eigen::Vector3d(10, 0, 1), margin, h, cap), margin);
   EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, shallow, margin, 0.0, cap), margin);
+  // Nearly level, dropping less than graze_height over 10 m (a wall at the
+  // sensor's height): hit_margin, not graze_max; just over it: capped.
+  EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, origin + Eigen::Vector3d(10, 0, -0.001), margin, h, cap), margin);
+  EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, origin + Eigen::Vector3d(10, 0, -0.9 * h), margin, h, cap), margin);
+  EXPECT_DOUBLE_EQ(lista::raycast::beam_margin(origin, origin + Eigen::Vector3d(10, 0, -2 * h), margin, h, cap), cap);
   // The free part ends that far before the return.
   const Eigen::Vector3d f = lista::raycast::free_end(origin, shallow, lista::raycast::beam_margin(origin, shallow, margin, h, cap));
   EXPECT_NEAR((shallow - f).norm(), h / std::sin(a), 1e-9);

@@ -47,7 +47,7 @@ std::vector<ParamSpec> volumetric_params() {
           .range(0.0, 1.0)
           .unit("m"),
       ParamSpec::real("graze_height", d.graze_height,
-                      "a beam going down is not marked free where it runs within this height above its "
+                      "a beam going down (by more than graze_height over its length) is not marked free where it runs within this height above its "
                       "return (graze_height / sin(descent) before it, at most graze_max): far floor beams "
                       "run within one voxel of the floor for metres and would clear floor voxels the other "
                       "mission holds; 0 = only hit_margin (default; 0.05 for outdoor ground, see "

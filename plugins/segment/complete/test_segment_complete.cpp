@@ -369,6 +369,42 @@ TEST(SegmentComplete, TheFloorItselfIsNoObject) {
   EXPECT_EQ(count_in_box(out.objects[2].points, {3.2f, 1.5f, 0.f}, {3.8f, 2.1f, 0.13f}), out.objects[2].points.size());
 }
 
+// Rule 0 counts a point as floor only up to kFloorObjectHeight (0.1 m)
+// above the floor, whatever the clearance: a rough floor's 4-sigma
+// clearance (here forced to 0.3 m) must not turn a 0.2 m box into floor.
+TEST(SegmentComplete, TheFloorRuleStopsATenthOfAMetreAboveTheFloor) {
+  Scene s = make_scene();
+  add_box_surface(s.cloud[1], {3.2f, 1.5f, 0.f}, {3.8f, 2.1f, 0.2f}, kStep);
+  for (size_t i = 0; i < s.cloud[1].size(); ++i) s.cloud[1].index[i] = uint32_t(i);
+  s.missions.missions[1].scans[0].points = std::make_shared<const PointSet>(s.cloud[1]);
+  s.missions.missions[1].scans[0].points_in_file = uint32_t(s.cloud[1].size());
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 3.19f && p.y() >= 1.49f && p.z() > 0.005f;  // the low box, all of it under 0.3 m
+  }));
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 0.f && p.x() <= 0.4f && p.y() >= 1.5f && p.y() <= 1.9f && std::abs(p.z()) < 0.005f;
+  }));
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int32_t(i);
+  ASSERT_GT(in.objects[0].points.size(), 50u);
+  ASSERT_GT(in.objects[1].points.size(), 20u);
+  // The share of the box's points under 0.1 m is what the cap leaves: under floor_share.
+  size_t under = 0;
+  for (const auto& p : in.objects[0].points.xyz) under += p.z() < 0.1f;
+  ASSERT_LT(double(under), 0.9 * double(in.objects[0].points.size()));
+
+  seg::CompletionConfig c;
+  c.floor_clearance = 0.3;
+  c.self_complete = false;
+  c.thin_height = 0.0;
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  EXPECT_EQ(st.floor_only, 1u) << "the floor patch is still floor";
+  ASSERT_EQ(out.objects.size(), 1u);
+  EXPECT_EQ(out.objects[0].points.size(), in.objects[0].points.size()) << "the 0.2 m box is kept";
+}
+
 // Rule 0b: a thin cluster every neighbouring mission also holds is an
 // unchanged horizontal surface (the static box's top, as grazing beams flag
 // table tops); a thin cluster the other mission does not hold (the moved

@@ -1,5 +1,6 @@
-// Test helper shared by both volumetric plugins' suites: what each must
-// declare of the shared parameters (raycast::volumetric_params).
+// Test helpers shared by both volumetric plugins' suites: what each must
+// declare of the shared parameters (raycast::volumetric_params), and that
+// it passes them on to its ray casting.
 #pragma once
 
 #include <lista/stage.hpp>
@@ -7,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace lista::volumetric::testing {
@@ -20,6 +22,19 @@ inline void expect_max_range_finite_and_not_negative(const StageInfo& info) {
   EXPECT_EQ(max_range->check(0.0), "");  // 0: unlimited
   EXPECT_EQ(max_range->check(30.0), "");
   EXPECT_EQ(info.declaration_problem(), "");
+}
+
+// graze_height reaches the backend's ray casting: the synthetic scene's
+// floor beams, going down, lose free space before their returns.
+// `free_voxels(params)` runs the backend and returns mission A's free voxels.
+inline void expect_graze_height_shortens_floor_beams(const Params& defaults,
+                                                     const std::function<double(const Params&)>& free_voxels) {
+  Params grazing = defaults;
+  grazing.set("graze_height", 0.1);
+  grazing.set("graze_max", 2.0);
+  const double off = free_voxels(defaults), on = free_voxels(grazing);
+  EXPECT_GT(off, 0.0);
+  EXPECT_LT(on, 0.95 * off) << "graze_height did not shorten any beam";
 }
 
 }  // namespace lista::volumetric::testing

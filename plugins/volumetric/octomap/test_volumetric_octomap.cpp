@@ -75,3 +75,11 @@ TEST(VolumetricOctomap, RejectsBadParameters) {
 TEST(VolumetricOctomap, MaxRangeIsFiniteAndNotNegative) {
   volumetric::testing::expect_max_range_finite_and_not_negative(volumetric::volumetric_octomap_info());
 }
+
+TEST(VolumetricOctomap, GrazeHeightReachesTheRayCasting) {
+  volumetric::testing::expect_graze_height_shortens_floor_beams(defaults(), [](const Params& p) {
+    BasicContext ctx;
+    run_stage(p, scene(), 2, &ctx);
+    return ctx.info.metrics.at("diff").at("A.free_voxels");
+  });
+}

@@ -191,3 +191,11 @@ TEST(VolumetricOpenVdb, RejectsBadParametersAndInput) {
 TEST(VolumetricOpenVdb, MaxRangeIsFiniteAndNotNegative) {
   volumetric::testing::expect_max_range_finite_and_not_negative(volumetric::volumetric_openvdb_info());
 }
+
+TEST(VolumetricOpenVdb, GrazeHeightReachesTheRayCasting) {
+  volumetric::testing::expect_graze_height_shortens_floor_beams(defaults(), [](const Params& p) {
+    BasicContext ctx;
+    run_stage(volumetric::make_volumetric_openvdb(p), scene(), 2, &ctx);
+    return ctx.info.metrics.at("diff").at("A.free_voxels");
+  });
+}

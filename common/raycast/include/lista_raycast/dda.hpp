@@ -116,14 +116,17 @@ inline bool clip_ray(const Eigen::Vector3d& origin, Eigen::Vector3d& end, double
 // How far short of its return a hitting beam stops being free: `margin`, or
 // for a beam going down (-z) the stretch where it runs within `graze_height`
 // above the return's height (graze_height / sin(descent)), at most
-// `graze_max`, if longer. All three in the units of origin and hit.
+// `graze_max`, if longer. A beam that drops no more than graze_height over
+// its whole length runs level at the sensor's height, into a wall or a
+// thing, not along a floor: it keeps `margin` (else a 1 mm dip would cost
+// it graze_max of free space). All three in the units of origin and hit.
 inline double beam_margin(const Eigen::Vector3d& origin, const Eigen::Vector3d& hit, double margin,
                           double graze_height, double graze_max) {
   if (graze_height <= 0 || graze_max <= margin) return margin;
   const Eigen::Vector3d d = hit - origin;
   const double len = d.norm();
   const double drop = -d.z();  // len * sin(descent)
-  if (drop <= 0 || len <= 0) return margin;
+  if (drop <= graze_height || len <= 0) return margin;
   const double graze = drop * graze_max >= graze_height * len ? graze_height * len / drop : graze_max;
   return std::max(margin, graze);
 }
