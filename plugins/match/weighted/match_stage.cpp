@@ -7,6 +7,7 @@
 #include <lista_objreg/icp_refine.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace lista::matching {
@@ -28,6 +29,8 @@ class WeightedMatchStage : public Stage {
     cfg_.max_cost = p.get<double>("max_cost");
     cfg_.shape_weight = p.get<double>("shape_weight");
     cfg_.min_shape_fit = p.get<double>("min_shape_fit");
+    max_lift_ = p.get<double>("max_lift");
+    max_tilt_ = p.get<double>("max_tilt");
     shape_.method = "icp";
     shape_.voxel = p.get<double>("shape_voxel");
     shape_.inlier_distance = p.get<double>("shape_distance");
@@ -55,14 +58,18 @@ class WeightedMatchStage : public Stage {
       const double hi = std::max(r.source_inliers, r.target_inliers), lo = std::min(r.source_inliers, r.target_inliers);
       fit[k] = 0.75 * hi + 0.25 * lo;
       shares[k] = {r.source_inliers, r.target_inliers};
+      // A registration that lifts a floor-standing object (a desk's top onto a
+      // cabinet's) or tips it over fits two things, not one object moved.
+      if (!stays_on_floor(*pairs[k].first, *pairs[k].second, r.transform, max_lift_, max_tilt_)) fit[k] = 0.0;
       ctx.progress().advance();
     });
     ctx.progress().end();
     ctx.throw_if_cancelled();
     for (size_t k = 0; k < pairs.size(); ++k) {
       char line[160];
-      std::snprintf(line, sizeof line, "shape fit of objects %d -> %d: %.3f (shares explained %.3f / %.3f)",
-                    pairs[k].first->id, pairs[k].second->id, fit[k], shares[k].first, shares[k].second);
+      std::snprintf(line, sizeof line, "shape fit of objects %d -> %d: %.3f (shares explained %.3f / %.3f)%s",
+                    pairs[k].first->id, pairs[k].second->id, fit[k], shares[k].first, shares[k].second,
+                    fit[k] == 0.0 ? ", registered off its floor" : "");
       ctx.debug(line);
     }
     return fit;
@@ -97,12 +104,13 @@ class WeightedMatchStage : public Stage {
  private:
   WeightedMatchConfig cfg_;
   registration::IcpConfig shape_;
+  double max_lift_ = 0.0, max_tilt_ = 180.0;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.2.0";
+  s.version = "1.3.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
@@ -117,7 +125,9 @@ StageInfo info() {
       "(lista::objreg multi-hypothesis ICP on shape_voxel-downsampled points, the view covering fewer voxels "
       "moved onto the other) and shape fit = 0.75 x the larger + 0.25 x the smaller share of points within "
       "shape_distance of the other object (a partial view must be explained; the other view at least in "
-      "part); fit < min_shape_fit is no candidate. Last, cost <= max_cost (< 0: alpha + beta + shape_weight x "
+      "part); fit < min_shape_fit is no candidate, nor is a pair standing on floors in both missions (floor_z "
+      "known) that the registration lifts by more than max_lift relative to the floors or tilts by more than "
+      "max_tilt (a desk's top fitted onto a cabinet's is two things, not one moved). Last, cost <= max_cost (< 0: alpha + beta + shape_weight x "
       "(1 - min_shape_fit)). shape_weight = 0 and min_shape_fit = 0 give the paper's two-term cost and skip "
       "the registration. The Hungarian algorithm picks the cheapest set "
       "of pairs, each pair only if cheaper than leaving both unmatched. With change points that say against "
@@ -158,6 +168,9 @@ StageInfo info() {
       ParamSpec::real("shape_voxel", 0.04, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m"),
       ParamSpec::real("shape_distance", 0.05, "a registered point within this distance of the other object counts as explained")
           .range(0.001, 1.0).unit("m"),
+      ParamSpec::real("max_lift", 0.15, "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than this, relative to the floors, when registered; 0 = off")
+          .range(0.0, 100.0).unit("m"),
+      ParamSpec::real("max_tilt", 20.0, "floor gate: nor tilted by more than this (180 = off)").range(0.0, 180.0).unit("deg"),
   };
   return s;
 }

@@ -374,3 +374,45 @@ TEST(MatchWeighted, ShapeCheckPairsThePartialViewOfAMovedObject) {
   // Without the shape check the nearer table is taken.
   EXPECT_EQ(run_stage(s, no_shape_check).find(before)->match, other);
 }
+
+TEST(MatchWeighted, FloorGateKeepsALowObjectOffATallOnesTop) {
+  // A low box (0.4 m) removed and a tall one (0.8 m) of its footprint added
+  // 1.5 m away, same descriptor: lifted by 0.4 m the low box's faces lie on
+  // the tall one's upper half (fit about 0.87). Both stand on the floor, so
+  // the lift says they are two things: removed + added.
+  Scene s;
+  s.objects.missions = {"A", "B"};
+  const auto scanned = [](const Eigen::Vector3f& n) { return n.z() >= 0.0f; };  // no bottom face
+  const int low = s.add_points(0, surface({{{0, 0, 0}, {0.6f, 0.5f, 0.4f}}}, {0, 0, 0}, 0.0f, scanned), chair);
+  const int tall = s.add_points(1, surface({{{0, 0, 0}, {0.6f, 0.5f, 0.8f}}}, {1.5f, 0, 0}, 0.0f, scanned), chair);
+  EXPECT_EQ(run_stage(s).find(low)->status, ChangeStatus::moved) << "floors unknown: no gate";
+  for (auto& o : s.objects.objects) o.floor_z = 0.0f;
+  Matches m = run_stage(s);
+  EXPECT_EQ(m.find(low)->status, ChangeStatus::removed);
+  EXPECT_EQ(m.find(tall)->status, ChangeStatus::added);
+  m = run_stage(s, {{"max_lift", 0.0}});
+  EXPECT_EQ(m.find(low)->status, ChangeStatus::moved) << "max_lift 0: gate off";
+  EXPECT_EQ(m.find(low)->match, tall);
+}
+
+TEST(MatchWeighted, FloorGateMeasuresLiftFromTheFloorsAndTilt) {
+  Object a, b;
+  a.centroid = {1.f, 2.f, 0.5f};
+  a.floor_z = 0.0f;
+  b.floor_z = 0.2f;  // B's floor 20 cm higher (a ramp, or drift): a move keeps that
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(3, 0, 0.2);
+  EXPECT_TRUE(stays_on_floor(a, b, t, 0.15, 20.0));
+  t.translation().z() = 0.5;  // lifted 30 cm off B's floor
+  EXPECT_FALSE(stays_on_floor(a, b, t, 0.15, 20.0));
+  EXPECT_TRUE(stays_on_floor(a, b, t, 0.0, 20.0)) << "max_lift 0: no lift check";
+  t.translation().z() = 0.2;
+  t.linear() = Eigen::AngleAxisd(30.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_FALSE(stays_on_floor(a, b, t, 0.0, 20.0)) << "tipped by 30 degrees";
+  EXPECT_TRUE(stays_on_floor(a, b, t, 0.0, 180.0));
+  t.linear() = Eigen::AngleAxisd(2.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();  // any yaw
+  EXPECT_TRUE(stays_on_floor(a, b, t, 0.15, 20.0));
+  b.floor_z = std::nanf("");
+  t.translation().z() = 5.0;
+  EXPECT_TRUE(stays_on_floor(a, b, t, 0.15, 20.0)) << "a floor unknown: no gate";
+}
