@@ -247,6 +247,7 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   EXPECT_EQ(failed.status, 1) << failed.output;
   EXPECT_NE(failed.output.find("report.json (left by an earlier run"), std::string::npos) << failed.output;
   EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+  EXPECT_FALSE(std::filesystem::exists(out / "report.html")) << "the earlier run's page beside a failed rerun";
 
   // The report stage succeeds, the page after it cannot be written.
   std::filesystem::remove(out / "report.html");

@@ -55,14 +55,18 @@ std::string output_problem(const std::string& out, bool create) {
 
 // report.json marks a complete run (data contract): one from an earlier run
 // goes before this run starts, and one this run wrote goes if it then fails
-// or is cancelled, so the folder never looks complete when it is not.
+// or is cancelled, so the folder never looks complete when it is not. The
+// page people open, report.html, goes with it: an earlier run's page beside
+// a failed rerun would be taken for the rerun's.
 void remove_report(const std::string& out, const char* why, bool quiet) {
   std::error_code ec;
   if (out.empty()) return;
-  const fs::path report = fs::path(out) / "report.json";
-  if (!fs::exists(report, ec)) return;
-  fs::remove(report, ec);
-  if (!quiet) std::cerr << "lista-run: removed " << report.string() << " (" << why << ")\n";
+  for (const char* name : {"report.json", "report.html"}) {
+    const fs::path file = fs::path(out) / name;
+    if (!fs::is_regular_file(file, ec)) continue;
+    fs::remove(file, ec);
+    if (!quiet) std::cerr << "lista-run: removed " << file.string() << " (" << why << ")\n";
+  }
 }
 
 struct Options {

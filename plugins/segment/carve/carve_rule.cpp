@@ -1,0 +1,391 @@
+#include "carve_rule.hpp"
+
+#include <lista_geometry/object_geometry.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+namespace lista::seg {
+namespace {
+
+// Dense bitmap over a box: each marked point marks its own cell "near" (2)
+// and the cells within `radius` of it "within tolerance" (1), so how near a
+// point of the marked set lies is one lookup.
+class Grid {
+ public:
+  Grid(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, float cell, float radius) : lo_(lo), cell_(cell) {
+    dims_ = ((hi - lo) / cell).array().ceil().cast<int>() + 1;
+    levels_.assign(size_t(dims_.x()) * size_t(dims_.y()) * size_t(dims_.z()), 0);
+    const int r = int(std::ceil(radius / cell));
+    for (int x = -r; x <= r; ++x)
+      for (int y = -r; y <= r; ++y)
+        for (int z = -r; z <= r; ++z)
+          if (cell * std::sqrt(float(x * x + y * y + z * z)) <= radius + 1e-6f) ball_.emplace_back(x, y, z);
+  }
+  void mark(const Eigen::Vector3f& p) {
+    const Eigen::Vector3i c = cell_of(p);
+    for (const auto& d : ball_) {
+      const Eigen::Vector3i q = c + d;
+      if (inside(q)) levels_[offset(q)] = std::max<uint8_t>(levels_[offset(q)], d.isZero() ? 2 : 1);
+    }
+  }
+  // 2: a marked point in p's cell; 1: one within the radius; 0: none.
+  int level(const Eigen::Vector3f& p) const {
+    const Eigen::Vector3i c = cell_of(p);
+    return inside(c) ? levels_[offset(c)] : 0;
+  }
+
+ private:
+  Eigen::Vector3i cell_of(const Eigen::Vector3f& p) const {
+    return ((p - lo_) / cell_).array().floor().cast<int>();
+  }
+  bool inside(const Eigen::Vector3i& c) const { return (c.array() >= 0).all() && (c.array() < dims_.array()).all(); }
+  size_t offset(const Eigen::Vector3i& c) const {
+    return (size_t(c.z()) * size_t(dims_.y()) + size_t(c.y())) * size_t(dims_.x()) + size_t(c.x());
+  }
+  Eigen::Vector3f lo_;
+  float cell_;
+  Eigen::Vector3i dims_;
+  std::vector<uint8_t> levels_;
+  std::vector<Eigen::Vector3i> ball_;
+};
+
+// Grids over more cells than this are not built (a host that large is
+// structure, not furniture).
+constexpr size_t kMaxGridCells = size_t(64) << 20;
+
+size_t cells_over(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, float cell) {
+  const Eigen::Vector3f n = ((hi - lo) / cell).array().ceil() + 1.f;
+  return size_t(double(n.x()) * double(n.y()) * double(n.z()));
+}
+
+// A template placed in a host: turned by `yaw` about its centre (xy), whose
+// image is `centre`; heights unchanged.
+struct Placement {
+  double yaw = 0.0;
+  Eigen::Vector2f centre = Eigen::Vector2f::Zero();
+};
+
+struct Template {
+  std::vector<Eigen::Vector3f> samples;  // relative to `centre` in xy, z as is
+  Eigen::Vector2f centre = Eigen::Vector2f::Zero();
+};
+
+// One point per voxel (the first in point order), then every k-th so that
+// at most kMaxSamples remain: deterministic, and even over the surface.
+Template make_template(const Object& t, float voxel) {
+  std::unordered_map<uint64_t, size_t> seen;
+  std::vector<Eigen::Vector3f> kept;
+  for (const auto& p : t.points.xyz) {
+    const Eigen::Vector3i c = (p / voxel).array().floor().cast<int>();
+    const uint64_t key = (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
+                         uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+    if (seen.emplace(key, kept.size()).second) kept.push_back(p);
+  }
+  Template out;
+  const size_t stride = (kept.size() + kMaxSamples - 1) / kMaxSamples;
+  for (size_t i = 0; i < kept.size(); i += std::max<size_t>(1, stride)) out.samples.push_back(kept[i]);
+  for (const auto& p : out.samples) out.centre += p.head<2>();
+  out.centre /= float(std::max<size_t>(1, out.samples.size()));
+  for (auto& p : out.samples) p.head<2>() -= out.centre;
+  return out;
+}
+
+std::vector<Eigen::Vector3f> turned(const std::vector<Eigen::Vector3f>& pts, double yaw) {
+  const float c = float(std::cos(yaw)), s = float(std::sin(yaw));
+  std::vector<Eigen::Vector3f> out;
+  out.reserve(pts.size());
+  for (const auto& p : pts) out.emplace_back(c * p.x() - s * p.y(), s * p.x() + c * p.y(), p.z());
+  return out;
+}
+
+// How well `q` (turned samples) lies on the grid with its centre put at
+// `u`: `fitting` = points within the tolerance, `score` = the sum of their
+// levels (a point in a host point's own cell counts twice, so that of the
+// poses within the tolerance the tightest wins: a 0.6 x 0.5 crate turned by
+// 90 degrees also fits within 8 cm). Stops early, with score 0, once it can
+// no longer fit `must` points or beat `best`.
+struct Score {
+  size_t fitting = 0, score = 0;
+};
+Score score_at(const std::vector<Eigen::Vector3f>& q, const Eigen::Vector2f& u, const Grid& g, size_t must,
+               size_t best) {
+  Score s;
+  for (size_t i = 0; i < q.size(); ++i) {
+    const int l = g.level({q[i].x() + u.x(), q[i].y() + u.y(), q[i].z()});
+    s.fitting += l > 0;
+    s.score += size_t(l);
+    const size_t left = q.size() - i - 1;
+    if (s.fitting + left < must || s.score + 2 * left <= best) return {};
+  }
+  return s;
+}
+
+struct Fit {
+  size_t fitting = 0, score = 0;
+  Placement pose;
+};
+
+// The best placement of `t` in the host whose box is [lo, hi] and whose
+// points `g` holds: a grid search over yaw and centre, refined once at half
+// the steps; only placements where `must` points fit count. Ties keep the
+// first found.
+Fit best_fit(const Template& t, const Grid& g, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
+             const CarveConfig& c, size_t must) {
+  Fit best;
+  const float step = float(c.voxel), tol = float(c.tolerance);
+  auto search = [&](double yaw, const Eigen::Vector2f& from, const Eigen::Vector2f& to, float s) {
+    const std::vector<Eigen::Vector3f> q = turned(t.samples, yaw);
+    Eigen::Vector2f qlo(INFINITY, INFINITY), qhi(-INFINITY, -INFINITY);
+    for (const auto& p : q) qlo = qlo.cwiseMin(p.head<2>()), qhi = qhi.cwiseMax(p.head<2>());
+    // The turned template stays inside the host's box (grown by the tolerance).
+    const Eigen::Vector2f ulo = from.cwiseMax(lo.head<2>() - qlo - Eigen::Vector2f::Constant(tol));
+    const Eigen::Vector2f uhi = to.cwiseMin(hi.head<2>() - qhi + Eigen::Vector2f::Constant(tol));
+    for (float x = ulo.x(); x <= uhi.x() + 1e-6f; x += s)
+      for (float y = ulo.y(); y <= uhi.y() + 1e-6f; y += s) {
+        const Score sc = score_at(q, {x, y}, g, must, best.score);
+        if (sc.score > best.score) best = {sc.fitting, sc.score, {yaw, {x, y}}};
+      }
+  };
+  const double yaw_step = c.yaw_step * M_PI / 180.0;
+  const Eigen::Vector2f everywhere_lo = Eigen::Vector2f::Constant(-INFINITY), everywhere_hi = -everywhere_lo;
+  const int yaws = int(std::lround(2.0 * M_PI / yaw_step));
+  for (int k = 0; k < yaws; ++k) search(k * yaw_step, everywhere_lo, everywhere_hi, step);
+  if (best.score == 0) return {};
+  const Placement coarse = best.pose;
+  for (double dy : {-0.5, 0.0, 0.5})
+    search(coarse.yaw + dy * yaw_step, coarse.centre - Eigen::Vector2f::Constant(step),
+           coarse.centre + Eigen::Vector2f::Constant(step), 0.5f * step);
+  return best;
+}
+
+// Share of the template's top band (its highest samples, the top fifth of
+// its height and at least two voxels) that fits at `pose`: a lower object
+// fits the lower part of a taller one everywhere but on its top.
+double top_fit(const Template& t, const Grid& g, const Placement& pose, float voxel) {
+  float top = -INFINITY, bottom = INFINITY;
+  for (const auto& p : t.samples) top = std::max(top, p.z()), bottom = std::min(bottom, p.z());
+  const float band = std::max(2.f * voxel, 0.2f * (top - bottom));
+  size_t n = 0, fit = 0;
+  for (const auto& p : turned(t.samples, pose.yaw)) {
+    if (p.z() < top - band) continue;
+    ++n;
+    fit += g.level({p.x() + pose.centre.x(), p.y() + pose.centre.y(), p.z()}) > 0;
+  }
+  return n ? double(fit) / double(n) : 0.0;
+}
+
+float height_of(const Object& o) { return o.bbox_max.z() - o.bbox_min.z(); }
+
+
+// The 98th percentile of the heights of `idx`: a top robust to a stray point.
+float top_of(const PointSet& s, const std::vector<uint32_t>& idx) {
+  std::vector<float> z;
+  z.reserve(idx.size());
+  for (uint32_t i : idx) z.push_back(s.xyz[i].z());
+  const size_t k = std::min(z.size() - 1, size_t(0.98 * double(z.size())));
+  std::nth_element(z.begin(), z.begin() + ptrdiff_t(k), z.end());
+  return z[k];
+}
+
+// Connected parts of the points `idx` (voxels of edge `cell`, 26-neighbourhood),
+// each in point order, the parts in order of their first point.
+std::vector<std::vector<uint32_t>> connected_parts(const PointSet& s, const std::vector<uint32_t>& idx, float cell) {
+  auto key = [](const Eigen::Vector3i& c) {
+    return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
+           uint64_t(uint32_t(c.z()) & 0x1FFFFF);
+  };
+  auto cell_of = [&](uint32_t i) -> Eigen::Vector3i { return (s.xyz[i] / cell).array().floor().cast<int>(); };
+  std::unordered_map<uint64_t, std::vector<uint32_t>> voxels;  // voxel -> positions in idx
+  for (uint32_t k = 0; k < idx.size(); ++k) voxels[key(cell_of(idx[k]))].push_back(k);
+  std::vector<int> part(idx.size(), -1);
+  std::vector<std::vector<uint32_t>> parts;
+  for (uint32_t k = 0; k < idx.size(); ++k) {
+    if (part[k] >= 0) continue;
+    const int id = int(parts.size());
+    parts.emplace_back();
+    std::vector<Eigen::Vector3i> stack{cell_of(idx[k])};
+    for (uint32_t j : voxels[key(stack.back())]) part[j] = id;
+    while (!stack.empty()) {
+      const Eigen::Vector3i v = stack.back();
+      stack.pop_back();
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const Eigen::Vector3i n = v + Eigen::Vector3i(dx, dy, dz);
+            auto it = voxels.find(key(n));
+            if (it == voxels.end() || part[it->second.front()] >= 0) continue;
+            for (uint32_t j : it->second) part[j] = id;
+            stack.push_back(n);
+          }
+    }
+  }
+  for (uint32_t k = 0; k < idx.size(); ++k) parts[size_t(part[k])].push_back(idx[k]);
+  return parts;
+}
+
+// Of the floor cells (edge `cell`) under the smaller of two point sets, the
+// share also under the other: objects beside each other share only their
+// contact; a cut through one object leaves parts above each other.
+double footprint_overlap(const PointSet& s, const std::vector<uint32_t>& a, const std::vector<uint32_t>& b, float cell) {
+  auto cells = [&](const std::vector<uint32_t>& idx) {
+    std::unordered_map<uint64_t, char> out;
+    for (uint32_t i : idx) {
+      const Eigen::Vector2i c = (s.xyz[i].head<2>() / cell).array().floor().cast<int>();
+      out.emplace((uint64_t(uint32_t(c.x())) << 32) | uint64_t(uint32_t(c.y())), 1);
+    }
+    return out;
+  };
+  const auto ca = cells(a), cb = cells(b);
+  const auto& small = ca.size() <= cb.size() ? ca : cb;
+  const auto& large = ca.size() <= cb.size() ? cb : ca;
+  size_t shared = 0;
+  for (const auto& [k, v] : small) shared += large.count(k);
+  return small.empty() ? 1.0 : double(shared) / double(small.size());
+}
+
+Object part_of(const Object& host, const std::vector<uint32_t>& idx) {
+  Object o;
+  o.mission = host.mission;
+  o.floor_z = host.floor_z;
+  o.points = host.points.select(idx);
+  o.update_geometry();
+  return o;
+}
+
+struct Candidate {
+  size_t host, tmpl;
+  Fit fit;
+  size_t samples = 0;
+  Eigen::Vector2f centre = Eigen::Vector2f::Zero();  // the template's, which the fit turned it about
+};
+
+// The host cut by the template placed at `pose`: {E, rest parts}, or nothing
+// when a part is too small or the parts' tops do not differ (rule 4).
+std::vector<Object> cut(const Object& host, const Object& tmpl, const Eigen::Vector2f& centre, const Placement& pose,
+                        const CarveConfig& c) {
+  const float tol = float(c.tolerance);
+  const Eigen::Vector3f grow = Eigen::Vector3f::Constant(tol);
+  Grid placed(host.bbox_min - grow, host.bbox_max + grow, float(c.voxel), tol);
+  std::vector<Eigen::Vector3f> whole;  // every template point, about the centre the search turned it about
+  for (const auto& p : tmpl.points.xyz) whole.emplace_back(p.x() - centre.x(), p.y() - centre.y(), p.z());
+  for (const auto& p : turned(whole, pose.yaw))
+    placed.mark({p.x() + pose.centre.x(), p.y() + pose.centre.y(), p.z()});
+  std::vector<uint32_t> carved, rest;
+  for (uint32_t i = 0; i < host.points.size(); ++i) (placed.level(host.points.xyz[i]) > 0 ? carved : rest).push_back(i);
+  std::vector<std::vector<uint32_t>> parts;
+  std::vector<uint32_t> kept_rest;
+  for (auto& p : connected_parts(host.points, rest, 2.f * float(c.voxel))) {
+    if (p.size() < c.min_points) {
+      carved.insert(carved.end(), p.begin(), p.end());
+    } else {
+      kept_rest.insert(kept_rest.end(), p.begin(), p.end());
+      parts.push_back(std::move(p));
+    }
+  }
+  const double n = double(host.points.size());
+  if (double(carved.size()) < c.min_share * n || double(kept_rest.size()) < c.min_share * n) return {};
+  if (std::abs(top_of(host.points, carved) - top_of(host.points, kept_rest)) < float(c.min_height_step)) return {};
+  if (footprint_overlap(host.points, carved, kept_rest, 2.f * float(c.voxel)) > c.max_overlap) return {};
+  std::sort(carved.begin(), carved.end());
+  std::vector<Object> out{part_of(host, carved)};
+  for (const auto& p : parts) out.push_back(part_of(host, p));
+  return out;
+}
+
+}  // namespace
+
+ObjectSet carve_objects(const ObjectSet& in, const CarveConfig& c, CarveStats* stats) {
+  CarveStats st;
+  ObjectSet out = in;
+  const size_t n = in.objects.size();
+  const float voxel = float(c.voxel), tol = float(c.tolerance), step = float(c.min_height_step);
+
+  // 1. Candidate pairs.
+  std::vector<float> area(n), width(n), height(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2f e = geometry::horizontal_extents(in.objects[i].points.xyz);
+    area[i] = e.x() * e.y();
+    width[i] = e.y();
+    height[i] = height_of(in.objects[i]);
+  }
+  std::vector<Candidate> cands;
+  for (size_t h = 0; h < n; ++h) {
+    const Object& H = in.objects[h];
+    if (H.points.size() < 2 * c.min_points) continue;
+    const Eigen::Vector3f grow = Eigen::Vector3f::Constant(tol);
+    if (cells_over(H.bbox_min - grow, H.bbox_max + grow, voxel) > kMaxGridCells) continue;
+    for (size_t t = 0; t < n; ++t) {
+      const Object& T = in.objects[t];
+      if (T.mission + 1 != H.mission && H.mission + 1 != T.mission) continue;
+      if (T.points.size() < c.min_points || width[t] < float(c.min_width) || height[t] > height[h] + tol) continue;
+      const bool bigger = area[h] >= kBiggerArea * area[t] || height[h] >= height[t] + step;
+      if (bigger) cands.push_back({h, t, {}, 0, Eigen::Vector2f::Zero()});
+    }
+  }
+  st.candidates = cands.size();
+
+  // 2. Fits, in parallel (each candidate on its own; grids built per candidate).
+  const int threads = std::max(1, std::min<int>(c.threads, int(cands.size())));
+  std::vector<std::thread> pool;
+  for (int w = 0; w < threads; ++w)
+    pool.emplace_back([&, w] {
+      for (size_t k = size_t(w); k < cands.size(); k += size_t(threads)) {
+        Candidate& cd = cands[k];
+        const Object& H = in.objects[cd.host];
+        const Template t = make_template(in.objects[cd.tmpl], voxel);
+        cd.samples = t.samples.size();
+        cd.centre = t.centre;
+        if (t.samples.empty()) continue;
+        const Eigen::Vector3f grow = Eigen::Vector3f::Constant(tol);
+        Grid g(H.bbox_min - grow, H.bbox_max + grow, voxel, tol);
+        for (const auto& p : H.points.xyz) g.mark(p);
+        const size_t must = size_t(std::ceil(c.min_fit * double(t.samples.size())));
+        cd.fit = best_fit(t, g, H.bbox_min, H.bbox_max, c, must);
+        if (cd.fit.score > 0 && top_fit(t, g, cd.fit.pose, voxel) < c.min_fit) cd.fit = {};
+      }
+    });
+  for (auto& th : pool) th.join();
+
+  // 3-4. Best fits first; each object in at most one carve.
+  std::vector<Candidate> fitted;
+  for (const auto& cd : cands)
+    if (cd.fit.score > 0) fitted.push_back(cd);
+  st.fitted = fitted.size();
+  std::stable_sort(fitted.begin(), fitted.end(), [](const Candidate& a, const Candidate& b) {
+    return double(a.fit.fitting) * double(b.samples) > double(b.fit.fitting) * double(a.samples);
+  });
+  std::vector<char> used(n, 0);
+  std::vector<std::vector<Object>> replaced(n);
+  for (const auto& cd : fitted) {
+    if (used[cd.host] || used[cd.tmpl]) continue;
+    std::vector<Object> parts = cut(in.objects[cd.host], in.objects[cd.tmpl], cd.centre, cd.fit.pose, c);
+    if (parts.empty()) continue;
+    used[cd.host] = used[cd.tmpl] = 1;
+    ++st.carved;
+    st.parts += parts.size() - 1;
+    size_t rest = 0;
+    for (size_t k = 1; k < parts.size(); ++k) rest += parts[k].points.size();
+    st.carves.push_back({in.objects[cd.host].id, in.objects[cd.tmpl].id,
+                         double(cd.fit.fitting) / double(cd.samples), parts[0].points.size(), rest});
+    replaced[cd.host] = std::move(parts);
+  }
+  if (st.carved) {
+    std::vector<Object> objects;
+    for (size_t i = 0; i < n; ++i) {
+      if (replaced[i].empty())
+        objects.push_back(in.objects[i]);
+      else
+        for (auto& o : replaced[i]) objects.push_back(std::move(o));
+    }
+    out.objects = std::move(objects);
+    out.renumber();
+  }
+  if (stats) *stats = st;
+  return out;
+}
+
+}  // namespace lista::seg

@@ -1,0 +1,90 @@
+// segment.carve: cuts out of a change cluster another mission's object that
+// fits inside it (rule in carve_rule.hpp).
+#include "carve_rule.hpp"
+
+#include <lista/data.hpp>
+#include <lista/plugin.hpp>
+
+namespace lista::seg {
+namespace {
+
+class CarveStage : public Stage {
+ public:
+  explicit CarveStage(const Params& p) {
+    c_.voxel = p.get<double>("voxel");
+    c_.tolerance = p.get<double>("tolerance");
+    c_.yaw_step = p.get<double>("yaw_step");
+    c_.min_fit = p.get<double>("min_fit");
+    c_.min_share = p.get<double>("min_share");
+    c_.min_height_step = p.get<double>("min_height_step");
+    c_.max_overlap = p.get<double>("max_overlap");
+    c_.min_points = size_t(p.get<int64_t>("min_points"));
+    c_.min_width = p.get<double>("min_width");
+  }
+
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "segment.carve";
+    i.version = "1.0.0";
+    i.summary = "Cuts out of a cluster another mission's object that fits inside it (touching objects)";
+    i.doc =
+        "Two changed objects that touch in one mission form one cluster (a crate moved against a shelf that also "
+        "moved). When an object of a neighbouring mission (the template: often the same object at its other pose) "
+        "fits inside such a cluster, it is cut out. For each cluster (host) and each smaller object of a "
+        "neighbouring mission whose footprint is at least min_width wide: the template is turned about z in yaw_step steps and slid over the host's box in "
+        "voxel steps, heights unchanged; fit = share of its points (voxel-subsampled) within tolerance of a host "
+        "point. With fit >= min_fit, the host's points within tolerance of the placed template are one object, "
+        "each connected part of the rest (min_points or more; smaller ones join the carved part) another. Kept "
+        "only if each side holds min_share of the host's points, their tops differ by min_height_step "
+        "(objects as tall as each other may be one object whose continuous top the cut would run through) and they "
+        "stand beside each other: at most max_overlap of the smaller side's floor cells lie under the other too (a "
+        "partial view fits inside a fuller view of its object, and cutting it out leaves parts above each other). Best "
+        "fits first, each object in one carve at most; ids are renumbered 0..n-1. See docs/segmentation.md.";
+    i.inputs = {{"objects", "objects", "per-mission clusters (after segment.complete)"}};
+    i.outputs = {{"objects", "objects", "clusters with touching objects cut apart"}};
+    i.params = {
+        ParamSpec::real("voxel", 0.05, "search step (translation) and grid cell").range(0.01, 0.5).unit("m"),
+        ParamSpec::real("tolerance", 0.08, "a template point fits within this of a host point").range(0.01, 0.5).unit("m"),
+        ParamSpec::real("yaw_step", 5.0, "yaw search step").range(0.5, 90).unit("deg"),
+        ParamSpec::real("min_fit", 0.8, "share of the template's points that must fit").range(0.1, 1),
+        ParamSpec::real("min_share", 0.15, "least share of the host's points on each side of the cut").range(0.01, 0.5),
+        ParamSpec::real("min_height_step", 0.1, "least difference between the tops of the two sides").range(0, 5).unit("m"),
+        ParamSpec::real("max_overlap", 0.3, "most of the smaller side's floor cells (2 x voxel) also under the other").range(0, 1),
+        ParamSpec::real("min_width", 0.3, "narrowest template footprint (shorter side): a leg or a panel fits almost anywhere").range(0, 5).unit("m"),
+        ParamSpec::integer("min_points", 30, "smallest template, and smallest separate part of the rest").range(1, 1e9),
+    };
+    return i;
+  }
+
+  Outputs run(const Inputs& in, Context& context) override {
+    CarveConfig c = c_;
+    c.threads = context.threads();
+    CarveStats st;
+    ObjectSet objects = carve_objects(in.get<ObjectSet>("objects"), c, &st);
+    context.record("candidates", double(st.candidates));
+    context.record("fitted", double(st.fitted));
+    context.record("carved", double(st.carved));
+    context.record("objects", double(objects.objects.size()));
+    if (st.carved)
+      context.info(std::to_string(st.carved) + " clusters cut where another mission's object fits");
+    for (const Carve& k : st.carves)
+      context.debug("object " + std::to_string(k.host) + " cut where object " + std::to_string(k.tmpl) + " fits (" +
+                    std::to_string(int(100 * k.fit + 0.5)) + " %): " + std::to_string(k.carved) + " + " +
+                    std::to_string(k.rest) + " points");
+    Outputs out;
+    out.put("objects", std::move(objects));
+    return out;
+  }
+
+ private:
+  CarveConfig c_;
+};
+
+void register_stages(Registrar& r) {
+  r.add(CarveStage::info(), [](const Params& p) { return std::make_unique<CarveStage>(p); });
+}
+
+}  // namespace
+}  // namespace lista::seg
+
+LISTA_PLUGIN(lista::seg::register_stages)
