@@ -177,7 +177,7 @@ int run(const Options& o) {
   }
 
   if (std::string why = output_problem(output_dir, true); !why.empty()) return fail(why);
-  remove_report(output_dir, "left by an earlier run; this run writes its own when it completes", o.quiet);
+  remove_report(output_dir, "left by an earlier run; a complete run writes its own", o.quiet);
 
   RunOptions options;
   options.jobs = o.jobs;

@@ -60,7 +60,8 @@ class WeightedMatchStage : public Stage {
       shares[k] = {r.source_inliers, r.target_inliers};
       // A registration that lifts a floor-standing object (a desk's top onto a
       // cabinet's) or tips it over fits two things, not one object moved.
-      if (!stays_on_floor(*pairs[k].first, *pairs[k].second, r.transform, max_lift_, max_tilt_)) fit[k] = 0.0;
+      // -1: never a candidate, whatever min_shape_fit (the cost clamps it to a misfit of 1).
+      if (!stays_on_floor(*pairs[k].first, *pairs[k].second, r.transform, max_lift_, max_tilt_)) fit[k] = -1.0;
       ctx.progress().advance();
     });
     ctx.progress().end();
@@ -69,7 +70,7 @@ class WeightedMatchStage : public Stage {
       char line[160];
       std::snprintf(line, sizeof line, "shape fit of objects %d -> %d: %.3f (shares explained %.3f / %.3f)%s",
                     pairs[k].first->id, pairs[k].second->id, fit[k], shares[k].first, shares[k].second,
-                    fit[k] == 0.0 ? ", registered off its floor" : "");
+                    fit[k] < 0.0 ? ", registered off its floor: no candidate" : "");
       ctx.debug(line);
     }
     return fit;
@@ -170,7 +171,7 @@ StageInfo info() {
           .range(0.001, 1.0).unit("m"),
       ParamSpec::real("max_lift", 0.15, "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than this, relative to the floors, when registered; 0 = off")
           .range(0.0, 100.0).unit("m"),
-      ParamSpec::real("max_tilt", 20.0, "floor gate: nor tilted by more than this (180 = off)").range(0.0, 180.0).unit("deg"),
+      ParamSpec::real("max_tilt", 20.0, "floor gate: nor tilted by more than this (180 = off)").range(1.0, 180.0).unit("deg"),
   };
   return s;
 }

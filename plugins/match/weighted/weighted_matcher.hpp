@@ -64,7 +64,8 @@ struct WeightedMatchConfig {
 };
 
 // How well each (earlier, later) pair of objects fits as one rigid object,
-// in [0, 1] (1 = every point explained). Called once per mission pair with
+// in [0, 1] (1 = every point explained); a negative value rules the pair
+// out whatever min_shape_fit (the floor gate). Called once per mission pair with
 // every candidate that passed the other gates.
 using PairFit = std::function<std::vector<double>(const std::vector<std::pair<const Object*, const Object*>>&)>;
 

@@ -1,10 +1,11 @@
 #include "carve_rule.hpp"
 
+#include <lista/parallel.hpp>
 #include <lista_geometry/object_geometry.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -53,9 +54,10 @@ class Grid {
   std::vector<Eigen::Vector3i> ball_;
 };
 
-// Grids over more cells than this are not built (a host that large is
-// structure, not furniture).
-constexpr size_t kMaxGridCells = size_t(64) << 20;
+// Hosts with a footprint over kMaxHostArea (m^2), or a grid over more cells
+// than this, are not searched: that large is structure or a heap, not two
+// pieces of furniture, and the search grows with the host's area.
+constexpr size_t kMaxGridCells = size_t(16) << 20;
 
 size_t cells_over(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, float cell) {
   const Eigen::Vector3f n = ((hi - lo) / cell).array().ceil() + 1.f;
@@ -76,7 +78,9 @@ struct Template {
 
 // One point per voxel (the first in point order), then every k-th so that
 // at most kMaxSamples remain: deterministic, and even over the surface.
-Template make_template(const Object& t, float voxel) {
+// Heights moved by `dz` (the host's floor minus the template's, when both
+// are known: missions may disagree on the floor's height).
+Template make_template(const Object& t, float voxel, float dz) {
   std::unordered_map<uint64_t, size_t> seen;
   std::vector<Eigen::Vector3f> kept;
   for (const auto& p : t.points.xyz) {
@@ -90,7 +94,7 @@ Template make_template(const Object& t, float voxel) {
   for (size_t i = 0; i < kept.size(); i += std::max<size_t>(1, stride)) out.samples.push_back(kept[i]);
   for (const auto& p : out.samples) out.centre += p.head<2>();
   out.centre /= float(std::max<size_t>(1, out.samples.size()));
-  for (auto& p : out.samples) p.head<2>() -= out.centre;
+  for (auto& p : out.samples) p.head<2>() -= out.centre, p.z() += dz;
   return out;
 }
 
@@ -144,8 +148,11 @@ Fit best_fit(const Template& t, const Grid& g, const Eigen::Vector3f& lo, const 
     // The turned template stays inside the host's box (grown by the tolerance).
     const Eigen::Vector2f ulo = from.cwiseMax(lo.head<2>() - qlo - Eigen::Vector2f::Constant(tol));
     const Eigen::Vector2f uhi = to.cwiseMin(hi.head<2>() - qhi + Eigen::Vector2f::Constant(tol));
-    for (float x = ulo.x(); x <= uhi.x() + 1e-6f; x += s)
-      for (float y = ulo.y(); y <= uhi.y() + 1e-6f; y += s) {
+    if (ulo.x() > uhi.x() || ulo.y() > uhi.y()) return;
+    const int nx = int(std::floor((uhi.x() - ulo.x()) / s + 1e-4f)), ny = int(std::floor((uhi.y() - ulo.y()) / s + 1e-4f));
+    for (int i = 0; i <= nx; ++i)
+      for (int j = 0; j <= ny; ++j) {
+        const float x = ulo.x() + float(i) * s, y = ulo.y() + float(j) * s;
         const Score sc = score_at(q, {x, y}, g, must, best.score);
         if (sc.score > best.score) best = {sc.fitting, sc.score, {yaw, {x, y}}};
       }
@@ -261,17 +268,24 @@ struct Candidate {
   Fit fit;
   size_t samples = 0;
   Eigen::Vector2f centre = Eigen::Vector2f::Zero();  // the template's, which the fit turned it about
+  float dz = 0.f;                                     // height shift onto the host's floor
 };
+
+// Orders objects by what they hold, not by where they stand in the set.
+std::tuple<uint32_t, uint32_t, uint32_t, size_t> key_of(const Object& o) {
+  return {o.mission, o.points.scan.empty() ? 0u : o.points.scan[0], o.points.index.empty() ? 0u : o.points.index[0],
+          o.points.size()};
+}
 
 // The host cut by the template placed at `pose`: {E, rest parts}, or nothing
 // when a part is too small or the parts' tops do not differ (rule 4).
-std::vector<Object> cut(const Object& host, const Object& tmpl, const Eigen::Vector2f& centre, const Placement& pose,
-                        const CarveConfig& c) {
+std::vector<Object> cut(const Object& host, const Object& tmpl, const Eigen::Vector2f& centre, float dz,
+                        const Placement& pose, const CarveConfig& c) {
   const float tol = float(c.tolerance);
   const Eigen::Vector3f grow = Eigen::Vector3f::Constant(tol);
   Grid placed(host.bbox_min - grow, host.bbox_max + grow, float(c.voxel), tol);
   std::vector<Eigen::Vector3f> whole;  // every template point, about the centre the search turned it about
-  for (const auto& p : tmpl.points.xyz) whole.emplace_back(p.x() - centre.x(), p.y() - centre.y(), p.z());
+  for (const auto& p : tmpl.points.xyz) whole.emplace_back(p.x() - centre.x(), p.y() - centre.y(), p.z() + dz);
   for (const auto& p : turned(whole, pose.yaw))
     placed.mark({p.x() + pose.centre.x(), p.y() + pose.centre.y(), p.z()});
   std::vector<uint32_t> carved, rest;
@@ -287,6 +301,7 @@ std::vector<Object> cut(const Object& host, const Object& tmpl, const Eigen::Vec
     }
   }
   const double n = double(host.points.size());
+  if (carved.empty() || kept_rest.empty()) return {};
   if (double(carved.size()) < c.min_share * n || double(kept_rest.size()) < c.min_share * n) return {};
   if (std::abs(top_of(host.points, carved) - top_of(host.points, kept_rest)) < float(c.min_height_step)) return {};
   if (footprint_overlap(host.points, carved, kept_rest, 2.f * float(c.voxel)) > c.max_overlap) return {};
@@ -317,52 +332,64 @@ ObjectSet carve_objects(const ObjectSet& in, const CarveConfig& c, CarveStats* s
     const Object& H = in.objects[h];
     if (H.points.size() < 2 * c.min_points) continue;
     const Eigen::Vector3f grow = Eigen::Vector3f::Constant(tol);
-    if (cells_over(H.bbox_min - grow, H.bbox_max + grow, voxel) > kMaxGridCells) continue;
+    if (area[h] > kMaxHostArea || cells_over(H.bbox_min - grow, H.bbox_max + grow, voxel) > kMaxGridCells) continue;
     for (size_t t = 0; t < n; ++t) {
       const Object& T = in.objects[t];
       if (T.mission + 1 != H.mission && H.mission + 1 != T.mission) continue;
       if (T.points.size() < c.min_points || width[t] < float(c.min_width) || height[t] > height[h] + tol) continue;
       const bool bigger = area[h] >= kBiggerArea * area[t] || height[h] >= height[t] + step;
-      if (bigger) cands.push_back({h, t, {}, 0, Eigen::Vector2f::Zero()});
+      const bool floors = std::isfinite(H.floor_z) && std::isfinite(T.floor_z);
+      if (bigger) cands.push_back({h, t, {}, 0, Eigen::Vector2f::Zero(), floors ? H.floor_z - T.floor_z : 0.f});
     }
   }
   st.candidates = cands.size();
 
-  // 2. Fits, in parallel (each candidate on its own; grids built per candidate).
-  const int threads = std::max(1, std::min<int>(c.threads, int(cands.size())));
-  std::vector<std::thread> pool;
-  for (int w = 0; w < threads; ++w)
-    pool.emplace_back([&, w] {
-      for (size_t k = size_t(w); k < cands.size(); k += size_t(threads)) {
-        Candidate& cd = cands[k];
-        const Object& H = in.objects[cd.host];
-        const Template t = make_template(in.objects[cd.tmpl], voxel);
-        cd.samples = t.samples.size();
-        cd.centre = t.centre;
-        if (t.samples.empty()) continue;
-        const Eigen::Vector3f grow = Eigen::Vector3f::Constant(tol);
-        Grid g(H.bbox_min - grow, H.bbox_max + grow, voxel, tol);
-        for (const auto& p : H.points.xyz) g.mark(p);
-        const size_t must = size_t(std::ceil(c.min_fit * double(t.samples.size())));
-        cd.fit = best_fit(t, g, H.bbox_min, H.bbox_max, c, must);
-        if (cd.fit.score > 0 && top_fit(t, g, cd.fit.pose, voxel) < c.min_fit) cd.fit = {};
-      }
-    });
-  for (auto& th : pool) th.join();
+  // 2. Fits, in parallel over hosts (one grid per host, shared by its
+  // candidates; each candidate writes only its own slot).
+  std::vector<std::vector<size_t>> of_host(n);
+  for (size_t k = 0; k < cands.size(); ++k) of_host[cands[k].host].push_back(k);
+  std::vector<size_t> hosts;
+  for (size_t h = 0; h < n; ++h)
+    if (!of_host[h].empty()) hosts.push_back(h);
+  parallel_for(hosts.size(), std::max(1, c.threads), [&](size_t k) {
+    if (c.cancelled && c.cancelled()) return;
+    const Object& H = in.objects[hosts[k]];
+    const Eigen::Vector3f grow = Eigen::Vector3f::Constant(tol);
+    Grid g(H.bbox_min - grow, H.bbox_max + grow, voxel, tol);
+    for (const auto& p : H.points.xyz) g.mark(p);
+    for (size_t i : of_host[hosts[k]]) {
+      Candidate& cd = cands[i];
+      const Template t = make_template(in.objects[cd.tmpl], voxel, cd.dz);
+      cd.samples = t.samples.size();
+      cd.centre = t.centre;
+      if (t.samples.empty()) continue;
+      const size_t must = size_t(std::ceil(c.min_fit * double(t.samples.size())));
+      cd.fit = best_fit(t, g, H.bbox_min, H.bbox_max, c, must);
+      if (cd.fit.score > 0 && top_fit(t, g, cd.fit.pose, voxel) < c.min_fit) cd.fit = {};
+    }
+  });
+  if (c.cancelled && c.cancelled()) return out;
 
   // 3-4. Best fits first; each object in at most one carve.
   std::vector<Candidate> fitted;
   for (const auto& cd : cands)
     if (cd.fit.score > 0) fitted.push_back(cd);
   st.fitted = fitted.size();
-  std::stable_sort(fitted.begin(), fitted.end(), [](const Candidate& a, const Candidate& b) {
-    return double(a.fit.fitting) * double(b.samples) > double(b.fit.fitting) * double(a.samples);
+  // Best share fitting first, then the tighter fit; ties by what the objects
+  // hold, so the order of the set decides nothing.
+  std::sort(fitted.begin(), fitted.end(), [&](const Candidate& a, const Candidate& b) {
+    const double fa = double(a.fit.fitting) * double(b.samples), fb = double(b.fit.fitting) * double(a.samples);
+    if (fa != fb) return fa > fb;
+    const double sa = double(a.fit.score) * double(b.samples), sb = double(b.fit.score) * double(a.samples);
+    if (sa != sb) return sa > sb;
+    return std::tuple(key_of(in.objects[a.host]), key_of(in.objects[a.tmpl])) <
+           std::tuple(key_of(in.objects[b.host]), key_of(in.objects[b.tmpl]));
   });
   std::vector<char> used(n, 0);
   std::vector<std::vector<Object>> replaced(n);
   for (const auto& cd : fitted) {
     if (used[cd.host] || used[cd.tmpl]) continue;
-    std::vector<Object> parts = cut(in.objects[cd.host], in.objects[cd.tmpl], cd.centre, cd.fit.pose, c);
+    std::vector<Object> parts = cut(in.objects[cd.host], in.objects[cd.tmpl], cd.centre, cd.dz, cd.fit.pose, c);
     if (parts.empty()) continue;
     used[cd.host] = used[cd.tmpl] = 1;
     ++st.carved;

@@ -10,16 +10,20 @@
 //
 // The rule, for each object H (host) and each object T (template) of a
 // neighbouring mission (m - 1 or m + 1):
-//  1. Cull. T needs `min_points` and a footprint at least `min_width` wide
+//  1. Cull. T needs `min_points`, a footprint at least `min_width` wide
 //     (a leg, a panel or a fragment fits within the tolerance of almost
-//     any surface); H must be bigger (footprint area over
-//     kBiggerArea x T's, or taller by `min_height_step`), else they are
-//     the same object.
+//     any surface) and at most H's height + `tolerance`; H needs
+//     2 x min_points, a footprint of at most kMaxHostArea, and must be
+//     bigger (footprint area over kBiggerArea x T's, or taller by
+//     `min_height_step`), else they are the same object.
 //  2. Fit. T is turned about z in `yaw_step` steps and slid over H's box in
-//     `voxel` steps (heights unchanged: both stand in one common frame);
-//     fit = share of T's points (voxel-subsampled, at most kMaxSamples)
-//     within `tolerance` of a point of H. The best pose is refined once at
-//     half the steps.
+//     `voxel` steps (heights unchanged in the common frame, or moved by the
+//     difference of the two floors when both are known); fit = share of T's
+//     points (voxel-subsampled, at most kMaxSamples) within `tolerance` of
+//     a point of H, measured on a voxel grid (up to one cell more). Of the
+//     poses with fit >= min_fit the tightest wins (points in a host point's
+//     own cell count twice); it is refined once at half the steps, and T's
+//     top band (its top fifth, at least two voxels) must fit as well.
 //  3. Cut. With fit >= `min_fit`, H's points within `tolerance` of the
 //     placed T are the carved part E, the others the rest; connected parts
 //     of the rest (voxel connectivity at 2 x voxel) under `min_points` join E.
@@ -32,16 +36,18 @@
 //     view of an object fits inside a fuller view of it (or of its like),
 //     and the cut then leaves parts above each other (a chair's seat and its
 //     back); touching objects share only the cells of their contact.
-// Fits are measured for every candidate pair, then taken best first, each
-// object in at most one carve (as host or template), so the result does not
-// depend on the order of objects or on the thread count. E keeps H's place;
-// each connected part of the rest becomes an object after it; ids are
-// renumbered 0..n-1 when anything was carved.
+// Fits are measured for every candidate pair, then taken best first (ties
+// by the objects' points, not their order), each object in at most one
+// carve (as host or template), so the result does not depend on the order
+// of objects or on the thread count. E keeps H's place; each connected part
+// of the rest becomes an object after it; ids are renumbered 0..n-1 when
+// anything was carved (else the set comes back as it was).
 #pragma once
 
 #include <lista/objects.hpp>
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace lista::seg {
@@ -51,6 +57,8 @@ namespace lista::seg {
 constexpr double kBiggerArea = 1.3;
 // Template points used for the fit search (voxel-subsampled, then strided).
 constexpr size_t kMaxSamples = 400;
+// Hosts with a larger footprint (m^2) are not searched: structure or a heap.
+constexpr float kMaxHostArea = 25.f;
 
 struct CarveConfig {
   double voxel = 0.05;            // m, search step and grid cell
@@ -63,6 +71,7 @@ struct CarveConfig {
   size_t min_points = 30;         // smallest template, and smallest separate part of the rest
   double min_width = 0.3;         // m, narrowest template footprint (shorter side)
   int threads = 1;
+  std::function<bool()> cancelled;  // optional: checked per host; the input comes back unchanged
 };
 
 // One carve: the host's and the template's ids (in the input), the share of
@@ -77,7 +86,7 @@ struct CarveStats {
   size_t candidates = 0;  // host/template pairs whose fit was searched
   size_t fitted = 0;      // pairs that fitted (fit >= min_fit)
   size_t carved = 0;      // hosts cut
-  size_t parts = 0;       // objects made from the rests
+  size_t parts = 0;       // objects made from the rests (beyond the one each host leaves)
   std::vector<Carve> carves;
 };
 

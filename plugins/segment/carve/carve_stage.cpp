@@ -3,6 +3,7 @@
 #include "carve_rule.hpp"
 
 #include <lista/data.hpp>
+#include <lista/error.hpp>
 #include <lista/plugin.hpp>
 
 namespace lista::seg {
@@ -20,6 +21,10 @@ class CarveStage : public Stage {
     c_.max_overlap = p.get<double>("max_overlap");
     c_.min_points = size_t(p.get<int64_t>("min_points"));
     c_.min_width = p.get<double>("min_width");
+    // The search marks a ball of (tolerance / voxel)^3 cells per host point.
+    if (c_.tolerance > 4.0 * c_.voxel)
+      throw Error("segment.carve: tolerance (" + std::to_string(c_.tolerance) + ") must be at most 4 x voxel (" +
+                  std::to_string(c_.voxel) + "); raise voxel or lower tolerance");
   }
 
   static StageInfo info() {
@@ -31,24 +36,26 @@ class CarveStage : public Stage {
         "Two changed objects that touch in one mission form one cluster (a crate moved against a shelf that also "
         "moved). When an object of a neighbouring mission (the template: often the same object at its other pose) "
         "fits inside such a cluster, it is cut out. For each cluster (host) and each smaller object of a "
-        "neighbouring mission whose footprint is at least min_width wide: the template is turned about z in yaw_step steps and slid over the host's box in "
-        "voxel steps, heights unchanged; fit = share of its points (voxel-subsampled) within tolerance of a host "
-        "point. With fit >= min_fit, the host's points within tolerance of the placed template are one object, "
+        "neighbouring mission whose footprint is at least min_width wide: the template is turned about z in "
+        "yaw_step steps and slid over the host's box in voxel steps, heights unchanged (or moved by the two "
+        "floors' difference); fit = share of its points (voxel-subsampled) within tolerance of a host point, its "
+        "top band's too. With fit >= min_fit, the host's points within tolerance of the placed template are one object, "
         "each connected part of the rest (min_points or more; smaller ones join the carved part) another. Kept "
         "only if each side holds min_share of the host's points, their tops differ by min_height_step "
         "(objects as tall as each other may be one object whose continuous top the cut would run through) and they "
         "stand beside each other: at most max_overlap of the smaller side's floor cells lie under the other too (a "
         "partial view fits inside a fuller view of its object, and cutting it out leaves parts above each other). Best "
-        "fits first, each object in one carve at most; ids are renumbered 0..n-1. See docs/segmentation.md.";
+        "fits first, each object in one carve at most; ids are renumbered 0..n-1 when anything was cut. Hosts "
+        "over 25 m^2 of footprint are not searched. See docs/segmentation.md.";
     i.inputs = {{"objects", "objects", "per-mission clusters (after segment.complete)"}};
     i.outputs = {{"objects", "objects", "clusters with touching objects cut apart"}};
     i.params = {
         ParamSpec::real("voxel", 0.05, "search step (translation) and grid cell").range(0.01, 0.5).unit("m"),
-        ParamSpec::real("tolerance", 0.08, "a template point fits within this of a host point").range(0.01, 0.5).unit("m"),
+        ParamSpec::real("tolerance", 0.08, "a template point fits within this of a host point (at most 4 x voxel)").range(0.01, 0.5).unit("m"),
         ParamSpec::real("yaw_step", 5.0, "yaw search step").range(0.5, 90).unit("deg"),
         ParamSpec::real("min_fit", 0.8, "share of the template's points that must fit").range(0.1, 1),
         ParamSpec::real("min_share", 0.15, "least share of the host's points on each side of the cut").range(0.01, 0.5),
-        ParamSpec::real("min_height_step", 0.1, "least difference between the tops of the two sides").range(0, 5).unit("m"),
+        ParamSpec::real("min_height_step", 0.1, "least difference between the tops of the two sides (and how much taller a host of a smaller footprint must be than its template)").range(0, 5).unit("m"),
         ParamSpec::real("max_overlap", 0.3, "most of the smaller side's floor cells (2 x voxel) also under the other").range(0, 1),
         ParamSpec::real("min_width", 0.3, "narrowest template footprint (shorter side): a leg or a panel fits almost anywhere").range(0, 5).unit("m"),
         ParamSpec::integer("min_points", 30, "smallest template, and smallest separate part of the rest").range(1, 1e9),
@@ -59,11 +66,14 @@ class CarveStage : public Stage {
   Outputs run(const Inputs& in, Context& context) override {
     CarveConfig c = c_;
     c.threads = context.threads();
+    c.cancelled = [&context] { return context.cancelled(); };
     CarveStats st;
     ObjectSet objects = carve_objects(in.get<ObjectSet>("objects"), c, &st);
+    context.throw_if_cancelled();
     context.record("candidates", double(st.candidates));
     context.record("fitted", double(st.fitted));
     context.record("carved", double(st.carved));
+    context.record("parts", double(st.parts));
     context.record("objects", double(objects.objects.size()));
     if (st.carved)
       context.info(std::to_string(st.carved) + " clusters cut where another mission's object fits");

@@ -155,3 +155,30 @@ TEST(SegmentCarve, StageDeclaresItsParametersAndRuns) {
       EXPECT_EQ(o.points.label.size(), o.points.size());
     }
 }
+
+TEST(SegmentCarve, OneTemplateTwoHostsGivesOneCutWhateverTheOrder) {
+  // Two identical clusters (3 m apart) want the one crate: one is cut, the
+  // same one for any object order and thread count.
+  size_t crate_points = 0;
+  lista::Object second = crate_against_shelf(1.2f, &crate_points);
+  for (auto& p : second.points.xyz) p.x() += 3.f;
+  for (auto& i : second.points.index) i += 100000;  // other points of the scan
+  second.update_geometry();
+  const lista::Object tmpl = crate(0, 0.52f, {4.f, 2.f}), first = crate_against_shelf(1.2f, &crate_points);
+  lista::seg::CarveConfig two;
+  two.threads = 2;
+  std::vector<std::vector<uint32_t>> cut_host;
+  for (const auto& order : {std::vector<lista::Object>{tmpl, first, second}, std::vector<lista::Object>{second, first, tmpl},
+                            std::vector<lista::Object>{first, tmpl, second}})
+    for (const lista::seg::CarveConfig& c : {lista::seg::CarveConfig{}, two}) {
+      lista::seg::CarveStats st;
+      const lista::ObjectSet out = lista::seg::carve_objects(set_of(order), c, &st);
+      EXPECT_EQ(st.candidates, 2u);
+      ASSERT_EQ(st.carved, 1u);
+      ASSERT_EQ(out.objects.size(), 4u);
+      for (const auto& o : out.objects)
+        if (o.mission == 1 && o.bbox_max.z() < 0.6f) cut_host.push_back(o.points.index);  // the carved crate
+    }
+  ASSERT_EQ(cut_host.size(), 6u);
+  for (const auto& c : cut_host) EXPECT_EQ(c, cut_host.front());
+}
