@@ -2,11 +2,13 @@
 
 #include <lista/parallel.hpp>
 #include <lista_geometry/object_geometry.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace lista::seg {
@@ -85,9 +87,7 @@ Template make_template(const Object& t, float voxel, float dz) {
   std::vector<Eigen::Vector3f> kept;
   for (const auto& p : t.points.xyz) {
     const Eigen::Vector3i c = (p / voxel).array().floor().cast<int>();
-    const uint64_t key = (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
-                         uint64_t(uint32_t(c.z()) & 0x1FFFFF);
-    if (seen.emplace(key, kept.size()).second) kept.push_back(p);
+    if (seen.emplace(geometry::voxel_key(c), kept.size()).second) kept.push_back(p);
   }
   Template out;
   const size_t stride = (kept.size() + kMaxSamples - 1) / kMaxSamples;
@@ -201,10 +201,7 @@ float top_of(const PointSet& s, const std::vector<uint32_t>& idx) {
 // Connected parts of the points `idx` (voxels of edge `cell`, 26-neighbourhood),
 // each in point order, the parts in order of their first point.
 std::vector<std::vector<uint32_t>> connected_parts(const PointSet& s, const std::vector<uint32_t>& idx, float cell) {
-  auto key = [](const Eigen::Vector3i& c) {
-    return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
-           uint64_t(uint32_t(c.z()) & 0x1FFFFF);
-  };
+  const auto key = geometry::voxel_key;
   auto cell_of = [&](uint32_t i) -> Eigen::Vector3i { return (s.xyz[i] / cell).array().floor().cast<int>(); };
   std::unordered_map<uint64_t, std::vector<uint32_t>> voxels;  // voxel -> positions in idx
   for (uint32_t k = 0; k < idx.size(); ++k) voxels[key(cell_of(idx[k]))].push_back(k);
@@ -239,10 +236,10 @@ std::vector<std::vector<uint32_t>> connected_parts(const PointSet& s, const std:
 // contact; a cut through one object leaves parts above each other.
 double footprint_overlap(const PointSet& s, const std::vector<uint32_t>& a, const std::vector<uint32_t>& b, float cell) {
   auto cells = [&](const std::vector<uint32_t>& idx) {
-    std::unordered_map<uint64_t, char> out;
+    std::unordered_set<uint64_t> out;
     for (uint32_t i : idx) {
       const Eigen::Vector2i c = (s.xyz[i].head<2>() / cell).array().floor().cast<int>();
-      out.emplace((uint64_t(uint32_t(c.x())) << 32) | uint64_t(uint32_t(c.y())), 1);
+      out.insert(geometry::voxel_key({c.x(), c.y(), 0}));
     }
     return out;
   };
@@ -250,7 +247,7 @@ double footprint_overlap(const PointSet& s, const std::vector<uint32_t>& a, cons
   const auto& small = ca.size() <= cb.size() ? ca : cb;
   const auto& large = ca.size() <= cb.size() ? cb : ca;
   size_t shared = 0;
-  for (const auto& [k, v] : small) shared += large.count(k);
+  for (uint64_t k : small) shared += large.count(k);
   return small.empty() ? 1.0 : double(shared) / double(small.size());
 }
 

@@ -2,6 +2,7 @@
 
 #include <lista/error.hpp>
 #include <lista_geometry/object_geometry.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -52,12 +53,7 @@ void add_points(Object& o, const PointSet& cloud, const std::vector<uint32_t>& a
   }
 }
 
-// Voxel coordinates packed into 64 bits (21 bits each, offset so that
-// +-100 km at 0.1 m fits).
-uint64_t voxel_key(const Eigen::Vector3i& v) {
-  constexpr int64_t off = 1 << 20;
-  return (uint64_t(v.x() + off) << 42) | (uint64_t(v.y() + off) << 21) | uint64_t(v.z() + off);
-}
+using geometry::voxel_key;
 
 // One mission's points near its objects and pairs, with a voxel index.
 struct LocalCloud {
