@@ -6,8 +6,17 @@
 #include <lista/error.hpp>
 #include <lista/plugin.hpp>
 
+#include <sstream>
+#include <string>
+
 namespace lista::seg {
 namespace {
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
 
 class CarveStage : public Stage {
  public:
@@ -23,8 +32,8 @@ class CarveStage : public Stage {
     c_.min_width = p.get<double>("min_width");
     // The search marks a ball of (tolerance / voxel)^3 cells per host point.
     if (c_.tolerance > 4.0 * c_.voxel)
-      throw Error("segment.carve: tolerance (" + std::to_string(c_.tolerance) + ") must be at most 4 x voxel (" +
-                  std::to_string(c_.voxel) + "); raise voxel or lower tolerance");
+      throw Error("tolerance " + fmt(c_.tolerance) + " m is over 4 x voxel (" + fmt(c_.voxel) +
+                  " m); raise voxel or lower tolerance");
   }
 
   static StageInfo info() {

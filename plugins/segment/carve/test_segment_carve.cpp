@@ -147,6 +147,8 @@ TEST(SegmentCarve, StageDeclaresItsParametersAndRuns) {
   const auto out = run_stage("segment.carve", "objects", lista::Data::make(in), {{"min_fit", 0.9}});
   EXPECT_EQ(out.at("objects").as<lista::ObjectSet>().objects.size(), 3u);
   EXPECT_THROW(run_stage("segment.carve", "objects", lista::Data::make(in), {{"min_fit", 1.5}}), lista::Error);
+  // Each host point marks a ball of (tolerance / voxel)^3 cells: bounded.
+  EXPECT_THROW(run_stage("segment.carve", "objects", lista::Data::make(in), {{"tolerance", 0.4}}), lista::Error);
   // Objects from outside keep their optional channels through a cut.
   in.objects[1].points.label.assign(in.objects[1].points.size(), 7u);
   const auto labelled = run_stage("segment.carve", "objects", lista::Data::make(in));
