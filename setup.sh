@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One entry point for a fresh Debian 12 machine:
-#   ./setup.sh demo   install what is missing, build, generate the demo dataset, run pipelines/lista.toml
+#   ./setup.sh demo   install what is missing, build, generate the demo dataset, run pipelines/demo.toml
 #   ./setup.sh test   install what is missing, build, run every test suite
 #   ./setup.sh build  install what is missing and build
 set -euo pipefail

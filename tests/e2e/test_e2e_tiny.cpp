@@ -249,6 +249,15 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
   EXPECT_FALSE(std::filesystem::exists(out / "report.html")) << "the earlier run's page beside a failed rerun";
 
+  // A page of the user's own that happens to be called report.html stays.
+  const std::string own_page = "<html><body>my notes</body></html>\n";
+  std::ofstream(out / "report.html") << own_page;
+  const auto kept = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                             broken.string() + " --out " + out.string() + " --threads 1 2>&1");
+  EXPECT_EQ(kept.status, 1) << kept.output;
+  EXPECT_NE(kept.output.find("report.html (not a LiSTA report page)"), std::string::npos) << kept.output;
+  EXPECT_EQ(e2e::read_file(out / "report.html"), own_page);
+
   // The report stage succeeds, the page after it cannot be written.
   std::filesystem::remove(out / "report.html");
   std::filesystem::create_directories(out / "report.html");

@@ -58,15 +58,20 @@ double one_way(const Cloud& from, const pcl_search::FastKdTree& to_tree, const E
 // Registers `source` onto `target` (their voxelised clouds `src`, `dst`).
 IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                       const Cloud::Ptr& src, const Cloud::Ptr& dst, const IcpConfig& cfg) {
-  // ICP's cost is one target search per source point and iteration: it
-  // iterates on an evenly strided subset (max_points); scores search the
-  // whole voxelised clouds (querying at most max_score_points each way).
-  Cloud::Ptr src_icp = src;
-  if (cfg.max_points > 0 && src->size() > static_cast<size_t>(cfg.max_points)) {
-    src_icp.reset(new Cloud);
-    const double step = static_cast<double>(src->size()) / cfg.max_points;
-    for (int k = 0; k < cfg.max_points; ++k) src_icp->push_back((*src)[static_cast<size_t>(k * step)]);
-  }
+  // ICP's cost is one target search per source point and iteration: the
+  // coarse pass over every hypothesis iterates on an evenly strided subset
+  // (max_points), the fine pass on the few best on a larger one
+  // (fine_max_points); scores search the whole voxelised clouds (querying at
+  // most max_score_points each way).
+  auto strided = [&](int max_points) {
+    if (max_points <= 0 || src->size() <= static_cast<size_t>(max_points)) return src;
+    Cloud::Ptr sub(new Cloud);
+    const double step = static_cast<double>(src->size()) / max_points;
+    for (int k = 0; k < max_points; ++k) sub->push_back((*src)[static_cast<size_t>(k * step)]);
+    return sub;
+  };
+  const Cloud::Ptr src_icp = strided(cfg.max_points);
+  const Cloud::Ptr src_fine = cfg.fine_max_points < 0 ? src_icp : strided(cfg.fine_max_points);
   pcl_search::FastKdTree src_tree, dst_tree;
   src_tree.setInputCloud(src);
   dst_tree.setInputCloud(dst);
@@ -92,7 +97,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   }
 
   // GICP estimates local covariances from 20 neighbours: too few points, plain ICP.
-  const bool use_gicp = cfg.method == "gicp" && src_icp->size() >= 30 && dst->size() >= 30;
+  const bool use_gicp = cfg.method == "gicp" && std::min(src_icp->size(), src_fine->size()) >= 30 && dst->size() >= 30;
   // One registration object for all hypotheses: GICP then computes the
   // points' covariances once, not once per hypothesis.
   pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
@@ -108,6 +113,13 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   icp.setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
   icp.setInputSource(src_icp);
   icp.setInputTarget(dst);
+  // The fine pass switches both registrations to src_fine once (GICP then
+  // computes the larger subset's covariances once, not per hypothesis).
+  auto use_fine_points = [&] {
+    if (src_fine == src_icp) return;
+    if (use_gicp) gicp.setInputSource(src_fine);
+    icp.setInputSource(src_fine);
+  };
   auto refine = [&](const Eigen::Isometry3d& guess, double max_correspondence, bool point_to_point = false) {
     Cloud aligned;
     Eigen::Isometry3d t = guess;
@@ -186,6 +198,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   // the truth, which point-to-point ICP reached with a lower score), so a
   // point-to-point polish competes too. Never worse than the coarse result.
   const double fine_gate = std::min(cfg.max_correspondence, cfg.inlier_distance);
+  use_fine_points();
   std::vector<Candidate> fine;
   for (size_t i : chosen) {
     Candidate best_i = coarse[i];
@@ -194,7 +207,12 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
       c.score = score_of(c.t, c.in_source, c.in_target);
       if (c.score < best_i.score) best_i = c;
     };
-    consider(refine(coarse[i].t, fine_gate));
+    // A coarse pose from a thinned source sits wherever the thin points
+    // let it slide along a large face: first the wide gate again on the
+    // fine points, then the narrow one.
+    const Eigen::Isometry3d start = src_fine == src_icp ? coarse[i].t : refine(coarse[i].t, cfg.max_correspondence);
+    if (src_fine != src_icp) consider(start);
+    consider(refine(start, fine_gate));
     if (use_gicp) consider(refine(best_i.t, fine_gate, true));
     fine.push_back(best_i);
   }

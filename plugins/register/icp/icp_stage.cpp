@@ -23,6 +23,9 @@ class IcpStage : public Stage {
     cfg_.svd_flips = p.get<bool>("svd_flips");
     cfg_.inlier_distance = p.get<double>("inlier_distance");
     cfg_.symmetry_tolerance = p.get<double>("symmetry_tolerance");
+    cfg_.max_points = p.get<int>("max_points");
+    cfg_.fine_max_points = p.get<int>("fine_max_points");
+    cfg_.max_score_points = p.get<int>("max_score_points");
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
@@ -65,7 +68,10 @@ StageInfo info() {
       "minimum can sit degrees off on box-like objects) and the best is kept; the view covering fewer voxels "
       "is the one moved (then inverted); among poses scoring within "
       "symmetry_tolerance (relative) of the best, the one with the smallest rotation wins (a symmetric shape "
-      "fits as well turned by 180 degrees). p_match = T * p. "
+      "fits as well turned by 180 degrees). Large objects: the coarse pass iterates on at most max_points "
+      "source points, the fine pass on at most fine_max_points and starts with the wide gate again (a pose "
+      "from few points may sit slid along a large face), and scores query at most max_score_points each way. "
+      "p_match = T * p. "
       "Records the mean inlier share as 'mean_inlier_ratio'.";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a refined transform for every moved object"}};
@@ -79,6 +85,15 @@ StageInfo info() {
       ParamSpec::real("inlier_distance", 0.05, "score truncation distance").range(0.001, 10.0).unit("m"),
       ParamSpec::real("symmetry_tolerance", 0.1, "relative score margin within which the smallest rotation wins")
           .range(0.0, 10.0),
+      ParamSpec::integer("max_points", 2000,
+                         "coarse pass: source points ICP iterates on from each hypothesis (evenly strided); 0 = all")
+          .range(0, 100000000),
+      ParamSpec::integer("fine_max_points", 20000,
+                         "fine pass on the best few: source points ICP iterates on (evenly strided); 0 = all")
+          .range(0, 100000000),
+      ParamSpec::integer("max_score_points", 10000,
+                         "points each score queries each way (evenly strided; the searched cloud stays whole); 0 = all")
+          .range(0, 100000000),
   };
   return s;
 }

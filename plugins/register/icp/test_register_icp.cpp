@@ -149,7 +149,7 @@ TEST(IcpRefine, SymmetricBoxNudgedIsNotReportedTurnedAround) {
 // A real pair's two missions in a common frame (testdata/<name>: lines
 // "mission x y z", mission 0 before, 1 after), registered with the
 // defaults (after = T * before).
-IcpResult register_pair(const std::string& name) {
+IcpResult register_pair(const std::string& name, const IcpConfig& cfg = IcpConfig{}) {
   std::ifstream in(std::string(LISTA_SOURCE_DIR) + "/plugins/register/icp/testdata/" + name);
   if (!in) throw std::runtime_error("missing test data " + name);
   std::vector<Eigen::Vector3f> views[2];
@@ -162,7 +162,7 @@ IcpResult register_pair(const std::string& name) {
     views[mission == 0 ? 0 : 1].emplace_back(x, y, z);
   }
   if (views[0].size() < 1000 || views[1].size() < 1000) throw std::runtime_error(name + ": too few points");
-  return icp_refine(views[0], views[1], IcpConfig{});
+  return icp_refine(views[0], views[1], cfg);
 }
 
 double yaw_deg(const IcpResult& r) {
@@ -186,4 +186,23 @@ TEST(IcpRefine, SimulatedCartPairIsRecoveredWithinADegree) {
   const IcpResult r = register_pair("cart_pair.txt");
   EXPECT_NEAR(yaw_deg(r), -94.5, 1.0);
   EXPECT_GT(r.inlier_ratio, 0.9);
+}
+
+TEST(IcpRefine, ThinnedCoarsePassKeepsThePairsPoses) {
+  // The coarse pass over every hypothesis iterates on a strided subset, the
+  // fine pass (the wide gate again, then the narrow one) on a larger one:
+  // both real pairs come out as with all points (the two tests above), for
+  // subsets far smaller than the pairs (about 2300 and 3100 points).
+  IcpConfig cfg;
+  cfg.max_points = 150;
+  cfg.fine_max_points = 1000;
+  cfg.max_score_points = 800;
+  EXPECT_NEAR(yaw_deg(register_pair("box_pair.txt", cfg)), -27.8, 3.0);
+  const IcpResult cart = register_pair("cart_pair.txt", cfg);
+  EXPECT_NEAR(yaw_deg(cart), -94.5, 1.0);
+  EXPECT_GT(cart.inlier_ratio, 0.9);
+  // fine_max_points < 0: the fine pass keeps the coarse subset (match.weighted's
+  // shape check); still within a few degrees on the cart.
+  cfg.fine_max_points = -1;
+  EXPECT_NEAR(yaw_deg(register_pair("cart_pair.txt", cfg)), -94.5, 3.0);
 }

@@ -81,7 +81,7 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
     if (v.status == ChangeStatus::moved && v.match >= 0 && v.object->id < v.match) ++moves;
   }
 
-  std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">" + std::string(kGeneratorMeta) + "<title>" +
                      escape(options.title) + "</title>" + kStyle + "</head>\n<body>\n";
   html += "<h1>" + escape(options.title) + "</h1>\n<p>Missions: ";
   for (size_t m = 0; m < model.missions.size(); ++m)

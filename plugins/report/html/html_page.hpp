@@ -11,6 +11,10 @@
 
 namespace lista::report_html {
 
+// In every page's head: lista-run removes an earlier report.html before a
+// run only when it carries this mark, never a page of someone else's.
+inline constexpr const char* kGeneratorMeta = "<meta name=\"generator\" content=\"LiSTA report.html\">";
+
 struct PageOptions {
   std::string title = "LiSTA change report";
   TopdownOptions topdown;

@@ -186,6 +186,8 @@ TEST(ReportHtml, WritesEveryPart) {
   EXPECT_NE(html.find("<th>stages at once (-j)</th><td class=\"text\">2</td>"), std::string::npos);
   EXPECT_NE(html.find("<th>describe weights_sha256</th><td class=\"text\">fe68557d</td>"), std::string::npos)
       << "what stages noted (the weights a run used)";
+  EXPECT_LT(html.find("<meta name=\"generator\" content=\"LiSTA report.html\">"), 4096u)
+      << "the mark lista-run looks for before removing an earlier page";
   EXPECT_FALSE(fs::exists(dir / "report.html.tmp"));
   fs::remove_all(dir);
 }

@@ -14,6 +14,11 @@
 // poses within symmetry_tolerance of it the smallest rotation wins
 // (symmetric shapes fit as well turned by 180 degrees).
 //
+// Cost: large objects (tens of thousands of points) iterate the coarse pass
+// on an evenly strided subset (max_points) and the fine pass on a larger one
+// (fine_max_points), which first runs the wide gate again: a pose found from
+// few points can sit slid along a large face, beyond the narrow gate's reach.
+//
 // Direction: ICP pulls every moving point towards the fixed cloud, so a
 // moving cloud with parts the other never saw is dragged off. The cloud
 // covering fewer voxels (mostly a partial view) is registered onto the other
@@ -38,7 +43,10 @@ struct IcpConfig {
   bool svd_flips = true;              // try the SVD guess's four axis flips
   double inlier_distance = 0.05;      // m: truncation of the score
   double symmetry_tolerance = 0.1;    // poses within this share of the best score tie; smallest rotation wins
-  int max_points = 0;                 // ICP iterates on at most this many source points (strided); 0 = all
+  int max_points = 0;                 // the coarse pass (every hypothesis) iterates on at most this many
+                                      // source points (strided); 0 = all
+  int fine_max_points = -1;           // the fine pass on the few best: at most this many; 0 = all,
+                                      // < 0 = as max_points
   int max_score_points = 0;           // scores query at most this many points each way (strided; the
                                       // searched cloud stays whole); 0 = all
 };
