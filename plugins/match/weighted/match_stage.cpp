@@ -120,7 +120,7 @@ StageInfo info() {
       "partners, it does not count against max_cost, so a group never vetoes a pair the gates accept; hard "
       "does). normalization = max divides the physical term by its largest candidate value and the descriptor term by the largest descriptor distance between any "
       "two objects; minmax is the paper's (x - min) / (max - min), which stretches descriptor noise between "
-      "identical objects to the full range. Candidates must lie within max_distance metres, keep their size "
+      "identical objects to the full range. Candidates must lie within max_distance metres (0 = any distance), keep their size "
       "(height and footprint-rectangle sides within max(max_size_change x the larger, size_slack)), "
       "max_descriptor_distance (if > 0), then fit as one rigid object: each surviving pair is registered "
       "(lista::objreg multi-hypothesis ICP on shape_voxel-downsampled points, the view covering fewer voxels "
@@ -157,7 +157,7 @@ StageInfo info() {
       ParamSpec::real("max_size_change", 0.6, "size gate, a cheap pre-filter before the shape check: largest relative change of height or footprint-rectangle sides of a pair (a rigid object keeps its size, but a partial view shows less of it); 0 = off")
           .range(0.0, 10.0),
       ParamSpec::real("size_slack", 0.15, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m"),
-      ParamSpec::real("max_distance", 30.0, "farthest centroid displacement accepted as a move (room or site scale: the size gate keeps unlike objects apart)")
+      ParamSpec::real("max_distance", 0.0, "farthest centroid displacement accepted as a move; 0 = no limit (a site's scale is not known: the size and shape gates keep unlike objects apart, the physical term prefers near partners)")
           .range(0.0, 1e6).unit("m"),
       ParamSpec::real("max_descriptor_distance", 0.0, "largest descriptor distance of a pair; 0 = no gate")
           .at_least(0.0),

@@ -88,7 +88,8 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
       pc.descriptor(i, j) = (ra >= 0 && rb >= 0)
           ? (desc.values.row(ra) - desc.values.row(rb)).cast<double>().norm()
           : std::numeric_limits<double>::quiet_NaN();
-      bool ok = pc.physical(i, j) <= cfg.max_distance && (a_changed[size_t(i)] || b_changed[size_t(j)]);
+      bool ok = (cfg.max_distance <= 0.0 || pc.physical(i, j) <= cfg.max_distance) &&
+                (a_changed[size_t(i)] || b_changed[size_t(j)]);
       if (cfg.max_size_change > 0.0 && !same_size(size_a[size_t(i)], size_b[size_t(j)], cfg.max_size_change, cfg.size_slack))
         ok = false;
       if (cfg.max_descriptor_distance > 0.0 && !(pc.descriptor(i, j) <= cfg.max_descriptor_distance))

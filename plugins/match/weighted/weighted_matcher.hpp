@@ -16,8 +16,10 @@
 // cross-group pairs (the paper's "within each group"); "ignore" drops groups.
 //
 // Gates. A pair is a candidate only if its centroids are at most
-// `max_distance` metres apart (two unrelated changes far apart are never a
-// move), its sizes agree as one rigid object's would (height and the
+// `max_distance` metres apart (0, the default: no limit, since a site's
+// scale is not known and an object may cross it; the size and shape gates
+// keep unlike objects apart and the physical term prefers near partners),
+// its sizes agree as one rigid object's would (height and the
 // sides of the footprint rectangle (lista::geometry) differ by at most
 // max(`max_size_change` x the larger, `size_slack`); 0 turns it off), its descriptor distance is at most `max_descriptor_distance` (if > 0)
 // and its weighted cost is at most `max_cost`. With the default max_cost =
@@ -54,7 +56,7 @@ struct WeightedMatchConfig {
   std::string normalization = "max";  // "max" or "minmax"
   std::string group_mode = "soft";  // "soft", "hard" or "ignore"
   double group_penalty = 0.5;       // soft mode: added to cross-group pairs
-  double max_distance = 30.0;       // m: physical gate
+  double max_distance = 0.0;        // m: physical gate; 0 = none
   double max_size_change = 0.6;     // size gate: relative change of height / extents; 0 = off
   double size_slack = 0.15;         // m: size change always allowed (partial views, noise)
   double max_descriptor_distance = 0.0;  // descriptor units; 0 = no gate
