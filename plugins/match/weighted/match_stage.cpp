@@ -111,7 +111,7 @@ class WeightedMatchStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.3.0";
+  s.version = "1.4.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "

@@ -56,7 +56,7 @@ class IcpStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "register.icp";
-  s.version = "1.0.0";
+  s.version = "1.1.0";
   s.summary = "6-DoF transform of each moved object by (G)ICP from SVD and yaw hypotheses";
   s.doc =
       "For each matched pair: initial guesses are the SVD principal-frame transform (register.svd) with its "
