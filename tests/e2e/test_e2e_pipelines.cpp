@@ -71,15 +71,24 @@ TEST(Pipelines, CopiesDifferFromTheDefaultOnlyInTheirOwnStages) {
       {"pipelines/ablations/volumetric-octomap.toml", {"diff"}},
       {"examples/describe-extent/pipeline.toml", {"describe"}},
   };
-  for (const fs::path& file : shipped_pipelines()) {
+  std::vector<fs::path> copies = shipped_pipelines();
+  for (const auto& e : fs::directory_iterator(e2e::source("examples")))
+    if (fs::exists(e.path() / "pipeline.toml")) copies.push_back(e.path() / "pipeline.toml");
+  for (const fs::path& file : copies) {
     const std::string rel = fs::relative(file, e2e::source(".")).string();
     if (rel != "pipelines/lista.toml") EXPECT_TRUE(own.count(rel)) << rel << ": a new copy, list the stages it changes here";
   }
   const toml::value base = toml::parse(e2e::source("pipelines/lista.toml"));
   const toml::table& base_stages = toml::find<toml::table>(base, "stages");
+  const toml::table& base_header = toml::find<toml::table>(base, "pipeline");
   for (const auto& [rel, expected] : own) {
     SCOPED_TRACE(rel);
     const toml::value copy = toml::parse(e2e::source(rel));
+    // [pipeline]: its own name and folders, the default's seed and threads.
+    const toml::table& header = toml::find<toml::table>(copy, "pipeline");
+    for (const char* key : {"seed", "threads"})
+      EXPECT_EQ(header.count(key) ? toml::format(header.at(key)) : "", base_header.count(key) ? toml::format(base_header.at(key)) : "")
+          << key;
     const toml::table& stages = toml::find<toml::table>(copy, "stages");
     std::set<std::string> differ;
     for (const auto& [id, table] : base_stages) {

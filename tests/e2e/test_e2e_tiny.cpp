@@ -255,8 +255,16 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   const auto kept = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
                              broken.string() + " --out " + out.string() + " --threads 1 2>&1");
   EXPECT_EQ(kept.status, 1) << kept.output;
-  EXPECT_NE(kept.output.find("report.html (not a LiSTA report page)"), std::string::npos) << kept.output;
+  EXPECT_NE(kept.output.find("report.html (not written by LiSTA's report.html stage)"), std::string::npos) << kept.output;
   EXPECT_EQ(e2e::read_file(out / "report.html"), own_page);
+  // A page from before the generator mark (the stage's default opening) goes.
+  std::ofstream(out / "report.html")
+      << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>LiSTA change report</title></head>\n";
+  EXPECT_EQ(e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                     broken.string() + " --out " + out.string() + " --threads 1 -q 2>&1")
+                .status,
+            1);
+  EXPECT_FALSE(std::filesystem::exists(out / "report.html")) << "an older LiSTA page beside a failed rerun";
 
   // The report stage succeeds, the page after it cannot be written.
   std::filesystem::remove(out / "report.html");

@@ -58,14 +58,17 @@ std::string output_problem(const std::string& out, bool create) {
 // or is cancelled, so the folder never looks complete when it is not. The
 // page people open, report.html, goes with it: an earlier run's page beside
 // a failed rerun would be taken for the rerun's.
-// A report.html is removed only when the report.html stage wrote it (its
-// generator mark near the top): a page of the user's own of that name stays.
+// A report.html is removed only when the report.html stage wrote it: its
+// generator mark near the top, or (pages from before the mark) the stage's
+// exact opening with its default title. A page of the user's own stays.
 bool written_by_lista(const fs::path& page) {
   std::ifstream in(page, std::ios::binary);
   std::string head(4096, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<size_t>(in.gcount()));
-  return head.find("<meta name=\"generator\" content=\"LiSTA report.html\">") != std::string::npos;
+  return head.find("<meta name=\"generator\" content=\"LiSTA report.html\">") != std::string::npos ||
+         head.rfind("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>LiSTA change report</title>",
+                    0) == 0;
 }
 
 void remove_report(const std::string& out, const char* why, bool quiet) {
@@ -75,7 +78,7 @@ void remove_report(const std::string& out, const char* why, bool quiet) {
     const fs::path file = fs::path(out) / name;
     if (!fs::is_regular_file(file, ec)) continue;
     if (std::string(name) == "report.html" && !written_by_lista(file)) {
-      if (!quiet) std::cerr << "lista-run: kept " << file.string() << " (not a LiSTA report page)\n";
+      if (!quiet) std::cerr << "lista-run: kept " << file.string() << " (not written by LiSTA's report.html stage)\n";
       continue;
     }
     fs::remove(file, ec);

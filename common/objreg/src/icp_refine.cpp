@@ -70,8 +70,13 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     for (int k = 0; k < max_points; ++k) sub->push_back((*src)[static_cast<size_t>(k * step)]);
     return sub;
   };
+  // The fine pass never iterates on fewer points than the coarse one.
+  int fine_points = cfg.fine_max_points < 0 ? cfg.max_points : cfg.fine_max_points;
+  if (cfg.max_points <= 0) fine_points = 0;
+  else if (fine_points > 0 && fine_points < cfg.max_points) fine_points = cfg.max_points;
   const Cloud::Ptr src_icp = strided(cfg.max_points);
-  const Cloud::Ptr src_fine = cfg.fine_max_points < 0 ? src_icp : strided(cfg.fine_max_points);
+  const Cloud::Ptr src_fine = fine_points == cfg.max_points ? src_icp : strided(fine_points);
+  const bool fine_is_coarse = src_fine == src_icp;  // also when the source is small enough for both
   pcl_search::FastKdTree src_tree, dst_tree;
   src_tree.setInputCloud(src);
   dst_tree.setInputCloud(dst);
@@ -96,13 +101,15 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     guesses.push_back(g);
   }
 
-  // GICP estimates local covariances from 20 neighbours: too few points, plain ICP.
-  const bool use_gicp = cfg.method == "gicp" && std::min(src_icp->size(), src_fine->size()) >= 30 && dst->size() >= 30;
+  // GICP estimates local covariances from 20 neighbours: too few points,
+  // plain ICP (decided per pass: the fine subset may be large enough).
+  const bool gicp_method = cfg.method == "gicp" && dst->size() >= 30;
+  bool use_gicp = gicp_method && src_icp->size() >= 30;
   // One registration object for all hypotheses: GICP then computes the
   // points' covariances once, not once per hypothesis.
   pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
   pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-  if (use_gicp) {
+  if (gicp_method) {
     gicp.setSearchMethodSource(std::make_shared<pcl_search::FastKdTree>());
     gicp.setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
     gicp.setInputSource(src_icp);
@@ -116,7 +123,8 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   // The fine pass switches both registrations to src_fine once (GICP then
   // computes the larger subset's covariances once, not per hypothesis).
   auto use_fine_points = [&] {
-    if (src_fine == src_icp) return;
+    if (fine_is_coarse) return;
+    use_gicp = gicp_method && src_fine->size() >= 30;
     if (use_gicp) gicp.setInputSource(src_fine);
     icp.setInputSource(src_fine);
   };
@@ -210,9 +218,8 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     // A coarse pose from a thinned source sits wherever the thin points
     // let it slide along a large face: first the wide gate again on the
     // fine points, then the narrow one.
-    const Eigen::Isometry3d start = src_fine == src_icp ? coarse[i].t : refine(coarse[i].t, cfg.max_correspondence);
-    if (src_fine != src_icp) consider(start);
-    consider(refine(start, fine_gate));
+    if (!fine_is_coarse) consider(refine(coarse[i].t, cfg.max_correspondence));
+    consider(refine(best_i.t, fine_gate));
     if (use_gicp) consider(refine(best_i.t, fine_gate, true));
     fine.push_back(best_i);
   }

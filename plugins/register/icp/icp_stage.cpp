@@ -69,7 +69,7 @@ StageInfo info() {
       "is the one moved (then inverted); among poses scoring within "
       "symmetry_tolerance (relative) of the best, the one with the smallest rotation wins (a symmetric shape "
       "fits as well turned by 180 degrees). Large objects: the coarse pass iterates on at most max_points "
-      "source points, the fine pass on at most fine_max_points and starts with the wide gate again (a pose "
+      "source points, the fine pass on at most fine_max_points (at least max_points) and starts with the wide gate again (a pose "
       "from few points may sit slid along a large face), and scores query at most max_score_points each way. "
       "p_match = T * p. "
       "Records the mean inlier share as 'mean_inlier_ratio'.";
@@ -89,7 +89,7 @@ StageInfo info() {
                          "coarse pass: source points ICP iterates on from each hypothesis (evenly strided); 0 = all")
           .range(0, 100000000),
       ParamSpec::integer("fine_max_points", 20000,
-                         "fine pass on the best few: source points ICP iterates on (evenly strided); 0 = all")
+                         "fine pass on the best few: source points ICP iterates on (evenly strided; at least max_points); 0 = all")
           .range(0, 100000000),
       ParamSpec::integer("max_score_points", 10000,
                          "points each score queries each way (evenly strided; the searched cloud stays whole); 0 = all")

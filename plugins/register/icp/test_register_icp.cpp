@@ -204,5 +204,15 @@ TEST(IcpRefine, ThinnedCoarsePassKeepsThePairsPoses) {
   // fine_max_points < 0: the fine pass keeps the coarse subset (match.weighted's
   // shape check); still within a few degrees on the cart.
   cfg.fine_max_points = -1;
-  EXPECT_NEAR(yaw_deg(register_pair("cart_pair.txt", cfg)), -94.5, 3.0);
+  const IcpResult same = register_pair("cart_pair.txt", cfg);
+  EXPECT_NEAR(yaw_deg(same), -94.5, 3.0);
+  // The fine pass never takes fewer points than the coarse one: a smaller
+  // fine_max_points acts as max_points, and max_points = 0 (all) makes both all.
+  cfg.fine_max_points = 50;
+  EXPECT_TRUE(register_pair("cart_pair.txt", cfg).transform.isApprox(same.transform, 1e-12));
+  cfg.max_points = 0;
+  cfg.fine_max_points = 1000;
+  cfg.max_score_points = 0;
+  EXPECT_TRUE(register_pair("cart_pair.txt", cfg).transform.isApprox(
+      register_pair("cart_pair.txt", IcpConfig{}).transform, 1e-12));
 }

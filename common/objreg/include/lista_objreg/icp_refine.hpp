@@ -45,8 +45,8 @@ struct IcpConfig {
   double symmetry_tolerance = 0.1;    // poses within this share of the best score tie; smallest rotation wins
   int max_points = 0;                 // the coarse pass (every hypothesis) iterates on at most this many
                                       // source points (strided); 0 = all
-  int fine_max_points = -1;           // the fine pass on the few best: at most this many; 0 = all,
-                                      // < 0 = as max_points
+  int fine_max_points = -1;           // the fine pass on the few best: at most this many, never fewer
+                                      // than max_points; 0 = all, < 0 = as max_points
   int max_score_points = 0;           // scores query at most this many points each way (strided; the
                                       // searched cloud stays whole); 0 = all
 };
