@@ -23,6 +23,11 @@ struct ObjectChange {
   // Ids of the same physical object in every mission it was seen in, in
   // mission order (includes object_id). N >= 2 missions.
   std::vector<int> history;
+  // Other transforms that fit the partner about as well as `transform` (a
+  // symmetric shape turned by 180 degrees, a round one by any angle), best
+  // first; empty when the pose is unambiguous or the registration cannot
+  // tell. Same convention as `transform`.
+  std::vector<Eigen::Matrix4d> alternative_transforms;
 };
 
 struct Matches {

@@ -145,7 +145,12 @@ void write_report(const std::string& path, const Report& report) {
     j["group"] = o.group;
     j["confidence"] = o.confidence;
     j["match"] = o.match >= 0 ? json(o.match) : json(nullptr);
-    if (o.transform) j["transform"] = matrix_json(*o.transform);
+    if (o.transform) {
+      j["transform"] = matrix_json(*o.transform);
+      json alternatives = json::array();
+      for (const auto& a : o.alternative_transforms) alternatives.push_back(matrix_json(a));
+      j["alternative_transforms"] = std::move(alternatives);
+    }
     j["history"] = o.history;
     j["floor_z"] = o.floor_z ? json(*o.floor_z) : json(nullptr);
     objects.push_back(std::move(j));
@@ -205,6 +210,13 @@ Report read_report(const std::string& path) {
     o.match = match.is_null() ? -1 : rd.integer(match, w + ".match");
     if (j.contains("transform")) o.transform = rd.rigid(j["transform"], w + ".transform");
     if (o.status == "moved" && !o.transform) rd.fail(w, "moved object has no 'transform'");
+    if (j.contains("alternative_transforms")) {
+      const json& alts = j["alternative_transforms"];
+      const std::string wa = w + ".alternative_transforms";
+      if (!alts.is_array()) rd.fail(wa, "expected a list of 4x4 transforms");
+      for (size_t k = 0; k < alts.size(); ++k)
+        o.alternative_transforms.push_back(rd.rigid(alts[k], wa + "[" + std::to_string(k) + "]"));
+    }
     if (j.contains("history")) {
       const json& h = j["history"];
       if (!h.is_array()) rd.fail(w + ".history", "expected a list of ids");

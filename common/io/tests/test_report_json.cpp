@@ -2,6 +2,8 @@
 
 #include <lista_io/report.hpp>
 
+#include <Eigen/Geometry>
+
 #include <nlohmann/json.hpp>
 
 using namespace lista::io;
@@ -26,12 +28,16 @@ Report sample_report() {
   o.confidence = 0.87;
   o.match = 11;
   o.transform = t;
+  Eigen::Matrix4d half_turn = t;  // the same move turned by 180 degrees: a symmetric shape's twin
+  half_turn.block<3, 3>(0, 0) = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  o.alternative_transforms = {half_turn};
   o.history = {3, 11};
   o.floor_z = -0.59;
   ReportObject p = o;
   p.id = 11;
   p.mission = "B";
   p.match = 3;
+  p.alternative_transforms.clear();
   ReportObject q;
   q.id = 12;
   q.mission = "B";
@@ -56,6 +62,9 @@ TEST(ReportJson, RoundTripAndContractLayout) {
   EXPECT_EQ(r.alignment.at("B")(0, 3), 1.5);
   EXPECT_EQ(r.timings_s[0].first, "read");
   EXPECT_EQ(r.objects[0].history, (std::vector<int>{3, 11}));
+  ASSERT_EQ(r.objects[0].alternative_transforms.size(), 1u);
+  EXPECT_NEAR(r.objects[0].alternative_transforms[0](0, 0), -1.0, 1e-12);
+  EXPECT_TRUE(r.objects[1].alternative_transforms.empty());
   ASSERT_TRUE(r.objects[0].floor_z.has_value());
   EXPECT_DOUBLE_EQ(*r.objects[0].floor_z, -0.59);
   EXPECT_FALSE(r.objects[2].floor_z.has_value());  // unknown: written as null, read back as none
@@ -67,6 +76,11 @@ TEST(ReportJson, RoundTripAndContractLayout) {
   EXPECT_EQ(j["timings_s"]["read"], 1.25);
   EXPECT_EQ(j["provenance"]["seed"], 7);
   EXPECT_EQ(j["alignment"]["B"][0][3], 1.5);
+  // Moved objects always carry the list (empty: unambiguous); others never.
+  EXPECT_EQ(j["objects"][0]["alternative_transforms"].size(), 1u);
+  EXPECT_TRUE(j["objects"][1]["alternative_transforms"].is_array());
+  EXPECT_TRUE(j["objects"][1]["alternative_transforms"].empty());
+  EXPECT_FALSE(j["objects"][2].contains("alternative_transforms"));
 }
 
 TEST(ReportJson, StrictReadingNamesFileAndField) {
@@ -93,6 +107,10 @@ TEST(ReportJson, StrictReadingNamesFileAndField) {
   broken([](auto& j) { j["alignment"]["B"] = nlohmann::json::parse("[[0,0,0,0],[0,0,0,0],[0,0,0,0],[0,0,0,0]]"); },
          "alignment.B: is not a rigid transform");
   broken([](auto& j) { j["objects"][0]["transform"][0][0] = 2.0; }, "objects[0].transform: is not a rigid transform");
+  broken([](auto& j) { j["objects"][0]["alternative_transforms"][0][1][1] = 3.0; },
+         "objects[0].alternative_transforms[0]: is not a rigid transform");
+  broken([](auto& j) { j["objects"][0]["alternative_transforms"] = 1; },
+         "objects[0].alternative_transforms: expected a list of 4x4 transforms");
   broken([](auto& j) { j["objects"][0]["match"] = 99; }, "names no object id 99");
   broken([](auto& j) { j["objects"][0]["match"] = 3; }, "(id 3).match: names the object itself");
   broken([](auto& j) { j["objects"][1]["match"] = 12; }, "(id 11).match: names object 12 of the same mission 'B'");

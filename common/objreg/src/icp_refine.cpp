@@ -55,6 +55,42 @@ double one_way(const Cloud& from, const pcl_search::FastKdTree& to_tree, const E
   return used == 0 ? cap : sum / used;
 }
 
+struct Candidate {
+  Eigen::Isometry3d t;
+  double score, in_source, in_target;
+};
+
+// Two poses of the same source are distinct when they differ by at least
+// distinct_degrees of rotation or distinct_metres at the source centroid `c`.
+bool distinct_poses(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const Eigen::Vector3d& c,
+                    const IcpConfig& cfg) {
+  const double degrees = Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
+  return degrees >= cfg.distinct_degrees || (a * c - b * c).norm() >= cfg.distinct_metres;
+}
+
+// The candidates other than `win` that tie with it (score within
+// symmetry_tolerance of the best) and are distinct poses: turned by at least
+// distinct_degrees or shifted by at least distinct_metres at the source
+// centroid `c`, from the winner and from every alternative kept before them
+// (best score first).
+std::vector<Eigen::Isometry3d> distinct_ties(const std::vector<Candidate>& cs, size_t win, const Eigen::Vector3d& c,
+                                             const IcpConfig& cfg) {
+  double best = cs[win].score;
+  for (const Candidate& k : cs) best = std::min(best, k.score);
+  const double limit = best * (1.0 + cfg.symmetry_tolerance);
+  std::vector<size_t> order(cs.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cs[a].score < cs[b].score; });
+  std::vector<Eigen::Isometry3d> kept{cs[win].t};
+  for (size_t i : order) {
+    if (i == win || cs[i].score > limit) continue;
+    if (std::all_of(kept.begin(), kept.end(), [&](const Eigen::Isometry3d& k) { return distinct_poses(k, cs[i].t, c, cfg); }))
+      kept.push_back(cs[i].t);
+  }
+  kept.erase(kept.begin());
+  return kept;
+}
+
 // Registers `source` onto `target` (their voxelised clouds `src`, `dst`).
 IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                       const Cloud::Ptr& src, const Cloud::Ptr& dst, const IcpConfig& cfg) {
@@ -158,10 +194,6 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   };
 
   // Coarse pass from every hypothesis with the wide correspondence distance.
-  struct Candidate {
-    Eigen::Isometry3d t;
-    double score, in_source, in_target;
-  };
   std::vector<Candidate> coarse;
   for (const Eigen::Isometry3d& guess : guesses) {
     Candidate c{refine(guess, cfg.max_correspondence), 0.0, 0.0, 0.0};
@@ -189,6 +221,9 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   // as correspondence gate: with a wide gate, points missing from a partial
   // view pull the solution off by a few centimetres and degrees, enough to
   // rank a wrong symmetric pose first.
+  // (Measured and not kept, docs/bench/end-to-end.md 2026-11-27: the three
+  // best *distinct* poses, or extra fine passes for distinct coarse ties:
+  // neither listed a true pose more often among the alternatives.)
   std::vector<size_t> chosen;
   for (size_t i = 0; i < std::min<size_t>(coarse.size(), 3); ++i) chosen.push_back(i);
   const size_t coarse_pick = pick(coarse);
@@ -223,7 +258,8 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     if (use_gicp) consider(refine(best_i.t, fine_gate, true));
     fine.push_back(best_i);
   }
-  const Candidate& winner = fine[pick(fine)];
+  const size_t win = pick(fine);
+  const Candidate& winner = fine[win];
   IcpResult best;
   best.hypotheses = static_cast<int>(guesses.size());
   best.score = winner.score;
@@ -231,6 +267,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   best.source_inliers = winner.in_source;
   best.target_inliers = winner.in_target;
   best.inlier_ratio = 0.5 * (winner.in_source + winner.in_target);
+  best.alternatives = distinct_ties(fine, win, cs, cfg);
   return best;
 }
 
@@ -246,6 +283,7 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
   if (dst->size() >= src->size()) return refine_pair(source, target, src, dst, cfg);
   IcpResult r = refine_pair(target, source, dst, src, cfg);
   r.transform = r.transform.inverse();
+  for (Eigen::Isometry3d& a : r.alternatives) a = a.inverse();
   std::swap(r.source_inliers, r.target_inliers);
   return r;
 }

@@ -96,6 +96,7 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
         ro.match = c->match;
         if (c->has_transform) {
           ro.transform = restore(c->transform);
+          for (const Eigen::Matrix4d& a : c->alternative_transforms) ro.alternative_transforms.push_back(restore(a));
         } else {
           Eigen::Matrix4d t = Eigen::Matrix4d::Identity();
           t.block<3, 1>(0, 3) = (partner->points.centroid() - o.points.centroid()).cast<double>();

@@ -78,12 +78,13 @@ class ReportStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "io.report";
-  s.version = "1.0.0";
+  s.version = "1.1.0";
   s.summary = "writes report.json and changes/<mission>.pcd (data contract, section 2)";
   s.doc =
       "Writes the change report: report.json (format, missions, alignment = each mission's to_common, "
       "objects with id, mission, status, centroid, bbox, points, group (-1 without groups), confidence, "
-      "match (null if none), transform for moved objects, and the extensions 'history' and 'floor_z'; timings_s per "
+      "match (null if none), transform for moved objects, and the extensions 'alternative_transforms' (moved "
+      "objects: other poses that fit about as well; empty if unambiguous), 'history' and 'floor_z'; timings_s per "
       "finished stage) plus 'provenance' (resolved pipeline, plugin versions, git revision, seed, threads, "
       "per-stage time and peak memory) and 'metrics'. changes/<mission>.pcd (binary; x y z float32 in the "
       "common frame, scan uint32, index uint32, object int32) holds every object point with its object id "

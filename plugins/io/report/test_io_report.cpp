@@ -59,6 +59,9 @@ struct Fixture {
     objects.objects[0].floor_z = -0.25f;  // measured by a stage; the others unknown
     ObjectChange a{0, ChangeStatus::moved, 1, 0.1, 0.9, true, Eigen::Matrix4d::Identity(), {0, 1}};
     a.transform(0, 3) = 5;
+    Eigen::Matrix4d half_turn = a.transform;  // a symmetric shape's twin pose
+    half_turn.block<3, 3>(0, 0) = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    a.alternative_transforms = {half_turn};
     ObjectChange b{1, ChangeStatus::moved, 0, 0.1, 0.9, false, Eigen::Matrix4d::Identity(), {0, 1}};
     ObjectChange c{2, ChangeStatus::added, -1, 0, 0.7, false, Eigen::Matrix4d::Identity(), {2}};
     matches.objects = {a, b, c};
@@ -106,6 +109,9 @@ TEST(IoReport, WritesTheContractAndReadsBack) {
   EXPECT_EQ((*r.objects[0].transform)(0, 3), 5.0);
   // Object 1 had no transform: the centroid translation back to object 0.
   EXPECT_NEAR((*r.objects[1].transform)(0, 3), -5.0, 1e-5);
+  ASSERT_EQ(r.objects[0].alternative_transforms.size(), 1u);  // passed on, in the common frame
+  EXPECT_NEAR(r.objects[0].alternative_transforms[0](0, 0), -1.0, 1e-12);
+  EXPECT_TRUE(r.objects[1].alternative_transforms.empty());
   EXPECT_EQ(r.objects[2].status, "added");
   EXPECT_EQ(r.objects[2].match, -1);
   EXPECT_EQ(r.objects[2].group, -1);

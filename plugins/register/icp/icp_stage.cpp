@@ -23,6 +23,8 @@ class IcpStage : public Stage {
     cfg_.svd_flips = p.get<bool>("svd_flips");
     cfg_.inlier_distance = p.get<double>("inlier_distance");
     cfg_.symmetry_tolerance = p.get<double>("symmetry_tolerance");
+    cfg_.distinct_degrees = p.get<double>("distinct_degrees");
+    cfg_.distinct_metres = p.get<double>("distinct_metres");
     cfg_.max_points = p.get<int>("max_points");
     cfg_.fine_max_points = p.get<int>("fine_max_points");
     cfg_.max_score_points = p.get<int>("max_score_points");
@@ -33,17 +35,19 @@ class IcpStage : public Stage {
     const auto& matches = in.get<Matches>("matches");
     std::mutex mutex;
     double inlier_sum = 0.0;
-    int pairs = 0;
+    int pairs = 0, ambiguous = 0;
     Matches out = register_matches(objects, matches, [&](const Object& s, const Object& t) {
       const IcpResult r = icp_refine(s.points.xyz, t.points.xyz, cfg_);
       std::lock_guard<std::mutex> lock(mutex);
       inlier_sum += r.inlier_ratio;
       ++pairs;
-      return r.transform;
+      if (!r.alternatives.empty()) ++ambiguous;
+      return PairPose{r.transform, r.alternatives};
     }, ctx);
     out.method = matches.method + "+register.icp";
     if (pairs > 0) ctx.record("mean_inlier_ratio", inlier_sum / pairs);
     ctx.record("pairs", pairs);
+    ctx.record("ambiguous_pairs", ambiguous);
     Outputs o;
     o.put("matches", std::move(out));
     return o;
@@ -56,7 +60,7 @@ class IcpStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "register.icp";
-  s.version = "1.1.0";
+  s.version = "1.2.0";
   s.summary = "6-DoF transform of each moved object by (G)ICP from SVD and yaw hypotheses";
   s.doc =
       "For each matched pair: initial guesses are the SVD principal-frame transform (register.svd) with its "
@@ -71,8 +75,10 @@ StageInfo info() {
       "fits as well turned by 180 degrees). Large objects: the coarse pass iterates on at most max_points "
       "source points, the fine pass on at most fine_max_points (at least max_points) and starts with the wide gate again (a pose "
       "from few points may sit slid along a large face), and scores query at most max_score_points each way. "
-      "p_match = T * p. "
-      "Records the mean inlier share as 'mean_inlier_ratio'.";
+      "p_match = T * p. The other poses within symmetry_tolerance that differ from the chosen one by at least "
+      "distinct_degrees or distinct_metres are written as alternative_transforms (the pose is ambiguous: a box's "
+      "half-turn, a barrel's any turn). "
+      "Records the mean inlier share as 'mean_inlier_ratio' and the pairs with alternatives as 'ambiguous_pairs'.";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a refined transform for every moved object"}};
   s.params = {
@@ -85,6 +91,11 @@ StageInfo info() {
       ParamSpec::real("inlier_distance", 0.05, "score truncation distance").range(0.001, 10.0).unit("m"),
       ParamSpec::real("symmetry_tolerance", 0.1, "relative score margin within which the smallest rotation wins")
           .range(0.0, 10.0),
+      ParamSpec::real("distinct_degrees", 10.0,
+                      "a pose within symmetry_tolerance turned at least this far from the chosen one is reported "
+                      "as an alternative").range(0.1, 180.0).unit("deg"),
+      ParamSpec::real("distinct_metres", 0.1,
+                      "... or shifted at least this far at the object's centroid").range(0.001, 100.0).unit("m"),
       ParamSpec::integer("max_points", 2000,
                          "coarse pass: source points ICP iterates on from each hypothesis (evenly strided); 0 = all")
           .range(0, 100000000),

@@ -32,6 +32,24 @@ std::vector<Eigen::Vector3f> chair(uint64_t seed, int n = 3000) {
   return p;
 }
 
+// A closed 0.8 x 0.4 x 1.2 m box sampled at random: four sides and the top
+// (the floor hides the bottom).
+std::vector<Eigen::Vector3f> cabinet(uint64_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  std::vector<Eigen::Vector3f> box;
+  for (int i = 0; i < 3000; ++i) {
+    const int face = i % 5;
+    const float a = u(rng), b = u(rng);
+    if (face == 0) box.emplace_back(0.0f, 0.4f * a, 1.2f * b);
+    else if (face == 1) box.emplace_back(0.8f, 0.4f * a, 1.2f * b);
+    else if (face == 2) box.emplace_back(0.8f * a, 0.0f, 1.2f * b);
+    else if (face == 3) box.emplace_back(0.8f * a, 0.4f, 1.2f * b);
+    else box.emplace_back(0.8f * a, 0.4f * b, 1.2f);
+  }
+  return box;
+}
+
 std::vector<Eigen::Vector3f> transformed(const std::vector<Eigen::Vector3f>& p, const Eigen::Isometry3d& t,
                                          double noise, uint64_t seed) {
   std::mt19937 rng(seed);
@@ -44,6 +62,12 @@ std::vector<Eigen::Vector3f> transformed(const std::vector<Eigen::Vector3f>& p, 
 void errors(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double& metres, double& degrees) {
   metres = (a.translation() - b.translation()).norm();
   degrees = Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * 180.0 / M_PI;
+}
+
+Eigen::Vector3d box_centroid(const std::vector<Eigen::Vector3f>& p) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& q : p) c += q.cast<double>();
+  return c / double(p.size());
 }
 
 Eigen::Isometry3d yaw_move(double yaw, Eigen::Vector3d t) {
@@ -76,6 +100,8 @@ TEST(IcpRefine, ImprovesOnSvdForAPartialNoisyView) {
     EXPECT_LT(icp_deg, 2.0);
     EXPECT_GT(r.inlier_ratio, 0.8);
     EXPECT_EQ(r.hypotheses, 12);
+    // A chair fits one way only: no alternative pose.
+    EXPECT_TRUE(r.alternatives.empty()) << r.alternatives.size() << " alternatives";
   }
   EXPECT_GT(svd_m + svd_deg / 10.0, icp_m + icp_deg / 10.0);  // ICP is better than its start
 }
@@ -119,31 +145,95 @@ TEST(IcpRefine, StageWritesTransformsOntoThePartner) {
 
 TEST(IcpRefine, SymmetricBoxNudgedIsNotReportedTurnedAround) {
   // A closed box (cabinet) is symmetric under a 180 degree yaw: both poses fit
-  // equally; the small motion is the one to report.
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(0.f, 1.f);
-  std::vector<Eigen::Vector3f> box;
-  for (int i = 0; i < 3000; ++i) {
-    const int face = i % 5;  // four sides and the top (the floor hides the bottom)
-    const float a = u(rng), b = u(rng);
-    if (face == 0) box.emplace_back(0.0f, 0.4f * a, 1.2f * b);
-    else if (face == 1) box.emplace_back(0.8f, 0.4f * a, 1.2f * b);
-    else if (face == 2) box.emplace_back(0.8f * a, 0.0f, 1.2f * b);
-    else if (face == 3) box.emplace_back(0.8f * a, 0.4f, 1.2f * b);
-    else box.emplace_back(0.8f * a, 0.4f * b, 1.2f);
-  }
+  // equally (the second view is sampled anew, as a second scan is); the small
+  // motion is the one to report.
+  const auto box = cabinet(7);
   const Eigen::Isometry3d truth = yaw_move(0.1, {0.3, -0.2, 0.0});
-  const auto dst = transformed(box, truth, 0.002, 8);
+  const auto dst = transformed(cabinet(8), truth, 0.002, 8);
   IcpConfig cfg;
   const IcpResult r = icp_refine(box, dst, cfg);
   double e_m, e_deg;
   errors(r.transform, truth, e_m, e_deg);
   EXPECT_LT(e_deg, 3.0);
   EXPECT_LT(e_m, 0.03);
+  // The half-turned pose fits as well: it is listed, so a reader of the
+  // transform knows the turn is undecided.
+  ASSERT_FALSE(r.alternatives.empty());
+  const Eigen::Isometry3d half_turn = yaw_move(0.1 + M_PI, truth * box_centroid(box) - yaw_move(0.1 + M_PI, {0, 0, 0}) * box_centroid(box));
+  double best_deg = 180.0;
+  for (const Eigen::Isometry3d& a : r.alternatives) {
+    double a_m, a_deg;
+    errors(a, half_turn, a_m, a_deg);
+    if (a_m < 0.03) best_deg = std::min(best_deg, a_deg);
+  }
+  EXPECT_LT(best_deg, 3.0);
   // Without the tie-break the turned pose may win: the rule is what decides.
   cfg.symmetry_tolerance = 0.0;
   const IcpResult raw = icp_refine(box, dst, cfg);
   EXPECT_LE(r.score, raw.score * 1.1 + 1e-12);
+}
+
+TEST(IcpRefine, StageListsTheAlternativesAtBothEndsAsInverses) {
+  const Eigen::Isometry3d truth = yaw_move(0.1, {0.3, -0.2, 0.0});
+  ObjectSet objects;
+  objects.missions = {"A", "B"};
+  for (int k = 0; k < 2; ++k) {
+    Object o;
+    o.id = 10 + k;
+    o.mission = k;
+    for (const auto& p : k ? transformed(cabinet(8), truth, 0.002, 8) : cabinet(7)) {
+      o.points.xyz.push_back(p);
+      o.points.scan.push_back(0);
+      o.points.index.push_back(static_cast<uint32_t>(o.points.index.size()));
+    }
+    o.update_geometry();
+    objects.objects.push_back(o);
+  }
+  Matches m;
+  m.objects.resize(2);
+  m.objects[0].object_id = 10, m.objects[0].status = ChangeStatus::moved, m.objects[0].match = 11;
+  m.objects[1].object_id = 11, m.objects[1].status = ChangeStatus::moved, m.objects[1].match = 10;
+  auto stage = stage_test::make_stage("register.icp", {});
+  BasicContext ctx("icp", 2);
+  Inputs in;
+  in.set("objects", Data::make(objects));
+  in.set("matches", Data::make(m));
+  const Matches out = stage->run(in, ctx).at("matches").as<Matches>();
+  const auto& a = out.find(10)->alternative_transforms;
+  const auto& b = out.find(11)->alternative_transforms;
+  ASSERT_FALSE(a.empty());  // the cabinet's half-turn
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t k = 0; k < a.size(); ++k) EXPECT_TRUE((a[k] * b[k]).isIdentity(1e-9));
+}
+
+TEST(IcpRefine, RoundShapeListsOtherTurns) {
+  // A barrel fits at any turn about its axis: the chosen transform is the
+  // least turned, and the other distinct turns that fit are listed.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto barrel = [&](int n) {
+    std::vector<Eigen::Vector3f> p;
+    for (int i = 0; i < n; ++i) {
+      const double a = 2.0 * M_PI * u(rng), z = 0.9 * u(rng);
+      if (i % 4 == 0) {  // the lid
+        const double r = 0.3 * std::sqrt(u(rng));
+        p.emplace_back(float(r * std::cos(a)), float(r * std::sin(a)), 0.9f);
+      } else {
+        p.emplace_back(float(0.3 * std::cos(a)), float(0.3 * std::sin(a)), float(z));
+      }
+    }
+    return p;
+  };
+  const Eigen::Isometry3d truth = yaw_move(0.7, {2.0, 1.0, 0.0});
+  const IcpResult r = icp_refine(barrel(2500), transformed(barrel(2500), truth, 0.002, 12), IcpConfig{});
+  EXPECT_NEAR(r.transform.translation().x(), 2.0, 0.02);  // the axis is at the origin: translation is exact
+  EXPECT_NEAR(r.transform.translation().y(), 1.0, 0.02);
+  EXPECT_LT(Eigen::AngleAxisd(r.transform.linear()).angle() * 180.0 / M_PI, 10.0);  // the least turned
+  ASSERT_GE(r.alternatives.size(), 2u);
+  for (const Eigen::Isometry3d& a : r.alternatives) {
+    EXPECT_GE(Eigen::AngleAxisd(a.linear().transpose() * r.transform.linear()).angle() * 180.0 / M_PI, 10.0);
+    EXPECT_NEAR(a.translation().head<2>().norm(), std::hypot(2.0, 1.0), 0.03);  // turns about the axis
+  }
 }
 
 // A real pair's two missions in a common frame (testdata/<name>: lines
@@ -176,7 +266,16 @@ TEST(IcpRefine, SimulatedBoxPairIsNotReportedHalfTurned) {
   // than symmetry_tolerance and the unturned one outside its top three;
   // the least turned hypothesis always gets a fine pass, and there it
   // scores within symmetry_tolerance of its twin, so it wins.
-  EXPECT_NEAR(yaw_deg(register_pair("box_pair.txt")), -27.8, 3.0);
+  const IcpResult r = register_pair("box_pair.txt");
+  EXPECT_NEAR(yaw_deg(r), -27.8, 3.0);
+  // ... and the half-turned twin is listed as an alternative.
+  bool twin = false;
+  for (const Eigen::Isometry3d& a : r.alternatives) {
+    const Eigen::Matrix3d rot = a.linear();
+    const double yaw = std::atan2(rot(1, 0), rot(0, 0)) * 180.0 / M_PI;
+    twin = twin || std::abs(std::remainder(yaw - (-27.8 + 180.0), 360.0)) < 5.0;
+  }
+  EXPECT_TRUE(twin) << r.alternatives.size() << " alternatives";
 }
 
 TEST(IcpRefine, SimulatedCartPairIsRecoveredWithinADegree) {
@@ -186,6 +285,7 @@ TEST(IcpRefine, SimulatedCartPairIsRecoveredWithinADegree) {
   const IcpResult r = register_pair("cart_pair.txt");
   EXPECT_NEAR(yaw_deg(r), -94.5, 1.0);
   EXPECT_GT(r.inlier_ratio, 0.9);
+  EXPECT_TRUE(r.alternatives.empty()) << r.alternatives.size() << " alternatives";  // the handle decides
 }
 
 TEST(IcpRefine, ThinnedCoarsePassKeepsThePairsPoses) {

@@ -24,7 +24,7 @@ Matches register_matches(const ObjectSet& objects, const Matches& matches, const
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 
-  std::vector<Eigen::Isometry3d> result(pairs.size());
+  std::vector<PairPose> result(pairs.size());
   ctx.progress().begin("registering moved objects", pairs.size());
   parallel_for(pairs.size(), ctx.threads(), [&](size_t k) {
     if (ctx.cancelled()) return;
@@ -34,14 +34,16 @@ Matches register_matches(const ObjectSet& objects, const Matches& matches, const
   ctx.progress().end();
   ctx.throw_if_cancelled();
 
-  std::map<std::pair<int, int>, Eigen::Isometry3d> by_pair;
+  std::map<std::pair<int, int>, PairPose> by_pair;
   for (size_t k = 0; k < pairs.size(); ++k) by_pair[pairs[k]] = result[k];
   for (ObjectChange& c : out.objects) {
     if (c.status != ChangeStatus::moved || c.match < 0) continue;
     const bool forward = c.object_id < c.match;
-    const Eigen::Isometry3d& t = by_pair.at({std::min(c.object_id, c.match), std::max(c.object_id, c.match)});
-    c.transform = (forward ? t : t.inverse()).matrix();
+    const PairPose& p = by_pair.at({std::min(c.object_id, c.match), std::max(c.object_id, c.match)});
+    c.transform = (forward ? p.transform : p.transform.inverse()).matrix();
     c.has_transform = true;
+    c.alternative_transforms.clear();
+    for (const Eigen::Isometry3d& a : p.alternatives) c.alternative_transforms.push_back((forward ? a : a.inverse()).matrix());
   }
   return out;
 }

@@ -9,14 +9,23 @@
 
 #include <Eigen/Geometry>
 #include <functional>
+#include <vector>
 
 namespace lista::registration {
 
-// Maps source object points onto the target object: p_t = T * p_s.
-using PairRegistration = std::function<Eigen::Isometry3d(const Object& source, const Object& target)>;
+// What a pairwise registration found: p_t = transform * p_s, and the other
+// poses that fit about as well (empty: unambiguous).
+struct PairPose {
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
+  std::vector<Eigen::Isometry3d> alternatives;
+};
 
-// Copies `matches`, filling transform/has_transform of every moved object
-// whose partner is in `objects`. Pairs run in parallel on context.threads().
+// Maps source object points onto the target object.
+using PairRegistration = std::function<PairPose(const Object& source, const Object& target)>;
+
+// Copies `matches`, filling transform/has_transform/alternative_transforms of
+// every moved object whose partner is in `objects` (the partner gets the
+// inverses). Pairs run in parallel on context.threads().
 Matches register_matches(const ObjectSet& objects, const Matches& matches, const PairRegistration& reg,
                          Context& context);
 

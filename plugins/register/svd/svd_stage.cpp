@@ -23,7 +23,7 @@ class SvdStage : public Stage {
       const PrincipalFrame fs = principal_frame(s.points.xyz, tolerance_);
       const PrincipalFrame ft = principal_frame(t.points.xyz, tolerance_);
       if (fs.ambiguous_sign || fs.ambiguous_axes || ft.ambiguous_sign || ft.ambiguous_axes) ++ambiguous;
-      return svd_transform(fs, ft);
+      return PairPose{svd_transform(fs, ft), {}};  // ambiguity is counted, not scored: no alternatives
     }, ctx);
     out.method = matches.method + "+register.svd";
     // Information, not a warning: pipelines/lista.toml refines these with

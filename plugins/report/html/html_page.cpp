@@ -33,15 +33,29 @@ std::string motion_text(const ObjectView& v, const ReportModel& model) {
   const ObjectView& to = &from == &v ? *p : v;
   const double moved = (to.object->centroid - from.object->centroid).cast<double>().norm();
   std::string s = fmt(moved, 2) + " m";
-  if (from.transform) {
-    const Eigen::Matrix4d& T = *from.transform;
-    s += ", " + fmt(std::atan2(T(1, 0), T(0, 0)) * 180.0 / M_PI, 1) + "&deg;";
-  } else if (to.transform) {
-    const Eigen::Matrix4d& T = *to.transform;  // the inverse turn
-    s += ", " + fmt(-std::atan2(T(1, 0), T(0, 0)) * 180.0 / M_PI, 1) + "&deg;";
+  auto turn = [](const Eigen::Matrix4d& T, double sign) {
+    return fmt(sign * std::atan2(T(1, 0), T(0, 0)) * 180.0 / M_PI, 1) + "&deg;";
+  };
+  // The earlier object's transform, or the later one's inverse turn.
+  const ObjectView* with = from.transform ? &from : to.transform ? &to : nullptr;
+  const double sign = with == &from ? 1.0 : -1.0;
+  if (with) s += ", " + turn(*with->transform, sign);
+  s += " " + escape(model.missions[from.object->mission]) + " &rarr; " + escape(model.missions[to.object->mission]);
+  // A symmetric shape fits as well turned: say so rather than let one
+  // number look certain.
+  if (with && !with->alternative_transforms.empty()) {
+    s += "; pose ambiguous, also fits";
+    const Eigen::Matrix4d& T = *with->transform;
+    const Eigen::Vector4d c = with->object->centroid.cast<double>().homogeneous();
+    for (size_t k = 0; k < with->alternative_transforms.size(); ++k) {
+      const Eigen::Matrix4d& A = with->alternative_transforms[k];
+      const double turn_apart = std::abs(std::remainder(std::atan2(A(1, 0), A(0, 0)) - std::atan2(T(1, 0), T(0, 0)), 2 * M_PI));
+      // The same turn slid along the object (a long shelf): say the slide.
+      s += (k ? ", " : " ") + (turn_apart < M_PI / 36 ? "shifted " + fmt(((A - T) * c).norm(), 2) + " m"
+                                                    : turn(A, sign));
+    }
   }
-  return s + " " + escape(model.missions[from.object->mission]) + " &rarr; " +
-         escape(model.missions[to.object->mission]);
+  return s;
 }
 
 

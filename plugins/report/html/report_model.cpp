@@ -28,6 +28,7 @@ ReportModel build_model(const ObjectSet& objects, const Groups* groups, const Ma
         view.match = change->match;
         view.confidence = change->confidence;
         if (change->has_transform) view.transform = change->transform;
+        view.alternative_transforms = change->alternative_transforms;
         view.history = change->history;
       }
     }

@@ -21,6 +21,7 @@ struct ObjectView {
   double confidence = 0.0;
   int match = -1;
   std::optional<Eigen::Matrix4d> transform;
+  std::vector<Eigen::Matrix4d> alternative_transforms;  // poses that fit about as well (Matches)
   std::vector<int> history;  // the object's reports across the missions (Matches), itself included
 };
 

@@ -271,6 +271,26 @@ TEST(ReportHtml, MotionIsTheCentroidsDisplacementAndTheSignedTurn) {
   fs::remove_all(dir);
 }
 
+// A pose that fits as well turned (a symmetric shape) or slid is said on
+// the row, with the turns and slides that fit, so that one number does not look certain.
+TEST(ReportHtml, AmbiguousTurnIsSaidWithTheTurnsThatFit) {
+  Scene s = make_scene();
+  Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+  T.block<3, 3>(0, 0) = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Eigen::Matrix4d twin = T;
+  twin.block<3, 3>(0, 0) = Eigen::AngleAxisd(0.5 - M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Eigen::Matrix4d slid = T;  // the same turn, 0.3 m further along x
+  slid(0, 3) += 0.3;
+  s.matches.objects[2].transform = T;
+  s.matches.objects[2].alternative_transforms = {twin, slid};
+  s.matches.objects[3].transform = T.inverse();
+  s.matches.objects[3].alternative_transforms = {twin.inverse(), slid.inverse()};
+  const fs::path dir = write_report(s, "ambiguous");
+  const std::string html = read(dir / "report.html");
+  EXPECT_EQ(count(html, "28.6&deg; A &rarr; B; pose ambiguous, also fits -151.4&deg;, shifted 0.30 m</td>"), 2u);
+  fs::remove_all(dir);
+}
+
 // Low confidence is seen, not only read: a dashed box on the map and a
 // highlighted table cell; warnings come before the findings.
 TEST(ReportHtml, LowConfidenceAndWarningsStandOut) {

@@ -43,6 +43,15 @@ std::string format_table(const Score& s, bool objects) {
     out += line;
   }
   out += "  (t_err_m, r_err_deg: medians over correctly matched moved objects)\n";
+  if (!s.objects.empty()) {
+    const ObjectScore& all = s.objects.back();  // "all"
+    std::snprintf(line, sizeof line,
+                  "  transforms: %zu of %zu flagged ambiguous (alternative_transforms); %zu pose off (> %.0f deg or "
+                  "%.2f m), %zu of them with the truth among the alternatives\n",
+                  all.ambiguous, all.translation_error_m.size(), all.pose_off, kPoseOffDegrees, kPoseOffMeters,
+                  all.pose_off_listed);
+    out += line;
+  }
   if (objects) {
     out += "per truly changed object (report -1: none paired; match: the report's / the right one)\n";
     std::snprintf(line, sizeof line, "  %-12s %6s %-16s %-14s %7s %6s %5s %-8s %13s %8s %9s  %s\n", "mission",
@@ -101,7 +110,10 @@ std::string format_json(const Score& s) {
                        {"translation_error_m", {{"median", jnum(median(o.translation_error_m))},
                                                 {"mean", jnum(mean(o.translation_error_m))}}},
                        {"rotation_error_deg", {{"median", jnum(median(o.rotation_error_deg))},
-                                               {"mean", jnum(mean(o.rotation_error_deg))}}}});
+                                               {"mean", jnum(mean(o.rotation_error_deg))}}},
+                       {"transforms_ambiguous", o.ambiguous},
+                       {"pose_off", o.pose_off},
+                       {"pose_off_listed", o.pose_off_listed}});
   j["objects"] = objects;
   json verdicts = json::array();
   for (const auto& v : s.verdicts)
@@ -118,6 +130,7 @@ std::string format_json(const Score& s) {
                         {"expected_match", v.expected_match},
                         {"translation_error_m", jnum(v.translation_error_m)},
                         {"rotation_error_deg", jnum(v.rotation_error_deg)},
+                        {"alternatives", v.alternatives},
                         {"verdict", v.verdict}});
   j["object_verdicts"] = verdicts;
   json align = json::array();

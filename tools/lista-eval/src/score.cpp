@@ -291,8 +291,19 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     v.rotation_error_deg = Eigen::AngleAxisd(rep_t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI;
     // Translation error at the object's centroid, so it does not grow with the distance to the origin.
     v.translation_error_m = (rep_t * r.centroid - truth_t * r.centroid).norm();
-    if (v.verdict == "ok" && (v.rotation_error_deg > kPoseOffDegrees || v.translation_error_m > kPoseOffMeters))
-      v.verdict = "pose off";
+    v.alternatives = r.alternative_transforms.size();
+    if (v.alternatives > 0) ++os.ambiguous;
+    auto off = [&](const Eigen::Isometry3d& t) {
+      const double deg = Eigen::AngleAxisd(t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI;
+      return deg > kPoseOffDegrees || (t * r.centroid - truth_t * r.centroid).norm() > kPoseOffMeters;
+    };
+    if (off(rep_t)) {
+      ++os.pose_off;
+      const bool listed = std::any_of(r.alternative_transforms.begin(), r.alternative_transforms.end(),
+                                      [&](const Eigen::Matrix4d& a) { return !off(iso(a)); });
+      if (listed) ++os.pose_off_listed;
+      if (v.verdict == "ok") v.verdict = listed ? "pose listed" : "pose off";
+    }
     os.translation_error_m.push_back(v.translation_error_m);
     os.rotation_error_deg.push_back(v.rotation_error_deg);
   }
@@ -306,6 +317,9 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     all.status_correct += os.status_correct;
     all.moved += os.moved;
     all.moved_matched += os.moved_matched;
+    all.ambiguous += os.ambiguous;
+    all.pose_off += os.pose_off;
+    all.pose_off_listed += os.pose_off_listed;
     all.translation_error_m.insert(all.translation_error_m.end(), os.translation_error_m.begin(), os.translation_error_m.end());
     all.rotation_error_deg.insert(all.rotation_error_deg.end(), os.rotation_error_deg.begin(), os.rotation_error_deg.end());
   }

@@ -30,6 +30,10 @@ struct ObjectScore {
   size_t moved = 0;          // truly moved objects also seen in another compared mission
   size_t moved_matched = 0;  // ... whose match names the report of the same object there
   std::vector<double> translation_error_m, rotation_error_deg;  // of the matched moved ones
+  // Of the matched moves with a transform: how many list alternative_transforms
+  // (the report says the pose is ambiguous), how many are "pose off", and how
+  // many of those list the true pose among their alternatives.
+  size_t ambiguous = 0, pose_off = 0, pose_off_listed = 0;
   double precision() const;
   double recall() const;
   double status_accuracy() const;
@@ -63,11 +67,14 @@ struct ObjectVerdict {
   bool match_right = false;      // the report's match is the same object's report in another mission
   // Of a correctly matched move with a transform: its errors, else NaN.
   double translation_error_m = kUndefined, rotation_error_deg = kUndefined;
+  size_t alternatives = 0;  // the report's alternative_transforms
   // "ok", "missed" (no report paired), "status" (wrong status), "match"
   // (moved, its match names another report), "partner missed" (moved, the
   // other view was not paired with any report), "pose off" (matched right,
   // but its transform is more than kPoseOffDegrees or kPoseOffMeters from
-  // the truth: a symmetric object registered half-turned, say).
+  // the truth: a symmetric object registered half-turned, say), "pose
+  // listed" (pose off, but one of the report's alternative_transforms is
+  // within those limits: the report said it could not tell).
   std::string verdict;
 };
 

@@ -367,6 +367,41 @@ TEST(Eval, HandComputedCase) {
   EXPECT_NE(eval::format_json(s).find("\"object_verdicts\""), std::string::npos);
 }
 
+// A half-turned transform is "pose off"; with the true pose among the
+// report's alternative_transforms it is "pose listed", and the counts say so.
+TEST(Eval, HalfTurnWithTheTruthAmongTheAlternativesIsPoseListed) {
+  const fs::path run = run_dir("listed");
+  io::Report r = empty_report();
+  auto half_turn_about = [](const Eigen::Vector3d& c) {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.translate(c).rotate(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ())).translate(-c);
+    return t.matrix();
+  };
+  const Eigen::Vector3d ca(4, 1, 0), cb(5, 1, 0);
+  r.objects = {robj(0, "A", "removed"), robj(1, "A", "moved", 2, translation(1, 0, 0) * half_turn_about(ca)),
+               robj(2, "B", "moved", 1, translation(-1, 0, 0) * half_turn_about(cb)), robj(3, "B", "added"),
+               robj(4, "B", "added")};
+  r.objects[1].centroid = ca;
+  r.objects[2].centroid = cb;
+  r.objects[2].alternative_transforms = {translation(-1, 0, 0)};  // the truth, listed
+  io::write_report((run / "report.json").string(), r);
+  write_changes(run, "A", rows(range(15, 18, 0), range(19, 22, 1)));
+  write_changes(run, "B", rows(range(18, 21, 2), range(10, 13, 3)));
+  const eval::Score s = eval::score_run(truth(), run.string());
+  ASSERT_EQ(s.verdicts.size(), 4u);
+  EXPECT_EQ(s.verdicts[1].verdict, "pose off");     // A obj4: turned, nothing listed
+  EXPECT_EQ(s.verdicts[1].alternatives, 0u);
+  EXPECT_EQ(s.verdicts[3].verdict, "pose listed");  // B obj4: turned, the truth listed
+  EXPECT_EQ(s.verdicts[3].alternatives, 1u);
+  EXPECT_NEAR(s.verdicts[3].rotation_error_deg, 180.0, 1e-6);  // the medians score `transform` only
+  const eval::ObjectScore& all = s.objects.back();
+  EXPECT_EQ(all.ambiguous, 1u);
+  EXPECT_EQ(all.pose_off, 2u);
+  EXPECT_EQ(all.pose_off_listed, 1u);
+  EXPECT_NE(eval::format_table(s).find("1 of 2 flagged ambiguous"), std::string::npos);
+  EXPECT_NE(eval::format_json(s).find("\"pose_off_listed\": 1"), std::string::npos);
+}
+
 TEST(Eval, VerdictsNameWrongStatusAndWrongMatch) {
   const fs::path run = run_dir("verdicts");
   io::Report r = empty_report();

@@ -22,6 +22,9 @@ struct ReportObject {
   double confidence = 0.0;
   int match = -1;                            // -1 is written as null
   std::optional<Eigen::Matrix4d> transform;  // moved only
+  // Extension, moved only: other transforms that fit about as well (a
+  // symmetric shape's half-turn), best first; empty: unambiguous.
+  std::vector<Eigen::Matrix4d> alternative_transforms;
   std::vector<int> history;                  // extension: ids across missions
   std::optional<double> floor_z;             // extension: floor under the object (common frame), null if unknown
 };

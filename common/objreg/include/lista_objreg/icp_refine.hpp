@@ -12,7 +12,11 @@
 // each competes (GICP's minimum can sit degrees off on box-like objects);
 // the lowest score wins, except that among
 // poses within symmetry_tolerance of it the smallest rotation wins
-// (symmetric shapes fit as well turned by 180 degrees).
+// (symmetric shapes fit as well turned by 180 degrees). The other poses
+// within symmetry_tolerance that differ from the winner by more than
+// distinct_degrees or distinct_metres are returned as alternatives: the
+// pose is ambiguous (a box's half-turn, a barrel's any turn), and a user
+// reading the transform should know.
 //
 // Cost: large objects (tens of thousands of points) iterate the coarse pass
 // on an evenly strided subset (max_points) and the fine pass on a larger one
@@ -43,6 +47,8 @@ struct IcpConfig {
   bool svd_flips = true;              // try the SVD guess's four axis flips
   double inlier_distance = 0.05;      // m: truncation of the score
   double symmetry_tolerance = 0.1;    // poses within this share of the best score tie; smallest rotation wins
+  double distinct_degrees = 10.0;     // a tying pose turned at least this far from the winner is an alternative
+  double distinct_metres = 0.1;       // ... or shifted at least this far (at the source centroid)
   int max_points = 0;                 // the coarse pass (every hypothesis) iterates on at most this many
                                       // source points (strided); 0 = all
   int fine_max_points = -1;           // the fine pass on the few best: at most this many, never fewer
@@ -58,6 +64,10 @@ struct IcpResult {
   double source_inliers = 0.0;  // share of moved source points within inlier_distance of the target
   double target_inliers = 0.0;  // share of target points within inlier_distance of the moved source
   int hypotheses = 0;
+  // Other poses scoring within symmetry_tolerance of `transform`, each at
+  // least distinct_degrees / distinct_metres from it and from one another,
+  // best first; empty when the pose is unambiguous.
+  std::vector<Eigen::Isometry3d> alternatives;
 };
 
 IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
