@@ -95,7 +95,7 @@ StageInfo info() {
                       "a pose within symmetry_tolerance turned at least this far from the chosen one is reported "
                       "as an alternative").range(0.1, 180.0).unit("deg"),
       ParamSpec::real("distinct_metres", 0.1,
-                      "... or shifted at least this far at the object's centroid").range(0.001, 100.0).unit("m"),
+                      "a pose within symmetry_tolerance shifted at least this far (at the object's centroid) from the chosen one is reported as an alternative").range(0.001, 100.0).unit("m"),
       ParamSpec::integer("max_points", 2000,
                          "coarse pass: source points ICP iterates on from each hypothesis (evenly strided); 0 = all")
           .range(0, 100000000),
