@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -77,6 +78,36 @@ Eigen::Isometry3d yaw_move(double yaw, Eigen::Vector3d t) {
   return m;
 }
 
+// Runs the register.icp stage on one moved pair: object 10 (mission A, `a`)
+// and object 11 (mission B, `b`), each naming the other as its match.
+Matches register_moved_pair(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b,
+                            const std::map<std::string, ParamValue>& params) {
+  ObjectSet objects;
+  objects.missions = {"A", "B"};
+  for (int k = 0; k < 2; ++k) {
+    Object o;
+    o.id = 10 + k;
+    o.mission = k;
+    for (const auto& p : k ? b : a) {
+      o.points.xyz.push_back(p);
+      o.points.scan.push_back(0);
+      o.points.index.push_back(static_cast<uint32_t>(o.points.index.size()));
+    }
+    o.update_geometry();
+    objects.objects.push_back(o);
+  }
+  Matches m;
+  m.objects.resize(2);
+  m.objects[0].object_id = 10, m.objects[0].status = ChangeStatus::moved, m.objects[0].match = 11;
+  m.objects[1].object_id = 11, m.objects[1].status = ChangeStatus::moved, m.objects[1].match = 10;
+  auto stage = stage_test::make_stage("register.icp", params);
+  BasicContext ctx("icp", 2);
+  Inputs in;
+  in.set("objects", Data::make(objects));
+  in.set("matches", Data::make(m));
+  return stage->run(in, ctx).at("matches").as<Matches>();
+}
+
 }  // namespace
 
 TEST(IcpRefine, ImprovesOnSvdForAPartialNoisyView) {
@@ -110,30 +141,7 @@ TEST(IcpRefine, StageWritesTransformsOntoThePartner) {
   const Eigen::Isometry3d truth = yaw_move(-1.1, {0.0, 2.0, 0.0});
   const auto src = chair(4, 1500);
   const auto dst = transformed(chair(5, 1500), truth, 0.002, 6);
-  ObjectSet objects;
-  objects.missions = {"A", "B"};
-  for (int k = 0; k < 2; ++k) {
-    Object o;
-    o.id = 10 + k;
-    o.mission = k;
-    for (const auto& p : k ? dst : src) {
-      o.points.xyz.push_back(p);
-      o.points.scan.push_back(0);
-      o.points.index.push_back(static_cast<uint32_t>(o.points.index.size()));
-    }
-    o.update_geometry();
-    objects.objects.push_back(o);
-  }
-  Matches m;
-  m.objects.resize(2);
-  m.objects[0].object_id = 10, m.objects[0].status = ChangeStatus::moved, m.objects[0].match = 11;
-  m.objects[1].object_id = 11, m.objects[1].status = ChangeStatus::moved, m.objects[1].match = 10;
-  auto stage = stage_test::make_stage("register.icp", {{"yaw_hypotheses", int64_t{4}}});
-  BasicContext ctx("icp", 2);
-  Inputs in;
-  in.set("objects", Data::make(objects));
-  in.set("matches", Data::make(m));
-  const Matches out = stage->run(in, ctx).at("matches").as<Matches>();
+  const Matches out = register_moved_pair(src, dst, {{"yaw_hypotheses", int64_t{4}}});
   double e_m, e_deg;
   errors(Eigen::Isometry3d(out.find(10)->transform), truth, e_m, e_deg);
   EXPECT_LT(e_m, 0.02);
@@ -175,30 +183,7 @@ TEST(IcpRefine, SymmetricBoxNudgedIsNotReportedTurnedAround) {
 
 TEST(IcpRefine, StageListsTheAlternativesAtBothEndsAsInverses) {
   const Eigen::Isometry3d truth = yaw_move(0.1, {0.3, -0.2, 0.0});
-  ObjectSet objects;
-  objects.missions = {"A", "B"};
-  for (int k = 0; k < 2; ++k) {
-    Object o;
-    o.id = 10 + k;
-    o.mission = k;
-    for (const auto& p : k ? transformed(cabinet(8), truth, 0.002, 8) : cabinet(7)) {
-      o.points.xyz.push_back(p);
-      o.points.scan.push_back(0);
-      o.points.index.push_back(static_cast<uint32_t>(o.points.index.size()));
-    }
-    o.update_geometry();
-    objects.objects.push_back(o);
-  }
-  Matches m;
-  m.objects.resize(2);
-  m.objects[0].object_id = 10, m.objects[0].status = ChangeStatus::moved, m.objects[0].match = 11;
-  m.objects[1].object_id = 11, m.objects[1].status = ChangeStatus::moved, m.objects[1].match = 10;
-  auto stage = stage_test::make_stage("register.icp", {});
-  BasicContext ctx("icp", 2);
-  Inputs in;
-  in.set("objects", Data::make(objects));
-  in.set("matches", Data::make(m));
-  const Matches out = stage->run(in, ctx).at("matches").as<Matches>();
+  const Matches out = register_moved_pair(cabinet(7), transformed(cabinet(8), truth, 0.002, 8), {});
   const auto& a = out.find(10)->alternative_transforms;
   const auto& b = out.find(11)->alternative_transforms;
   ASSERT_FALSE(a.empty());  // the cabinet's half-turn
