@@ -55,6 +55,10 @@ double one_way(const Cloud& from, const pcl_search::FastKdTree& to_tree, const E
   return used == 0 ? cap : sum / used;
 }
 
+// Powers of a symmetry tried for further alternatives: up to S^7 (an
+// octagon's turns; a round shape's list stops there).
+constexpr int kMaxSymmetryPower = 8;
+
 struct Candidate {
   Eigen::Isometry3d t;
   double score, in_source, in_target;
@@ -267,7 +271,21 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   best.source_inliers = winner.in_source;
   best.target_inliers = winner.in_target;
   best.inlier_ratio = 0.5 * (winner.in_source + winner.in_target);
-  best.alternatives = distinct_ties(fine, win, cs, cfg);
+  // A tie A = S * T reveals a symmetry S = A * T^-1 of the target (a
+  // square crate's quarter turn); its powers S^k * T are tried too (the
+  // crate's half turn), scored as they stand: the fine pass refines a few
+  // poses only and may have missed them.
+  std::vector<Candidate> ties = fine;
+  for (const Eigen::Isometry3d& a : distinct_ties(fine, win, cs, cfg)) {
+    const Eigen::Isometry3d symmetry = a * winner.t.inverse();
+    Eigen::Isometry3d p = symmetry * a;
+    for (int k = 2; k < kMaxSymmetryPower && distinct_poses(p, winner.t, cs, cfg); ++k, p = symmetry * p) {
+      Candidate c{p, 0.0, 0.0, 0.0};
+      c.score = score_of(c.t, c.in_source, c.in_target);
+      ties.push_back(c);
+    }
+  }
+  best.alternatives = distinct_ties(ties, win, cs, cfg);
   return best;
 }
 

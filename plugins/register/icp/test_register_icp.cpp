@@ -191,6 +191,42 @@ TEST(IcpRefine, StageListsTheAlternativesAtBothEndsAsInverses) {
   for (size_t k = 0; k < a.size(); ++k) EXPECT_TRUE((a[k] * b[k]).isIdentity(1e-9));
 }
 
+TEST(IcpRefine, SquareCrateListsAllThreeOtherQuarterTurns) {
+  // A square crate fits at every quarter turn. The fine pass refines only
+  // a few poses; a listed quarter turn is a symmetry of the crate, and its
+  // powers bring in the turns the fine pass missed.
+  auto crate = [](uint64_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    std::vector<Eigen::Vector3f> p;
+    for (int i = 0; i < 3000; ++i) {
+      const int face = i % 5;  // four sides and the top
+      const float a = 0.6f * u(rng), b = u(rng);
+      if (face == 0) p.emplace_back(0.0f, a, 0.5f * b);
+      else if (face == 1) p.emplace_back(0.6f, a, 0.5f * b);
+      else if (face == 2) p.emplace_back(a, 0.0f, 0.5f * b);
+      else if (face == 3) p.emplace_back(a, 0.6f, 0.5f * b);
+      else p.emplace_back(a, 0.6f * b, 0.5f);
+    }
+    return p;
+  };
+  const Eigen::Isometry3d truth = yaw_move(0.1, {1.0, 0.5, 0.0});
+  const IcpResult r = icp_refine(crate(3), transformed(crate(4), truth, 0.002, 5), IcpConfig{});
+  double e_m, e_deg;
+  errors(r.transform, truth, e_m, e_deg);
+  EXPECT_LT(e_deg, 3.0);  // the least turned
+  std::vector<double> turns;  // of each alternative relative to the chosen pose
+  for (const Eigen::Isometry3d& a : r.alternatives) {
+    const Eigen::Matrix3d rel = a.linear() * r.transform.linear().transpose();
+    turns.push_back(std::atan2(rel(1, 0), rel(0, 0)) * 180.0 / M_PI);
+  }
+  for (double want : {90.0, 180.0, -90.0}) {
+    bool found = false;
+    for (double t : turns) found = found || std::abs(std::remainder(t - want, 360.0)) < 5.0;
+    EXPECT_TRUE(found) << "no alternative turned " << want << " deg; " << turns.size() << " listed";
+  }
+}
+
 TEST(IcpRefine, RoundShapeListsOtherTurns) {
   // A barrel fits at any turn about its axis: the chosen transform is the
   // least turned, and the other distinct turns that fit are listed.

@@ -16,7 +16,9 @@
 // within symmetry_tolerance that differ from the winner by more than
 // distinct_degrees or distinct_metres are returned as alternatives: the
 // pose is ambiguous (a box's half-turn, a barrel's any turn), and a user
-// reading the transform should know.
+// reading the transform should know. An alternative A = S * T shows a
+// symmetry S of the target; S^2 * T ... (up to S^7) are scored too, so a
+// square crate lists all three other quarter turns.
 //
 // Cost: large objects (tens of thousands of points) iterate the coarse pass
 // on an evenly strided subset (max_points) and the fine pass on a larger one
