@@ -9,6 +9,25 @@
 
 namespace lista::align {
 
+// The edges constrain x, y and yaw only, which the ground cannot tell; in an
+// outdoor scan it holds most of the points (the scan_points budget, the
+// overlap and RMSE gates) and a sparse sensor's ground rings, concentric
+// about each sensor, match ring to ring whatever the step.
+Cloud above_ground(const Cloud& near, const Eigen::Isometry3d& pose, double clearance) {
+  if (clearance <= 0.0 || near.empty()) return near;
+  const Eigen::Matrix3f level = pose.linear().cast<float>();
+  std::vector<float> height(near.size());
+  for (size_t i = 0; i < near.size(); ++i) height[i] = (level * near[i]).z();
+  std::vector<float> sorted = height;
+  const size_t k = sorted.size() / 50;
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
+  const float cut = sorted[k] + static_cast<float>(clearance);
+  Cloud above;
+  for (size_t i = 0; i < near.size(); ++i)
+    if (height[i] > cut) above.push_back(near[i]);
+  return above.size() >= 100 ? above : near;
+}
+
 namespace {
 
 Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) {
@@ -17,6 +36,7 @@ Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) {
   const float r2 = static_cast<float>(o.max_range * o.max_range);
   for (const auto& p : scan.points->xyz)
     if (p.squaredNorm() <= r2) near.push_back(p);
+  near = above_ground(near, scan.pose, o.ground_clearance);
   double voxel = o.registration.voxel;
   Cloud out = voxel_downsample(near, voxel);
   while (out.size() > o.max_points) {

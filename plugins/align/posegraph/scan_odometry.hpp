@@ -18,6 +18,10 @@ namespace lista::align {
 struct ScanEdgeOptions {
   int neighbours = 0;           // each scan registered onto this many following scans (0: off)
   double max_range = 40.0;      // m; points farther from the sensor are dropped (sparse, noisy)
+  // m; points lower than this above the scan's ground are dropped (0: kept):
+  // the ground says nothing about x, y and yaw. Off by default: it helps the
+  // open sites' poses but not their change reports (docs/bench/alignment.md).
+  double ground_clearance = 0.0;
   RegistrationOptions registration;  // registration.voxel: the finest downsampling
   // Dense scans are downsampled coarser (x1.25 steps) until at most this many
   // points are left: registration time grows with points, accuracy hardly.
@@ -32,6 +36,11 @@ struct ScanEdgeOptions {
   double sigma_translation = 0.005;     // m, horizontal
   double sigma_rotation = 0.001;        // rad, yaw
 };
+
+// The points of a scan (sensor frame) higher than `clearance` above its
+// ground: the 2nd percentile of their heights, levelled by the scan's pose.
+// Returned whole if clearance is 0 or fewer than 100 points would remain.
+Cloud above_ground(const Cloud& scan, const Eigen::Isometry3d& pose, double clearance);
 
 struct ScanEdgeReport {
   size_t tried = 0, accepted = 0;

@@ -288,6 +288,61 @@ TEST(TrajectoryError, ReportsTheRigidFitItUsed) {
   EXPECT_TRUE(e->fit.isApprox(moved.inverse(), 1e-9));
 }
 
+// The ground is left out of scan-to-scan registration: what stays is what
+// stands on it, unless too little would stay.
+TEST(ScanEdges, AboveGroundKeepsWhatStandsOnTheGround) {
+  Cloud scan;
+  for (int i = 0; i < 2000; ++i) scan.emplace_back(float(i % 50) * 0.2f, float(i / 50) * 0.2f, -0.7f);  // ground
+  for (int i = 0; i < 300; ++i)  // a wall: 10 rows of 30 points, 0.05, 0.20, ... 1.40 m above the ground
+    scan.emplace_back(3.0f, float(i % 30) * 0.1f, -0.65f + float(i / 30) * 0.15f);
+  Eigen::Isometry3d tilted = Eigen::Isometry3d::Identity();  // the pose levels the sensor frame
+  const Cloud above = above_ground(scan, tilted, 0.3);
+  EXPECT_EQ(above.size(), 240u);  // the wall's two lowest rows go with the ground
+  for (const auto& p : above) EXPECT_GT(p.z(), -0.7f + 0.3f);
+  EXPECT_EQ(above_ground(scan, tilted, 0.0).size(), scan.size());  // 0: kept
+  const Cloud ground_only(scan.begin(), scan.begin() + 2000);
+  EXPECT_EQ(above_ground(ground_only, tilted, 0.3).size(), 2000u);  // nothing would stay: kept whole
+  // A sensor mounted upside down (pose turned 180 deg about x): heights are the map's.
+  tilted.linear() = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  Cloud flipped;
+  for (const auto& p : scan) flipped.emplace_back(p.x(), -p.y(), -p.z());
+  EXPECT_EQ(above_ground(flipped, tilted, 0.3).size(), above.size());
+}
+
+// Two 16-ring scans 2.5 m apart on open ground with a few posts and
+// crates, the odometry 15 cm too long: with the ground left out the posts
+// and crates still give the step (the edges constrain x, y and yaw only;
+// height is the odometry's).
+TEST(ScanEdges, GroundLeftOutTheStepIsStillMeasured) {
+  Scene scene;
+  scene.boxes.push_back({{-60, -60, -0.1}, {60, 60, 0}});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-12, 12), size(0.2, 1.0), height(0.5, 2.5);
+  for (int i = 0; i < 14; ++i) {
+    const double x = u(rng), y = u(rng), w = size(rng);
+    if (std::hypot(x, y) < 3.0) continue;  // not on the route
+    scene.boxes.push_back({{x, y, 0}, {x + w, y + size(rng), height(rng)}});
+  }
+  const std::vector<Eigen::Isometry3d> truth = {offset(0, 0, 0.7, 0), offset(2.5, 0, 0.7, 0)};
+  const std::vector<Eigen::Isometry3d> odometry = {truth[0], offset(2.65, 0, 0.7, 0)};
+  MissionSet set;
+  set.missions.push_back(make_mission("a", scene, truth, odometry, 5));
+  for (double clearance : {0.0, 0.3}) {
+    ScanEdgeOptions o;
+    o.neighbours = 1;
+    o.registration.voxel = 0.1;  // the stage's scan-to-scan settings
+    o.registration.coarse_distance = 1.0;
+    o.min_overlap = 0.0;  // judged here by the step's error, not by the gates
+    o.max_rmse = 1.0;
+    o.ground_clearance = clearance;
+    ScanEdgeReport report;
+    const auto edges = scan_registration_edges(set, {0}, o, 1, report);
+    ASSERT_EQ(edges.size(), 1u) << "clearance " << clearance;
+    const Eigen::Vector3d error = edges[0].measurement.translation() - (truth[0].inverse() * truth[1]).translation();
+    EXPECT_LT(error.head<2>().norm(), 0.01) << "clearance " << clearance;
+  }
+}
+
 // Ctrl-C during the scan-to-scan registrations (seconds per mission) stops
 // them at once rather than after the whole loop.
 TEST(ScanEdges, StopWhenCancelled) {
