@@ -59,7 +59,10 @@ class ReportStage : public Stage {
       const auto& m = *by_id[o.match];
       std::snprintf(line, sizeof line, "  moved %d (%s) -> %d (%s): %.2f m, confidence %.2f", o.id, o.mission.c_str(),
                     m.id, m.mission.c_str(), (m.centroid - o.centroid).norm(), std::min(o.confidence, m.confidence));
-      ctx.info(line);
+      const size_t others = o.alternative_transforms.size();
+      ctx.info(std::string(line) + (others ? "; pose ambiguous (" + std::to_string(others) +
+                                                 (others == 1 ? " other fits" : " others fit") + " as well)"
+                                           : std::string()));
     }
     for (const auto& c : b.clouds) {
       std::snprintf(line, sizeof line, "  changes/%s.pcd: %zu points", c.mission.c_str(), c.size());

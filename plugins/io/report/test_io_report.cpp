@@ -1,6 +1,8 @@
 #include "../missions/make_stage.hpp"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <lista/basic_context.hpp>
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
@@ -109,6 +111,11 @@ TEST(IoReport, WritesTheContractAndReadsBack) {
   EXPECT_EQ((*r.objects[0].transform)(0, 3), 5.0);
   // Object 1 had no transform: the centroid translation back to object 0.
   EXPECT_NEAR((*r.objects[1].transform)(0, 3), -5.0, 1e-5);
+  // The log's line for the move says the pose is ambiguous.
+  EXPECT_TRUE(std::any_of(ctx.messages.begin(), ctx.messages.end(), [](const std::string& m) {
+    return m.find("moved 0 (A) -> 1 (B)") != std::string::npos &&
+           m.find("pose ambiguous (1 other fits as well)") != std::string::npos;
+  })) << "no move line saying the pose is ambiguous";
   ASSERT_EQ(r.objects[0].alternative_transforms.size(), 1u);  // passed on, in the common frame
   EXPECT_NEAR(r.objects[0].alternative_transforms[0](0, 0), -1.0, 1e-12);
   EXPECT_TRUE(r.objects[1].alternative_transforms.empty());
