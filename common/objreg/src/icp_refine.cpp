@@ -275,6 +275,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   // square crate's quarter turn); its powers S^k * T are tried too (the
   // crate's half turn), scored as they stand: the fine pass refines a few
   // poses only and may have missed them.
+  if (!cfg.list_alternatives) return best;
   std::vector<Candidate> ties = fine;
   for (const Eigen::Isometry3d& a : distinct_ties(fine, win, cs, cfg)) {
     const Eigen::Isometry3d symmetry = a * winner.t.inverse();

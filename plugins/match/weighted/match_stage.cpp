@@ -41,6 +41,7 @@ class WeightedMatchStage : public Stage {
     shape_.max_points = 400;
     shape_.max_score_points = 2000;
     shape_.svd_flips = false;  // objects stand on floors: the yaw turns suffice here
+    shape_.list_alternatives = false;  // the check needs the fit, not the other poses (scoring them cost ~10 %)
     if (cfg_.alpha + cfg_.beta + cfg_.shape_weight <= 0.0) throw Error("alpha + beta + shape_weight must be > 0");
   }
 

@@ -175,6 +175,12 @@ TEST(IcpRefine, SymmetricBoxNudgedIsNotReportedTurnedAround) {
     if (a_m < 0.03) best_deg = std::min(best_deg, a_deg);
   }
   EXPECT_LT(best_deg, 3.0);
+  // A caller that needs only the fit (match.weighted's shape check) skips them.
+  IcpConfig fit_only = cfg;
+  fit_only.list_alternatives = false;
+  const IcpResult quick = icp_refine(box, dst, fit_only);
+  EXPECT_TRUE(quick.alternatives.empty());
+  EXPECT_TRUE(quick.transform.isApprox(r.transform, 1e-12));  // the same pose either way
   // Without the tie-break the turned pose may win: the rule is what decides.
   cfg.symmetry_tolerance = 0.0;
   const IcpResult raw = icp_refine(box, dst, cfg);

@@ -51,6 +51,7 @@ struct IcpConfig {
   double symmetry_tolerance = 0.1;    // poses within this share of the best score tie; smallest rotation wins
   double distinct_degrees = 10.0;     // a tying pose turned at least this far from the winner is an alternative
   double distinct_metres = 0.1;       // ... or shifted at least this far (at the source centroid)
+  bool list_alternatives = true;      // false: no alternatives sought (their scoring costs; a fit check needs none)
   int max_points = 0;                 // the coarse pass (every hypothesis) iterates on at most this many
                                       // source points (strided); 0 = all
   int fine_max_points = -1;           // the fine pass on the few best: at most this many, never fewer
