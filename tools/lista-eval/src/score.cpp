@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <map>
 #include <numeric>
+#include <tuple>
+#include <utility>
 
 namespace lista::eval {
 
@@ -288,15 +290,19 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     const Eigen::Isometry3d truth_t = world_to_common(j) * iso(*obj->poses.at(partner.mission)) *
                                       iso(*obj->poses.at(v.mission)).inverse() * world_to_common(k).inverse();
     const Eigen::Isometry3d rep_t = iso(*r.transform);
-    v.rotation_error_deg = Eigen::AngleAxisd(rep_t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI;
-    // Translation error at the object's centroid, so it does not grow with the distance to the origin.
-    v.translation_error_m = (rep_t * r.centroid - truth_t * r.centroid).norm();
+    // Rotation error, and translation error at the object's centroid (so it
+    // does not grow with the distance to the origin), of a reported pose.
+    auto errors_of = [&](const Eigen::Isometry3d& t) {
+      return std::pair{Eigen::AngleAxisd(t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI,
+                       (t * r.centroid - truth_t * r.centroid).norm()};
+    };
+    auto off = [&](const Eigen::Isometry3d& t) {
+      const auto [degrees, metres] = errors_of(t);
+      return degrees > kPoseOffDegrees || metres > kPoseOffMeters;
+    };
+    std::tie(v.rotation_error_deg, v.translation_error_m) = errors_of(rep_t);
     v.alternatives = r.alternative_transforms.size();
     if (v.alternatives > 0) ++os.ambiguous;
-    auto off = [&](const Eigen::Isometry3d& t) {
-      const double deg = Eigen::AngleAxisd(t.rotation().transpose() * truth_t.rotation()).angle() * 180.0 / M_PI;
-      return deg > kPoseOffDegrees || (t * r.centroid - truth_t * r.centroid).norm() > kPoseOffMeters;
-    };
     if (off(rep_t)) {
       ++os.pose_off;
       const bool listed = std::any_of(r.alternative_transforms.begin(), r.alternative_transforms.end(),
