@@ -1,8 +1,8 @@
 #include "../missions/make_stage.hpp"
 
-#include <gtest/gtest.h>
-
 #include <algorithm>
+
+#include <gtest/gtest.h>
 #include <lista/basic_context.hpp>
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
@@ -59,13 +59,13 @@ struct Fixture {
     objects.objects = {make_object(0, 0, 0.f, 0, 10, 4), make_object(1, 1, 5.f, 2, 0, 4),
                        make_object(2, 1, 9.f, 3, 7, 2)};
     objects.objects[0].floor_z = -0.25f;  // measured by a stage; the others unknown
-    ObjectChange a{0, ChangeStatus::moved, 1, 0.1, 0.9, true, Eigen::Matrix4d::Identity(), {0, 1}};
+    ObjectChange a{0, ChangeStatus::moved, 1, 0.1, 0.9, true, Eigen::Matrix4d::Identity(), {0, 1}, {}};
     a.transform(0, 3) = 5;
     Eigen::Matrix4d half_turn = a.transform;  // a symmetric shape's twin pose
     half_turn.block<3, 3>(0, 0) = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     a.alternative_transforms = {half_turn};
-    ObjectChange b{1, ChangeStatus::moved, 0, 0.1, 0.9, false, Eigen::Matrix4d::Identity(), {0, 1}};
-    ObjectChange c{2, ChangeStatus::added, -1, 0, 0.7, false, Eigen::Matrix4d::Identity(), {2}};
+    ObjectChange b{1, ChangeStatus::moved, 0, 0.1, 0.9, false, Eigen::Matrix4d::Identity(), {0, 1}, {}};
+    ObjectChange c{2, ChangeStatus::added, -1, 0, 0.7, false, Eigen::Matrix4d::Identity(), {2}, {}};
     matches.objects = {a, b, c};
     changes.missions = {"A", "B"};
     changes.sets.resize(2);
