@@ -242,7 +242,9 @@ TEST(SimDataset, ViewsGiveLookAlikesOneShapeId) {
     EXPECT_EQ(a.at("points"), b.at("points"));
     EXPECT_EQ(b.at("shape"), b.at("variant"));  // tolerance 0: every distinct mesh its own id
     const auto [it, fresh] = shape_of_variant.emplace(a.at("variant"), a.at("shape"));
-    if (!fresh) EXPECT_EQ(it->second, a.at("shape").get<std::string>());
+    if (!fresh) {
+      EXPECT_EQ(it->second, a.at("shape").get<std::string>());
+    }
     merged_shapes.insert(a.at("shape"));
     strict_shapes.insert(b.at("shape"));
   }

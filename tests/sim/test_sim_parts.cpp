@@ -71,7 +71,9 @@ TEST(Shapes, IdenticalGeometryIsOneShape) {
   EXPECT_EQ(shapes[0].id, "pallet#0");
   for (const auto& s : shapes)
     for (const auto& t : shapes)
-      if (s.id == t.id) EXPECT_EQ(s.mesh.vertices, t.mesh.vertices) << s.id;
+      if (s.id == t.id) {
+        EXPECT_EQ(s.mesh.vertices, t.mesh.vertices) << s.id;
+      }
 }
 
 // Surfaces within a tolerance: a box against the same box grown by 5 mm on

@@ -23,7 +23,9 @@ bool searchable(const pcl::PointXYZ& p) {
 }
 }  // namespace
 
-struct FastKdTree::Index {
+// Hidden like the FLANN type it holds (else GCC warns of a visible struct
+// with a hidden field; nothing outside this file sees it anyway).
+struct __attribute__((visibility("hidden"))) FastKdTree::Index {
   std::vector<float> xyz;      // packed coordinates of the indexed points
   std::vector<int> to_cloud;   // index position -> point of the input cloud
   std::unique_ptr<flann::KDTreeSingleIndex<flann::L2_Simple<float>>> tree;
