@@ -177,7 +177,26 @@ std::vector<Closure> agreeing(const MissionSet& set, const Graph& g, const std::
   return out;
 }
 
+// Root mean square of the closures' translation residuals (m) under the
+// graph's current estimate.
+double closure_rms(const MissionSet& set, const Graph& g, const std::vector<Keyframe>& kf,
+                   const std::vector<Closure>& closures) {
+  if (closures.empty()) return 0.0;
+  double sum = 0.0;
+  for (const auto& c : closures) {
+    const Eigen::Isometry3d est = g.nodes[node_of(g, kf[c.reference])].inverse() * g.nodes[node_of(g, kf[c.query])];
+    sum += (closure_measurement(set, kf, c).inverse() * est).translation().squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(closures.size()));
+}
+
 }  // namespace
+
+bool scan_edges_disagree(double residual_with, double residual_without, double ratio) {
+  // The 1 cm keeps millimetre residuals (a dense scanner indoors) from
+  // deciding on noise.
+  return ratio > 0.0 && residual_with > ratio * residual_without && residual_with > residual_without + 0.01;
+}
 
 MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o, Context& ctx,
                           JointAlignmentReport& report) {
@@ -241,6 +260,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
       g.within.push_back(e);
     }
   }
+  const Graph odometry_only = g;  // before scan edges and solves
   ScanEdgeReport scan_report;
   const std::vector<PoseGraphEdge> scan_edges = scan_registration_edges(
       set, g.offset, o.scan_edges, threads, scan_report, [&] { return ctx.cancelled(); }, [&] { ctx.throw_if_cancelled(); });
@@ -313,7 +333,37 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
     report.final_cost = solve(g, closure_edges(set, g, kf, closures, o), robust).final_cost;
   }
   report.final_closures = closures.size();
-
+  // Scan-to-scan edges are tight (millimetres) and outnumber the closures:
+  // were they biased (a sparse scanner's rings register ring onto ring,
+  // not surface onto surface), the graph would bend the verified closures
+  // to fit them. Solved again without them, on the same closures: if they
+  // raise the closures' residual several-fold, they are left out.
+  if (o.scan_edge_disagreement > 0.0 && !scan_edges.empty() && !closures.empty()) {
+    Graph h = odometry_only;
+    PoseGraphOptions plain = o.graph;
+    plain.loss = "none";
+    plain.threads = threads;
+    solve(h, closure_edges(set, h, kf, closures, o), plain);
+    PoseGraphOptions robust = o.graph;
+    robust.threads = threads;
+    const double cost_without = solve(h, closure_edges(set, h, kf, closures, o), robust).final_cost;
+    report.closure_residual_with_scan_edges = closure_rms(set, g, kf, closures);
+    report.closure_residual_without_scan_edges = closure_rms(set, h, kf, closures);
+    if (scan_edges_disagree(report.closure_residual_with_scan_edges, report.closure_residual_without_scan_edges,
+                            o.scan_edge_disagreement)) {
+      char text[400];
+      std::snprintf(text, sizeof text,
+                    "the %zu scan-to-scan registrations disagree with the loop closures (closure residual %.3f m with "
+                    "them, %.3f m without): left out, the poses rest on odometry and closures; a sparse scanner's "
+                    "rings can bias such registrations (docs/alignment.md)",
+                    scan_edges.size(), report.closure_residual_with_scan_edges,
+                    report.closure_residual_without_scan_edges);
+      ctx.warn(text);
+      g = std::move(h);
+      report.final_cost = cost_without;
+      report.scan_edges_left_out = true;
+    }
+  }
   // Each mission keeps its own map frame up to one rigid transform: anchored
   // at its first scan, the rest of the correction goes into the scan poses.
   for (size_t m = 0; m < n; ++m) {

@@ -30,6 +30,10 @@ struct JointAlignmentOptions {
   bool fix_reference_mission = true;         // else only its first pose
   int refine_rounds = 1;                     // rounds of closures proposed by proximity after a solve
   double refine_radius = 3.0;                // m between keyframes in the common frame
+  // Scan-to-scan edges that raise the final closures' RMS residual above
+  // this many times (and 1 cm above) its value without them are left out
+  // (0: never).
+  double scan_edge_disagreement = 3.0;
 };
 
 struct JointAlignmentReport {
@@ -38,7 +42,17 @@ struct JointAlignmentReport {
   size_t scan_edges_tried = 0, scan_edges = 0;  // scan-to-scan registrations tried / accepted
   std::vector<size_t> closures_per_mission;  // consistent closures to other missions
   double initial_cost = 0.0, final_cost = 0.0;
+  // RMS translation residual of the final closures (m), solved with and
+  // without the scan-to-scan edges (0 when there are none), and whether
+  // the edges were left out for raising it (JointAlignmentOptions::scan_edge_disagreement).
+  double closure_residual_with_scan_edges = 0.0, closure_residual_without_scan_edges = 0.0;
+  bool scan_edges_left_out = false;
 };
+
+// Whether scan-to-scan edges disagree with the loop closures: the closures'
+// RMS residual solved with them is above `ratio` times (and 1 cm above) the
+// residual solved without them. ratio 0: never.
+bool scan_edges_disagree(double residual_with, double residual_without, double ratio);
 
 // Returns a copy of `missions` (point data shared) with corrected scan poses and
 // to_common. Throws lista::Error naming any mission that links to no other.

@@ -69,6 +69,7 @@ JointAlignmentOptions options_from(const Params& p) {
   o.scan_edges.max_rmse = o.verify.max_rmse;
   o.scan_edges.sigma_translation = p.get<double>("scan_sigma_translation");
   o.scan_edges.sigma_rotation = p.get<double>("scan_sigma_rotation") * kDeg;
+  o.scan_edge_disagreement = p.get<double>("scan_disagreement");
   return o;
 }
 
@@ -88,6 +89,11 @@ class PoseGraphStage : public Stage {
     ctx.record("closures_intra", static_cast<double>(report.intra));
     ctx.record("closures_proximity", static_cast<double>(report.proximity));
     ctx.record("scan_edges", static_cast<double>(report.scan_edges));
+    ctx.record("scan_edges_left_out", report.scan_edges_left_out ? 1.0 : 0.0);
+    if (report.scan_edges > 0) {
+      ctx.record("closure_residual_with_scan_edges_m", report.closure_residual_with_scan_edges);
+      ctx.record("closure_residual_without_scan_edges_m", report.closure_residual_without_scan_edges);
+    }
     ctx.record("closures", static_cast<double>(report.final_closures));
     ctx.record("initial_cost", report.initial_cost);
     ctx.record("final_cost", report.final_cost);
@@ -112,7 +118,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.1.0";
+  s.version = "1.2.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
@@ -132,8 +138,12 @@ StageInfo posegraph_stage_info() {
       "when every mission shares it) and the closures under a robust loss; it is solved with Ceres (quaternion "
       "manifold), with the reference mission's first pose (or the whole mission, fix_reference) held. After the first "
       "solve, keyframes that have come close are proposed again (refine_rounds) and verified the same way. "
+      "Last, the graph is solved again without the scan-to-scan edges: if with them the closures' RMS residual is "
+      "more than scan_disagreement times (and 1 cm more than) without, they disagree with the verified closures and "
+      "are left out, with a warning. "
       "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
-      "keyframes, candidates, closures, scan_edges, costs, and ATE before/after when every mission has poses_gt.txt.";
+      "keyframes, candidates, closures, scan_edges, scan_edges_left_out, closure residuals with and without "
+      "them, costs, and ATE before/after when every mission has poses_gt.txt.";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with corrected poses and to_common"}};
   s.params = {
@@ -191,6 +201,11 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("scan_sigma_translation", 0.005, "std. dev. of a scan-to-scan edge, horizontal (height and level are left to the odometry)").range(1e-5, 10).unit("m"),
       ParamSpec::real("scan_sigma_rotation", 0.05, "std. dev. of a scan-to-scan edge, yaw")
           .range(1e-4, 90).unit("deg"),
+      ParamSpec::real("scan_disagreement", 3.0,
+                      "scan-to-scan edges are left out (with a warning) when, solved with them, the final loop closures' "
+                      "RMS residual is more than this many times (and 1 cm more than) its value solved without them: they "
+                      "disagree with the verified closures (a sparse scanner's rings register ring onto ring); 0 = always kept")
+          .at_least(0.0),
       ParamSpec::real("refine_radius", 3.0, "keyframes this close in the common frame are tried").range(0.1, 100).unit("m"),
   };
   return s;
