@@ -364,6 +364,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
       report.scan_edges_left_out = true;
     }
   }
+
   // Each mission keeps its own map frame up to one rigid transform: anchored
   // at its first scan, the rest of the correction goes into the scan poses.
   for (size_t m = 0; m < n; ++m) {
