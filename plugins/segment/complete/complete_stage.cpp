@@ -25,19 +25,24 @@ class CompleteStage : public Stage {
     c_.nested_share = p.get<double>("nested_share");
     c_.floor_share = p.get<double>("floor_share");
     c_.thin_height = p.get<double>("thin_height");
+    c_.thin_surface_sides = p.get<int>("thin_surface_sides");
   }
 
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.complete";
-    i.version = "1.0.0";
+    i.version = "1.1.0";
     i.summary = "Grows partial change clusters of short moves into whole objects";
     i.doc =
         "First, an object with at least floor_share of its points within the floor clearance of its local floor "
         "(below) is the floor itself, which the difference flags where beams graze uneven ground: it is dropped "
         "before anything pairs with it; so is an object thinner than thin_height whose voxels every neighbouring "
         "mission also holds (static_share of its points): an unchanged horizontal surface such as a table top "
-        "grazed by beams. An object moved by less than its own size keeps occupying the overlap of its two poses, so "
+        "grazed by beams; and so is a thin object whose own mission continues its surface (points within 2 cm of its "
+        "median height in at least half of the 0.1 m columns of a box_margin-wide strip along a side) on at least "
+        "thin_surface_sides of its four sides: a patch of a shelf or table top the other mission's beams grazed "
+        "without hitting it (a sparse scanner), where a thing that moved stands free (a cart's deck) or continues "
+        "on one side only (the sliver of a table top moved a little). An object moved by less than its own size keeps occupying the overlap of its two poses, so "
         "the volumetric difference finds only slivers of it. For consecutive missions, clusters whose "
         "boxes are at most pair_gap apart are paired (nearest first, each at most once); each grows "
         "through its own mission's full cloud (breadth-first over occupied voxels of edge `voxel`, "
@@ -93,6 +98,10 @@ class CompleteStage : public Stage {
                         "static_share) are unchanged horizontal surfaces and dropped; 0 = never")
             .range(0, 1)
             .unit("m"),
+        ParamSpec::integer("thin_surface_sides", 3,
+                           "a thin object (thin_height) whose own mission continues its surface on at least this many "
+                           "of its four sides is a patch of an unchanged surface and dropped; 0 = never")
+            .range(0, 4),
         ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
     };
     return i;
@@ -113,10 +122,12 @@ class CompleteStage : public Stage {
     context.record("absorbed", double(st.absorbed));
     context.record("floor_only", double(st.floor_only));
     context.record("thin_static", double(st.thin_static));
+    context.record("thin_surface", double(st.thin_surface));
     context.info("completed " + std::to_string(st.completed) + " of " + std::to_string(st.pairs) +
                  " pairs, " + std::to_string(st.points_added) + " points added" +
                  (st.floor_only ? ", " + std::to_string(st.floor_only) + " clusters of floor dropped" : "") +
                  (st.thin_static ? ", " + std::to_string(st.thin_static) + " unchanged thin surfaces dropped" : "") +
+                 (st.thin_surface ? ", " + std::to_string(st.thin_surface) + " thin patches of a larger surface dropped" : "") +
                  (st.absorbed ? ", " + std::to_string(st.absorbed) + " fragments joined to the object around them" : ""));
     Outputs out;
     out.put("objects", std::move(objects));

@@ -281,6 +281,49 @@ std::vector<uint32_t> base_points(const Object& o, const LocalCloud& cloud, cons
   return added;
 }
 
+// On how many of its four sides a thin object's own mission continues its
+// surface: a side counts when at least half of its 0.1 m columns, in a
+// strip `ring` wide along the object's box, hold a point of `own` within
+// `tol` of the object's median height. A patch of a larger horizontal
+// surface (a shelf's top, a table's) has three or four; a thing standing
+// free at that height (a cart's deck) none; the sliver of a table top moved
+// a little, one (the rest of the top).
+constexpr float kSurfaceNoise = 0.02f;  // m: a scanned flat surface's points lie within this of its height
+
+int surface_sides(const Object& o, const LocalCloud& own, float ring, float tol) {
+  std::vector<float> z;
+  z.reserve(o.points.size());
+  for (const auto& p : o.points.xyz) z.push_back(p.z());
+  std::nth_element(z.begin(), z.begin() + std::ptrdiff_t(z.size() / 2), z.end());
+  const float zc = z[z.size() / 2];
+  constexpr float kColumn = 0.1f;
+  auto column = [&](float v) { return int(std::floor(v / kColumn)); };
+  const int ix0 = column(o.bbox_min.x()), ix1 = column(o.bbox_max.x());
+  const int iy0 = column(o.bbox_min.y()), iy1 = column(o.bbox_max.y());
+  const int w = std::max(1, int(std::ceil(ring / kColumn)));
+  // Side of column (x, y): 0 -x, 1 +x, 2 -y, 3 +y; -1 inside the box, in a
+  // corner or beyond the strips.
+  auto side = [&](int x, int y) {
+    const bool in_x = x >= ix0 && x <= ix1, in_y = y >= iy0 && y <= iy1;
+    if (in_y && x < ix0 && x >= ix0 - w) return 0;
+    if (in_y && x > ix1 && x <= ix1 + w) return 1;
+    if (in_x && y < iy0 && y >= iy0 - w) return 2;
+    if (in_x && y > iy1 && y <= iy1 + w) return 3;
+    return -1;
+  };
+  const size_t cells[4] = {size_t(w) * size_t(iy1 - iy0 + 1), size_t(w) * size_t(iy1 - iy0 + 1),
+                           size_t(w) * size_t(ix1 - ix0 + 1), size_t(w) * size_t(ix1 - ix0 + 1)};
+  std::unordered_set<uint64_t> held[4];
+  for (const auto& p : own.points.xyz) {
+    if (std::abs(p.z() - zc) > tol) continue;
+    const int x = column(p.x()), y = column(p.y()), k = side(x, y);
+    if (k >= 0) held[k].insert(voxel_key(Eigen::Vector3i(x, y, 0)));
+  }
+  int sides = 0;
+  for (int k = 0; k < 4; ++k) sides += 2 * held[k].size() >= cells[k];
+  return sides;
+}
+
 // Whether every one of the `neighbours`' clouds holds a point in a voxel,
 // above its own local floor under `floor_region`. Not valid when a neighbour
 // has no points there: it saw nothing of the place and cannot say it is
@@ -464,7 +507,10 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   // 0b. A thin cluster (under thin_height tall) whose voxels every
   // neighbouring mission also holds is a horizontal surface that did not
   // change (a table top grazed by beams); a thin object that did change (a
-  // cart's deck seen from above) is not held where it was.
+  // cart's deck seen from above) is not held where it was. Nor is a patch
+  // of a surface the other mission's beams grazed without hitting (a
+  // sparse scanner, a rack's low shelf): its own mission continues the
+  // surface on thin_surface_sides of its four sides.
   if (c.thin_height > 0.0) {
     std::vector<Object> kept;
     for (auto& o : out.objects) {
@@ -478,12 +524,17 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
             continue;
           }
         }
+        if (c.thin_surface_sides > 0 &&
+            surface_sides(o, clouds[o.mission], margin, kSurfaceNoise) >= c.thin_surface_sides) {
+          ++st.thin_surface;
+          continue;
+        }
       }
       kept.push_back(std::move(o));
     }
     out.objects = std::move(kept);
   }
-  if (st.floor_only || st.thin_static) out.renumber();
+  if (st.floor_only || st.thin_static || st.thin_surface) out.renumber();
 
   // 1. Pairs, nearest first, each object in at most one.
   std::vector<char> used(out.objects.size(), 0);

@@ -100,6 +100,7 @@ struct CompletionConfig {
   double nested_share = 0.5;      // rule 6: share of a fragment inside a larger object's box; 0 = off
   double floor_share = 0.9;       // rule 0: share of an object within the floor clearance that makes it floor; 0 = off
   double thin_height = 0.05;      // rule 0b: m, thinner objects held by every neighbouring mission are dropped; 0 = off
+  int thin_surface_sides = 3;     // rule 0b: ... and those whose own mission continues their surface on this many sides; 0 = off
   int threads = 1;
 };
 
@@ -114,6 +115,7 @@ struct CompletionStats {
   size_t absorbed = 0;        // fragments joined to a larger object (rule 6)
   size_t floor_only = 0;      // objects dropped as the floor itself (rule 0)
   size_t thin_static = 0;     // thin objects every neighbouring mission also holds (rule 0b)
+  size_t thin_surface = 0;    // thin patches of a larger surface of their own mission (rule 0b)
 };
 
 // `missions` must be the aligned missions the objects were detected in (same

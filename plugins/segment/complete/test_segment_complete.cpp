@@ -352,6 +352,7 @@ TEST(SegmentComplete, TheFloorItselfIsNoObject) {
 
   seg::CompletionConfig off;
   off.floor_share = 0.0;
+  off.thin_surface_sides = 0;  // the floor patch is also a thin patch of a larger surface
   seg::CompletionStats st_off;
   EXPECT_EQ(seg::complete_objects(in, s.missions, off, &st_off).objects.size(), 4u);
   EXPECT_EQ(st_off.completed, 0u) << "the floor patch took the sliver's pair";
@@ -427,9 +428,64 @@ TEST(SegmentComplete, UnchangedThinSurfacesAreDropped) {
   seg::CompletionStats st;
   const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
   EXPECT_EQ(st.thin_static, 1u);
+  EXPECT_EQ(st.thin_surface, 0u);  // the moved top's sliver continues on one side only
   ASSERT_EQ(out.objects.size(), 1u);
   EXPECT_EQ(out.objects[0].id, 0);
   EXPECT_EQ(out.objects[0].points.size(), in.objects[1].points.size());
   c.thin_height = 0.0;
   EXPECT_EQ(seg::complete_objects(in, s.missions, c).objects.size(), 2u);
+}
+
+// A shelf 2 x 1 m at 0.2 m, seen by both missions, but the other mission's
+// beams grazed a patch of it without hitting it (a sparse scanner): the
+// patch came out as change in mission A. A continues the shelf on all four
+// sides of the patch: dropped. A cart's deck at 0.5 m that B no longer
+// has stands free: kept.
+TEST(SegmentComplete, ThinPatchesOfALargerSurfaceAreDropped) {
+  auto in_hole = [](float x, float y) { return x > 0.8f && x < 1.2f && y > 0.3f && y < 0.7f; };
+  auto in_deck = [](float x, float y) { return x > 2.6f && x < 3.1f && y > 0.0f && y < 0.4f; };
+  MissionSet missions;
+  PointSet cloud[2];
+  for (int m = 0; m < 2; ++m) {
+    PointSet& c = cloud[m];
+    auto add = [&](float x, float y, float z) {
+      c.xyz.emplace_back(x, y, z);
+      c.scan.push_back(0);
+      c.index.push_back(uint32_t(c.index.size()));
+    };
+    for (float x = -1.f; x <= 4.f; x += kStep)
+      for (float y = -1.f; y <= 2.f; y += kStep) {
+        add(x, y, 0.f);                                                          // floor
+        if (x >= 0.f && x <= 2.f && y >= 0.f && y <= 1.f && !(m == 1 && in_hole(x, y))) add(x, y, 0.2f);  // shelf
+        if (m == 0 && in_deck(x, y)) add(x, y, 0.5f);                            // deck, A only
+      }
+    Mission mission;
+    mission.name = m == 0 ? "A" : "B";
+    Scan scan;
+    scan.points = std::make_shared<const PointSet>(c);
+    scan.points_in_file = uint32_t(c.size());
+    mission.scans.push_back(scan);
+    missions.missions.push_back(mission);
+  }
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects.push_back(object_where(cloud[0], 0, [&](const Eigen::Vector3f& p) {
+    return p.z() > 0.1f && p.z() < 0.3f && in_hole(p.x(), p.y());
+  }));
+  in.objects.push_back(object_where(cloud[0], 0, [&](const Eigen::Vector3f& p) {
+    return p.z() > 0.4f && in_deck(p.x(), p.y());
+  }));
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int32_t(i);
+  ASSERT_GT(in.objects[0].points.size(), 20u);
+  ASSERT_GT(in.objects[1].points.size(), 20u);
+  seg::CompletionConfig c;
+  c.self_complete = false;
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, missions, c, &st);
+  EXPECT_EQ(st.thin_static, 0u);  // B does not hold the patch: the older rule keeps it
+  EXPECT_EQ(st.thin_surface, 1u);
+  ASSERT_EQ(out.objects.size(), 1u);
+  EXPECT_EQ(out.objects[0].points.size(), in.objects[1].points.size());  // the deck
+  c.thin_surface_sides = 0;
+  EXPECT_EQ(seg::complete_objects(in, missions, c).objects.size(), 2u);
 }
