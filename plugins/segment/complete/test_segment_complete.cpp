@@ -14,6 +14,17 @@ namespace {
 
 constexpr float kStep = 0.04f;
 
+// Appends a mission of one scan holding `cloud`.
+void add_mission(MissionSet& set, const std::string& name, const PointSet& cloud) {
+  Mission mission;
+  mission.name = name;
+  Scan scan;
+  scan.points = std::make_shared<const PointSet>(cloud);
+  scan.points_in_file = uint32_t(cloud.size());
+  mission.scans.push_back(scan);
+  set.missions.push_back(mission);
+}
+
 struct Scene {
   MissionSet missions;
   PointSet cloud[2];
@@ -36,13 +47,7 @@ Scene make_scene(float static_x = 2.5f, float static_h = 0.6f) {
     add_box_surface(c, {x0, 0.f, 0.f}, {x0 + 0.6f, 0.4f, 0.8f}, kStep);
     add_box_surface(c, {static_x, 0.f, 0.f}, {static_x + 0.5f, 0.5f, static_h}, kStep);
     for (size_t i = 0; i < c.size(); ++i) c.index[i] = uint32_t(i);
-    Mission mission;
-    mission.name = m == 0 ? "A" : "B";
-    Scan scan;
-    scan.points = std::make_shared<const PointSet>(c);
-    scan.points_in_file = uint32_t(c.size());
-    mission.scans.push_back(scan);
-    s.missions.missions.push_back(mission);
+    add_mission(s.missions, m == 0 ? "A" : "B", c);
   }
   return s;
 }
@@ -455,17 +460,12 @@ TEST(SegmentComplete, ThinPatchesOfALargerSurfaceAreDropped) {
     };
     for (float x = -1.f; x <= 4.f; x += kStep)
       for (float y = -1.f; y <= 2.f; y += kStep) {
-        add(x, y, 0.f);                                                          // floor
-        if (x >= 0.f && x <= 2.f && y >= 0.f && y <= 1.f && !(m == 1 && in_hole(x, y))) add(x, y, 0.2f);  // shelf
-        if (m == 0 && in_deck(x, y)) add(x, y, 0.5f);                            // deck, A only
+        add(x, y, 0.f);  // floor
+        const bool on_shelf = x >= 0.f && x <= 2.f && y >= 0.f && y <= 1.f;
+        if (on_shelf && !(m == 1 && in_hole(x, y))) add(x, y, 0.2f);
+        if (m == 0 && in_deck(x, y)) add(x, y, 0.5f);  // the deck, A only
       }
-    Mission mission;
-    mission.name = m == 0 ? "A" : "B";
-    Scan scan;
-    scan.points = std::make_shared<const PointSet>(c);
-    scan.points_in_file = uint32_t(c.size());
-    mission.scans.push_back(scan);
-    missions.missions.push_back(mission);
+    add_mission(missions, m == 0 ? "A" : "B", c);
   }
   ObjectSet in;
   in.missions = {"A", "B"};
