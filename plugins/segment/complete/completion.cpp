@@ -281,6 +281,8 @@ std::vector<uint32_t> base_points(const Object& o, const LocalCloud& cloud, cons
   return added;
 }
 
+constexpr float kSurfaceNoise = 0.02f;  // m: a scanned flat surface's points lie within this of its height
+
 // On how many of its four sides a thin object's own mission continues its
 // surface: a side counts when at least half of its 0.1 m columns, in a
 // strip `ring` wide along the object's box, hold a point of `own` within
@@ -288,8 +290,6 @@ std::vector<uint32_t> base_points(const Object& o, const LocalCloud& cloud, cons
 // surface (a shelf's top, a table's) has three or four; a thing standing
 // free at that height (a cart's deck) none; the sliver of a table top moved
 // a little, one (the rest of the top).
-constexpr float kSurfaceNoise = 0.02f;  // m: a scanned flat surface's points lie within this of its height
-
 int surface_sides(const Object& o, const LocalCloud& own, float ring, float tol) {
   std::vector<float> z;
   z.reserve(o.points.size());

@@ -16,8 +16,11 @@
 //     lie, static_share of them, in voxels every neighbouring mission also
 //     holds above its floor (the static check of rule 5) is a horizontal
 //     surface that did not change, such as a table top grazed by beams.
-//     It runs with rule 0, before pairing, and renumbers the same way; it
-//     does not depend on static_check.
+//     So is one whose own mission continues its surface (points within
+//     2 cm of its median height) on at least `thin_surface_sides` of its
+//     four sides: a patch the other mission's beams grazed without
+//     hitting. It runs with rule 0, before pairing, and renumbers the same
+//     way; it does not depend on static_check.
 //  1. Pairs. An object a of m and an object b of n whose bounding boxes are at
 //     most `pair_gap` apart are a candidate pair (both slivers of one object
 //     seen at two poses). Pairs are taken greedily by increasing gap, each
