@@ -338,7 +338,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   // not surface onto surface), the graph would bend the verified closures
   // to fit them. Solved again without them, on the same closures: if they
   // raise the closures' residual several-fold, they are left out.
-  if (o.scan_edge_disagreement > 0.0 && !scan_edges.empty() && !closures.empty()) {
+  if (o.scan_disagreement > 0.0 && !scan_edges.empty() && !closures.empty()) {
     Graph h = odometry_only;
     PoseGraphOptions plain = o.graph;
     plain.loss = "none";
@@ -350,7 +350,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
     report.closure_residual_with_scan_edges = closure_rms(set, g, kf, closures);
     report.closure_residual_without_scan_edges = closure_rms(set, h, kf, closures);
     if (scan_edges_disagree(report.closure_residual_with_scan_edges, report.closure_residual_without_scan_edges,
-                            o.scan_edge_disagreement)) {
+                            o.scan_disagreement)) {
       char text[400];
       std::snprintf(text, sizeof text,
                     "the %zu scan-to-scan registrations disagree with the loop closures (closure residual %.3f m with "

@@ -33,7 +33,7 @@ struct JointAlignmentOptions {
   // Scan-to-scan edges that raise the final closures' RMS residual above
   // this many times (and 1 cm above) its value without them are left out
   // (0: never).
-  double scan_edge_disagreement = 3.0;
+  double scan_disagreement = 3.0;
 };
 
 struct JointAlignmentReport {
@@ -44,7 +44,7 @@ struct JointAlignmentReport {
   double initial_cost = 0.0, final_cost = 0.0;
   // RMS translation residual of the final closures (m), solved with and
   // without the scan-to-scan edges (0 when there are none), and whether
-  // the edges were left out for raising it (JointAlignmentOptions::scan_edge_disagreement).
+  // the edges were left out for raising it (JointAlignmentOptions::scan_disagreement).
   double closure_residual_with_scan_edges = 0.0, closure_residual_without_scan_edges = 0.0;
   bool scan_edges_left_out = false;
 };

@@ -69,7 +69,7 @@ JointAlignmentOptions options_from(const Params& p) {
   o.scan_edges.max_rmse = o.verify.max_rmse;
   o.scan_edges.sigma_translation = p.get<double>("scan_sigma_translation");
   o.scan_edges.sigma_rotation = p.get<double>("scan_sigma_rotation") * kDeg;
-  o.scan_edge_disagreement = p.get<double>("scan_disagreement");
+  o.scan_disagreement = p.get<double>("scan_disagreement");
   return o;
 }
 
