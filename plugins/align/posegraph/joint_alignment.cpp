@@ -198,6 +198,16 @@ bool scan_edges_disagree(double residual_with, double residual_without, double r
   return ratio > 0.0 && residual_with > ratio * residual_without && residual_with > residual_without + 0.01;
 }
 
+std::vector<char> missions_to_blame(double residual_with_all, const std::vector<double>& residual_without_each,
+                                    double ratio) {
+  std::vector<char> blame(residual_without_each.size(), 0);
+  if (blame.size() < 3) return blame;  // of two, taking one out leaves the other to judge alone
+  for (size_t m = 0; m < blame.size(); ++m)
+    blame[m] = !std::isnan(residual_without_each[m]) &&
+               scan_edges_disagree(residual_with_all, residual_without_each[m], ratio);
+  return blame;
+}
+
 MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o, Context& ctx,
                           JointAlignmentReport& report) {
   if (set.missions.empty()) throw Error("no missions to align");
@@ -337,31 +347,77 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   // were they biased (a sparse scanner's rings register ring onto ring,
   // not surface onto surface), the graph would bend the verified closures
   // to fit them. Solved again without them, on the same closures: if they
-  // raise the closures' residual several-fold, they are left out.
+  // raise the closures' residual several-fold, they are left out: with
+  // three or more missions only those of a mission whose removal alone
+  // brings the residual down as far (one sparsely scanned mission among
+  // dense ones leaves the others their edges), else all.
   if (o.scan_disagreement > 0.0 && !scan_edges.empty() && !closures.empty()) {
-    Graph h = odometry_only;
-    PoseGraphOptions plain = o.graph;
-    plain.loss = "none";
-    plain.threads = threads;
-    solve(h, closure_edges(set, h, kf, closures, o), plain);
-    PoseGraphOptions robust = o.graph;
-    robust.threads = threads;
-    const double cost_without = solve(h, closure_edges(set, h, kf, closures, o), robust).final_cost;
-    report.closure_residual_with_scan_edges = closure_rms(set, g, kf, closures);
-    report.closure_residual_without_scan_edges = closure_rms(set, h, kf, closures);
-    if (scan_edges_disagree(report.closure_residual_with_scan_edges, report.closure_residual_without_scan_edges,
-                            o.scan_disagreement)) {
-      char text[400];
+    // The odometry plus `edges`, solved on the final closures as above.
+    auto solved_with = [&](const std::vector<PoseGraphEdge>& edges, double& cost) {
+      Graph h = odometry_only;
+      h.within.insert(h.within.end(), edges.begin(), edges.end());
+      PoseGraphOptions plain = o.graph;
+      plain.loss = "none";
+      plain.threads = threads;
+      solve(h, closure_edges(set, h, kf, closures, o), plain);
+      PoseGraphOptions robust = o.graph;
+      robust.threads = threads;
+      cost = solve(h, closure_edges(set, h, kf, closures, o), robust).final_cost;
+      return h;
+    };
+    double cost_without = 0.0;
+    Graph without = solved_with({}, cost_without);
+    const double with_all = closure_rms(set, g, kf, closures), with_none = closure_rms(set, without, kf, closures);
+    report.closure_residual_with_scan_edges = with_all;
+    report.closure_residual_without_scan_edges = with_none;
+    if (scan_edges_disagree(with_all, with_none, o.scan_disagreement)) {
+      // Whose? A mission whose edges, taken out alone, bring the residual
+      // down as far (the others' then agree with the closures).
+      auto edges_of = [&](size_t m, bool of_m) {
+        const size_t end = m + 1 < n ? g.offset[m + 1] : g.nodes.size();
+        std::vector<PoseGraphEdge> out;
+        for (const auto& e : scan_edges)
+          if ((e.from >= g.offset[m] && e.from < end) == of_m) out.push_back(e);
+        return out;
+      };
+      std::vector<double> without_each(n, std::nan(""));
+      for (size_t m = 0; m < n && n > 2; ++m) {
+        if (edges_of(m, true).empty()) continue;
+        double unused = 0.0;
+        without_each[m] = closure_rms(set, solved_with(edges_of(m, false), unused), kf, closures);
+      }
+      const std::vector<char> culprit = missions_to_blame(with_all, without_each, o.scan_disagreement);
+      std::vector<PoseGraphEdge> kept;
+      std::string left;
+      for (size_t m = 0; m < n; ++m) {
+        if (edges_of(m, true).empty()) continue;
+        if (culprit[m]) {
+          left += (left.empty() ? "'" : ", '") + set.missions[m].name + "'";
+          ++report.scan_edges_left_out;
+        } else {
+          const auto own = edges_of(m, true);
+          kept.insert(kept.end(), own.begin(), own.end());
+        }
+      }
+      double cost_kept = 0.0;
+      Graph with_kept = report.scan_edges_left_out > 0 && !kept.empty() ? solved_with(kept, cost_kept) : Graph{};
+      // No mission alone to blame, or the rest still disagrees: all go.
+      if (report.scan_edges_left_out == 0 || kept.empty() ||
+          scan_edges_disagree(closure_rms(set, with_kept, kf, closures), with_none, o.scan_disagreement)) {
+        kept.clear();
+        left = "every mission";
+        report.scan_edges_left_out = 0;
+        for (size_t m = 0; m < n; ++m) report.scan_edges_left_out += !edges_of(m, true).empty();
+      }
+      report.final_cost = kept.empty() ? cost_without : cost_kept;
+      g = kept.empty() ? std::move(without) : std::move(with_kept);
+      char text[600];
       std::snprintf(text, sizeof text,
-                    "the %zu scan-to-scan registrations disagree with the loop closures (closure residual %.3f m with "
-                    "them, %.3f m without): left out, the poses rest on odometry and closures; a sparse scanner's "
-                    "rings can bias such registrations (docs/alignment.md)",
-                    scan_edges.size(), report.closure_residual_with_scan_edges,
-                    report.closure_residual_without_scan_edges);
+                    "scan-to-scan registrations disagree with the loop closures (closure residual %.3f m with them, "
+                    "%.3f m without): those of %s left out, whose poses rest on odometry and closures; a sparse "
+                    "scanner's rings can bias such registrations (docs/alignment.md)",
+                    with_all, with_none, left.c_str());
       ctx.warn(text);
-      g = std::move(h);
-      report.final_cost = cost_without;
-      report.scan_edges_left_out = true;
     }
   }
 

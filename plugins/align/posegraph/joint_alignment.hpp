@@ -31,8 +31,8 @@ struct JointAlignmentOptions {
   int refine_rounds = 1;                     // rounds of closures proposed by proximity after a solve
   double refine_radius = 3.0;                // m between keyframes in the common frame
   // Scan-to-scan edges that raise the final closures' RMS residual above
-  // this many times (and 1 cm above) its value without them are left out
-  // (0: never).
+  // this many times (and 1 cm above) its value without them are left out,
+  // judged per mission (0: never).
   double scan_disagreement = 3.0;
 };
 
@@ -43,16 +43,25 @@ struct JointAlignmentReport {
   std::vector<size_t> closures_per_mission;  // consistent closures to other missions
   double initial_cost = 0.0, final_cost = 0.0;
   // RMS translation residual of the final closures (m), solved with and
-  // without the scan-to-scan edges (0 when there are none), and whether
-  // the edges were left out for raising it (JointAlignmentOptions::scan_disagreement).
+  // without the scan-to-scan edges (0 when there are none), and the number
+  // of missions whose edges were left out for raising it
+  // (JointAlignmentOptions::scan_disagreement).
   double closure_residual_with_scan_edges = 0.0, closure_residual_without_scan_edges = 0.0;
-  bool scan_edges_left_out = false;
+  size_t scan_edges_left_out = 0;
 };
 
 // Whether scan-to-scan edges disagree with the loop closures: the closures'
 // RMS residual solved with them is above `ratio` times (and 1 cm above) the
 // residual solved without them. ratio 0: never.
 bool scan_edges_disagree(double residual_with, double residual_without, double ratio);
+
+// With three or more missions, those whose scan-to-scan edges are to blame:
+// taking out their edges alone (residual_without_each[m], NaN for a
+// mission without edges) brings the closures' residual down from
+// residual_with_all as scan_edges_disagree says. Two missions: none (the
+// caller then leaves out all).
+std::vector<char> missions_to_blame(double residual_with_all, const std::vector<double>& residual_without_each,
+                                    double ratio);
 
 // Returns a copy of `missions` (point data shared) with corrected scan poses and
 // to_common. Throws lista::Error naming any mission that links to no other.

@@ -89,7 +89,7 @@ class PoseGraphStage : public Stage {
     ctx.record("closures_intra", static_cast<double>(report.intra));
     ctx.record("closures_proximity", static_cast<double>(report.proximity));
     ctx.record("scan_edges", static_cast<double>(report.scan_edges));
-    ctx.record("scan_edges_left_out", report.scan_edges_left_out ? 1.0 : 0.0);
+    ctx.record("scan_edges_left_out", static_cast<double>(report.scan_edges_left_out));
     if (report.scan_edges > 0) {
       ctx.record("closure_residual_with_scan_edges_m", report.closure_residual_with_scan_edges);
       ctx.record("closure_residual_without_scan_edges_m", report.closure_residual_without_scan_edges);
