@@ -411,13 +411,12 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
       }
       report.final_cost = kept.empty() ? cost_without : cost_kept;
       g = kept.empty() ? std::move(without) : std::move(with_kept);
-      char text[600];
-      std::snprintf(text, sizeof text,
-                    "scan-to-scan registrations disagree with the loop closures (closure residual %.3f m with them, "
-                    "%.3f m without): those of %s left out, whose poses rest on odometry and closures; a sparse "
-                    "scanner's rings can bias such registrations (docs/alignment.md)",
-                    with_all, with_none, left.c_str());
-      ctx.warn(text);
+      char residuals[160];
+      std::snprintf(residuals, sizeof residuals, "(closure residual %.3f m with them, %.3f m without)", with_all,
+                    with_none);
+      ctx.warn("scan-to-scan registrations disagree with the loop closures " + std::string(residuals) +
+               ": those of " + left + " left out, whose poses rest on odometry and closures; a sparse scanner's "
+               "rings can bias such registrations (docs/alignment.md)");
     }
   }
 
