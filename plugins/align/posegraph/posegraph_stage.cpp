@@ -140,7 +140,8 @@ StageInfo posegraph_stage_info() {
       "solve, keyframes that have come close are proposed again (refine_rounds) and verified the same way. "
       "Last, the graph is solved again without the scan-to-scan edges: if with them the closures' RMS residual is "
       "more than scan_disagreement times (and 1 cm more than) without, they disagree with the verified closures and "
-      "are left out, with a warning. "
+      "are left out, with a warning naming whose: with three or more missions only those of a mission whose removal "
+      "alone brings the residual down as far (a sparse scanner's mission among dense ones), else all. "
       "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
       "keyframes, candidates, closures, scan_edges, scan_edges_left_out, closure residuals with and without "
       "them, costs, and ATE before/after when every mission has poses_gt.txt.";
@@ -204,7 +205,8 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("scan_disagreement", 3.0,
                       "scan-to-scan edges are left out (with a warning) when, solved with them, the final loop closures' "
                       "RMS residual is more than this many times (and 1 cm more than) its value solved without them: they "
-                      "disagree with the verified closures (a sparse scanner's rings register ring onto ring); 0 = always kept")
+                      "disagree with the verified closures (a sparse scanner's rings register ring onto ring); judged per "
+                      "mission with three or more; 0 = always kept")
           .at_least(0.0),
       ParamSpec::real("refine_radius", 3.0, "keyframes this close in the common frame are tried").range(0.1, 100).unit("m"),
   };
