@@ -373,32 +373,33 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
     if (scan_edges_disagree(with_all, with_none, o.scan_disagreement)) {
       // Whose? A mission whose edges, taken out alone, bring the residual
       // down as far (the others' then agree with the closures).
-      auto edges_of = [&](size_t m, bool of_m) {
-        const size_t end = m + 1 < n ? g.offset[m + 1] : g.nodes.size();
+      std::vector<std::vector<PoseGraphEdge>> by_mission(n);
+      for (const auto& e : scan_edges)
+        by_mission[size_t(std::upper_bound(g.offset.begin(), g.offset.end(), e.from) - g.offset.begin()) - 1]
+            .push_back(e);
+      auto all_but = [&](size_t skip) {
         std::vector<PoseGraphEdge> out;
-        for (const auto& e : scan_edges)
-          if ((e.from >= g.offset[m] && e.from < end) == of_m) out.push_back(e);
+        for (size_t m = 0; m < n; ++m)
+          if (m != skip) out.insert(out.end(), by_mission[m].begin(), by_mission[m].end());
         return out;
       };
       std::vector<double> without_each(n, std::nan(""));
       for (size_t m = 0; m < n && n > 2; ++m) {
-        if (edges_of(m, true).empty()) continue;
+        if (by_mission[m].empty()) continue;
         double unused = 0.0;
-        without_each[m] = closure_rms(set, solved_with(edges_of(m, false), unused), kf, closures);
+        without_each[m] = closure_rms(set, solved_with(all_but(m), unused), kf, closures);
       }
       const std::vector<char> culprit = missions_to_blame(with_all, without_each, o.scan_disagreement);
-      std::vector<PoseGraphEdge> kept;
       std::string left;
+      size_t with_edges = 0;
       for (size_t m = 0; m < n; ++m) {
-        if (edges_of(m, true).empty()) continue;
-        if (culprit[m]) {
-          left += (left.empty() ? "'" : ", '") + set.missions[m].name + "'";
-          ++report.scan_edges_left_out;
-        } else {
-          const auto own = edges_of(m, true);
-          kept.insert(kept.end(), own.begin(), own.end());
-        }
+        with_edges += !by_mission[m].empty();
+        if (!culprit[m]) continue;
+        left += (left.empty() ? "'" : ", '") + set.missions[m].name + "'";
+        ++report.scan_edges_left_out;
+        by_mission[m].clear();
       }
+      std::vector<PoseGraphEdge> kept = all_but(n);
       double cost_kept = 0.0;
       Graph with_kept = report.scan_edges_left_out > 0 && !kept.empty() ? solved_with(kept, cost_kept) : Graph{};
       // No mission alone to blame, or the rest still disagrees: all go.
@@ -406,8 +407,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
           scan_edges_disagree(closure_rms(set, with_kept, kf, closures), with_none, o.scan_disagreement)) {
         kept.clear();
         left = "every mission";
-        report.scan_edges_left_out = 0;
-        for (size_t m = 0; m < n; ++m) report.scan_edges_left_out += !edges_of(m, true).empty();
+        report.scan_edges_left_out = with_edges;
       }
       report.final_cost = kept.empty() ? cost_without : cost_kept;
       g = kept.empty() ? std::move(without) : std::move(with_kept);
