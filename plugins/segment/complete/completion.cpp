@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <limits>
 #include <thread>
@@ -243,6 +244,22 @@ Eigen::Vector3f shape_of(const PointSet& own, const std::vector<uint32_t>& extra
   for (const auto& p : pts) top = std::max(top, p.z());
   const Eigen::Vector2f e = geometry::horizontal_extents(pts);
   return {top - floor, e[0], e[1]};
+}
+
+std::string format_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", v);
+  return text;
+}
+
+// "height x side x side m" of shape_of's result.
+std::string shape_note(const Eigen::Vector3f& s) {
+  return format_number(s[0]) + " x " + format_number(s[1]) + " x " + format_number(s[2]) + " m";
+}
+
+// Leaked voxels per voxel grown into.
+std::string leak_note(const Growth& g) {
+  return format_number(double(g.leaks) / double(std::max<size_t>(g.voxels, 1)));
 }
 
 bool same_shape(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const CompletionConfig& c) {
@@ -569,9 +586,11 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     Object &a = out.objects[p.a], &b = out.objects[p.b];
     const LocalCloud &ca = clouds[a.mission], &cb = clouds[b.mission];
     Floor fa, fb;
+    const std::string which = "objects " + std::to_string(a.id) + " + " + std::to_string(b.id) + ": ";
     if (!local_floor(ca.points, p.floor_region, c.floor_percentile, c.floor_clearance, fa) ||
         !local_floor(cb.points, p.floor_region, c.floor_percentile, c.floor_clearance, fb)) {
       ++st.rejected;
+      st.pair_notes.push_back(which + "not completed, no floor found around them");
       continue;
     }
     const float floor_a = fa.z, floor_b = fb.z, min_a = fa.clear_z, min_b = fb.clear_z;
@@ -585,9 +604,16 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     const Eigen::Vector3f sb = shape_of(b.points, gb.added, cb.points, floor_b, min_b);
     if (!contained || !same_shape(sa, sb, c)) {
       ++st.rejected;
+      st.pair_notes.push_back(which + "not completed, " +
+                              (!contained ? "a growth leaks out of the pair's region (" + leak_note(ga) + " / " +
+                                                leak_note(gb) + ", max_leak " + format_number(c.max_leak) + ")"
+                                          : "grown shapes differ (" + shape_note(sa) + " / " + shape_note(sb) + ")"));
       continue;
     }
     ++st.completed;
+    st.pair_notes.push_back(which + "completed, " + std::to_string(ga.added.size()) + " + " +
+                            std::to_string(gb.added.size()) + " points added (" + shape_note(sa) + " / " +
+                            shape_note(sb) + ")");
     for (auto [o, add, cloud] : {std::tuple{&a, &ga.added, &ca}, std::tuple{&b, &gb.added, &cb}}) {
       add_points(*o, cloud->points, *add);
       for (uint32_t i : *add) owned[o->mission].insert(point_key(cloud->points.scan[i], cloud->points.index[i]));

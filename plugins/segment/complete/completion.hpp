@@ -76,6 +76,7 @@
 #include <lista/objects.hpp>
 
 #include <cstddef>
+#include <string>
 
 namespace lista::seg {
 
@@ -119,6 +120,9 @@ struct CompletionStats {
   size_t floor_only = 0;      // objects dropped as the floor itself (rule 0)
   size_t thin_static = 0;     // thin objects every neighbouring mission also holds (rule 0b)
   size_t thin_surface = 0;    // thin patches of a larger surface of their own mission (rule 0b)
+  // One line per candidate pair: completed, or why not (no floor, a growth
+  // leaking out of its region, grown shapes that disagree); for `-v`.
+  std::vector<std::string> pair_notes;
 };
 
 // `missions` must be the aligned missions the objects were detected in (same

@@ -104,6 +104,8 @@ TEST(SegmentComplete, ShortMoveSliversGrowIntoWholeBoxes) {
   const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(st.completed, 1u);
+  ASSERT_EQ(st.pair_notes.size(), 1u);  // what -v prints
+  EXPECT_EQ(st.pair_notes[0].rfind("objects 0 + 1: completed, ", 0), 0u) << st.pair_notes[0];
   const float clear = 0.08f;
   // Every box point above the floor clearance is now in the object, nothing else.
   const size_t box_a = count_in_box(s.cloud[0], {1.0f, 0.f, clear}, {1.6f, 0.4f, 0.8f});
@@ -157,6 +159,10 @@ TEST(SegmentComplete, DisagreeingShapesAreLeftAlone) {
   const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
   EXPECT_EQ(st.pairs, 1u);
   EXPECT_EQ(st.rejected, 1u);
+  ASSERT_EQ(st.pair_notes.size(), 1u);
+  // The cabinet's growth reaches the edge of the pair's region before any
+  // shapes are compared: it is part of something bigger than the box.
+  EXPECT_NE(st.pair_notes[0].find("not completed, a growth leaks out"), std::string::npos) << st.pair_notes[0];
   EXPECT_EQ(out.objects[0].points.size(), in.objects[0].points.size());
   EXPECT_EQ(out.objects[1].points.size(), in.objects[1].points.size());
 }
