@@ -5,6 +5,7 @@
 #include <lista/lista.hpp>
 #include <lista/parallel.hpp>
 #include <lista_objreg/icp_refine.hpp>
+#include <lista_objreg/surface_share.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -42,6 +43,10 @@ class WeightedMatchStage : public Stage {
     shape_.max_score_points = 2000;
     shape_.svd_flips = false;  // objects stand on floors: the yaw turns suffice here
     shape_.list_alternatives = false;  // the check needs the fit, not the other poses (scoring them cost ~10 %)
+    surface_.voxel = shape_.voxel;
+    surface_.inlier = shape_.inlier_distance;
+    surface_.gap = p.get<double>("shape_gap");
+    surface_.max_points = shape_.max_score_points;
     if (cfg_.alpha + cfg_.beta + cfg_.shape_weight <= 0.0) throw Error("alpha + beta + shape_weight must be > 0");
   }
 
@@ -52,8 +57,15 @@ class WeightedMatchStage : public Stage {
     ctx.progress().begin("shape check of candidate pairs", pairs.size());
     parallel_for(pairs.size(), ctx.threads(), [&](size_t k) {
       if (ctx.cancelled()) return;
-      const registration::IcpResult r =
-          registration::icp_refine(pairs[k].first->points.xyz, pairs[k].second->points.xyz, shape_);
+      const auto& a = pairs[k].first->points.xyz;
+      const auto& b = pairs[k].second->points.xyz;
+      registration::IcpResult r = registration::icp_refine(a, b, shape_);
+      // Judged again on the surfaces, not the points: a sparse scanner's
+      // views interleave their rings (registration::surface_share).
+      if (surface_.gap > 0.0) {
+        r.source_inliers = registration::surface_share(a, b, r.transform, surface_);
+        r.target_inliers = registration::surface_share(b, a, r.transform.inverse(), surface_);
+      }
       // The view with the better-explained points is mostly the smaller or
       // partial one: it must fit; the other must fit at least in part.
       const double hi = std::max(r.source_inliers, r.target_inliers), lo = std::min(r.source_inliers, r.target_inliers);
@@ -106,13 +118,14 @@ class WeightedMatchStage : public Stage {
  private:
   WeightedMatchConfig cfg_;
   registration::IcpConfig shape_;
+  registration::SurfaceShareConfig surface_;
   double max_lift_ = 0.0, max_tilt_ = 180.0;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.4.0";
+  s.version = "1.5.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
@@ -125,9 +138,10 @@ StageInfo info() {
       "(height and footprint-rectangle sides within max(max_size_change x the larger, size_slack)), "
       "max_descriptor_distance (if > 0), then fit as one rigid object: each surviving pair is registered "
       "(lista::objreg multi-hypothesis ICP on shape_voxel-downsampled points, the view covering fewer voxels "
-      "moved onto the other) and shape fit = 0.75 x the larger + 0.25 x the smaller share of points within "
-      "shape_distance of the other object (a partial view must be explained; the other view at least in "
-      "part); fit < min_shape_fit is no candidate, nor is a pair standing on floors in both missions (floor_z "
+      "moved onto the other) and shape fit = 0.75 x the larger + 0.25 x the smaller share of points on the other "
+      "object's surface: within shape_distance of one of its points, or, between a sparse scanner's rings, "
+      "within shape_distance / 2 of the plane its points within shape_gap span around it (a partial view must "
+      "be explained; the other view at least in part); fit < min_shape_fit is no candidate, nor is a pair standing on floors in both missions (floor_z "
       "known) that the registration lifts by more than max_lift relative to the floors or tilts by more than "
       "max_tilt (a desk's top fitted onto a cabinet's is two things, not one moved). Last, cost <= max_cost (< 0: alpha + beta + shape_weight x "
       "(1 - min_shape_fit)). shape_weight = 0 and min_shape_fit = 0 give the paper's two-term cost and skip "
@@ -165,11 +179,16 @@ StageInfo info() {
       ParamSpec::real("max_cost", -1.0, "largest weighted cost of a pair; < 0 = alpha + beta + shape_weight x (1 - min_shape_fit)").range(-1.0, 1e6),
       ParamSpec::real("shape_weight", 0.5, "weight of the shape misfit (1 - fit after registering the pair); 0 = the paper's two terms")
           .range(0.0, 100.0),
-      ParamSpec::real("min_shape_fit", 0.8, "shape gate: smallest fit of a pair (share of points within shape_distance after registration); 0 = off")
+      ParamSpec::real("min_shape_fit", 0.8, "shape gate: smallest fit of a pair (shares of points on the other object's surface after registration; shape_distance, shape_gap); 0 = off")
           .range(0.0, 1.0),
       ParamSpec::real("shape_voxel", 0.04, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m"),
       ParamSpec::real("shape_distance", 0.05, "a registered point within this distance of the other object counts as explained")
           .range(0.001, 1.0).unit("m"),
+      ParamSpec::real("shape_gap", 0.15,
+                      "a registered point farther than shape_distance from the other object still counts as explained when the "
+                      "other object's points within this distance span a surface around it (a sparse scanner's rings) and it "
+                      "lies within shape_distance / 2 of that surface; 0 = points only")
+          .range(0.0, 1.0).unit("m"),
       ParamSpec::real("max_lift", 0.15, "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than this, relative to the floors, when registered; 0 = off")
           .range(0.0, 100.0).unit("m"),
       ParamSpec::real("max_tilt", 20.0, "floor gate: nor tilted by more than this (180 = off)").range(1.0, 180.0).unit("deg"),

@@ -1,0 +1,33 @@
+// How much of one object's view lies on another's surface, fair to sparse
+// scanners.
+//
+// A point-to-point test ("within `inlier` of a point of the other view")
+// measures the other view's sampling as much as the fit: a 16-beam scanner's
+// rings lie 2 degrees apart (10 cm at 3 m), so a point of one mission's view
+// that falls between the other mission's rings is several centimetres from
+// every point of it however well the two views are registered. Here such a
+// point also counts when the other view's points around it (within `gap`)
+// span a surface (not one ring: a line), surround it (it is inside their
+// spread, not beyond the object's edge) and it lies within inlier / 2 of
+// their plane. Dense views are judged as before: their points are within
+// `inlier` of one another anyway.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace lista::registration {
+
+struct SurfaceShareConfig {
+  double voxel = 0.04;    // m: both views downsampled first (0 = none)
+  double inlier = 0.05;   // m: a point this near a point of the other view is on its surface
+  double gap = 0.15;      // m: the widest sampling gap bridged (0 = point test only)
+  int max_points = 2000;  // at most this many points of `from` judged (strided); 0 = all
+};
+
+// Share of the points of `from`, moved by `t`, on the surface of `to` (0 for
+// an empty view).
+double surface_share(const std::vector<Eigen::Vector3f>& from, const std::vector<Eigen::Vector3f>& to,
+                     const Eigen::Isometry3d& t, const SurfaceShareConfig& cfg);
+
+}  // namespace lista::registration

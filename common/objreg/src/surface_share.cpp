@@ -1,0 +1,87 @@
+#include <lista_objreg/surface_share.hpp>
+
+#include <lista_pcl/fast_kdtree.hpp>
+
+#include <pcl/filters/voxel_grid.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lista::registration {
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+
+Cloud::Ptr downsampled(const std::vector<Eigen::Vector3f>& pts, double voxel) {
+  Cloud::Ptr c(new Cloud);
+  c->reserve(pts.size());
+  for (const auto& p : pts) c->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
+  if (voxel <= 0.0) return c;
+  Cloud::Ptr d(new Cloud);
+  pcl::VoxelGrid<pcl::PointXYZ> grid;
+  grid.setLeafSize(float(voxel), float(voxel), float(voxel));
+  grid.setInputCloud(c);
+  grid.filter(*d);
+  return d->empty() ? c : d;
+}
+
+// `q` between the sampled lines of a surface: within `tolerance` of the
+// neighbours' plane and inside their spread in it. One ring (a line) has
+// no spread across it, so a point beside it is never inside.
+bool between_samples(const Eigen::Vector3f& q, const Cloud& cloud, const pcl::Indices& near, double tolerance) {
+  if (near.size() < 4) return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto i : near) mean += cloud[i].getVector3fMap().cast<double>();
+  mean /= double(near.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto i : near) {
+    const Eigen::Vector3d d = cloud[i].getVector3fMap().cast<double>() - mean;
+    cov += d * d.transpose();
+  }
+  cov /= double(near.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
+  const Eigen::Vector3d d = q.cast<double>() - mean;
+  if (std::abs(eig.eigenvectors().col(0).dot(d)) > tolerance) return false;
+  // Inside the spread (Mahalanobis radius 1.5 in the plane): between the
+  // lines, not past the object's edge.
+  const double a = eig.eigenvectors().col(1).dot(d), b = eig.eigenvectors().col(2).dot(d);
+  if (lambda(1) <= 1e-12) return false;  // no spread to divide by
+  return a * a / lambda(1) + b * b / lambda(2) <= 2.25;
+}
+
+}  // namespace
+
+double surface_share(const std::vector<Eigen::Vector3f>& from, const std::vector<Eigen::Vector3f>& to,
+                     const Eigen::Isometry3d& t, const SurfaceShareConfig& cfg) {
+  if (from.empty() || to.empty()) return 0.0;
+  const Cloud::Ptr src = downsampled(from, cfg.voxel);
+  const Cloud::Ptr dst = downsampled(to, cfg.voxel);
+  pcl_search::FastKdTree tree;
+  tree.setInputCloud(dst);
+  const Eigen::Isometry3f tf = t.cast<float>();
+  const double step = cfg.max_points > 0 && src->size() > size_t(cfg.max_points)
+                          ? double(src->size()) / cfg.max_points : 1.0;
+  const float inlier2 = float(cfg.inlier * cfg.inlier);
+  pcl::Indices near;
+  std::vector<float> d2;
+  size_t used = 0, on = 0;
+  for (double k = 0.0; k < double(src->size()); k += step, ++used) {
+    const Eigen::Vector3f q = tf * (*src)[size_t(k)].getVector3fMap();
+    const pcl::PointXYZ p(q.x(), q.y(), q.z());
+    const float nearest = tree.nearest_sqr_distance(p);
+    if (nearest >= 0.0f && nearest < inlier2) {
+      ++on;
+      continue;
+    }
+    if (cfg.gap <= cfg.inlier || nearest < 0.0f || nearest > float(cfg.gap * cfg.gap)) continue;
+    tree.radiusSearch(p, cfg.gap, near, d2, 64);
+    if (between_samples(q, *dst, near, 0.5 * cfg.inlier)) ++on;
+  }
+  return used == 0 ? 0.0 : double(on) / double(used);
+}
+
+}  // namespace lista::registration
