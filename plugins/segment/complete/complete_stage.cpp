@@ -113,6 +113,7 @@ class CompleteStage : public Stage {
     CompletionStats st;
     ObjectSet objects = complete_objects(in.get<ObjectSet>("objects"), in.get<MissionSet>("missions"), c, &st);
     for (const auto& note : st.pair_notes) context.debug(note);
+    for (const auto& note : st.object_notes) context.debug(note);
     context.record("pairs", double(st.pairs));
     context.record("completed", double(st.completed));
     context.record("rejected", double(st.rejected));

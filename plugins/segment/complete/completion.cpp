@@ -637,10 +637,16 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       if (on_floor) r.lo.z() = f.clear_z;
       const Growth g = grow(o.points, cloud, r, f.clear_z, owned[o.mission]);
       std::vector<uint32_t> add;
-      if (g.contained(c.max_leak))
+      std::string how;
+      if (g.contained(c.max_leak)) {
         add = g.added;
-      else if (on_floor)
+        how = "grown inside its box";
+      } else if (on_floor) {
         add = base_points(o, cloud, f, owned[o.mission]);
+        how = "its growth leaks out of its box (" + leak_note(g) + "), only its base added";
+      } else {
+        how = "its growth leaks out of its box (" + leak_note(g) + "), not grown";
+      }
       if (c.static_check && !add.empty()) {
         // Only a growth mostly held unchanged elsewhere is cut back: a short
         // move whose partner was not paired also overlaps its other pose
@@ -650,9 +656,12 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
         const double share = 1.0 - double(changed.size()) / double(add.size());
         if (share >= c.static_share) {
           st.points_static += add.size() - changed.size();
+          how += ", " + std::to_string(add.size() - changed.size()) + " points held unchanged elsewhere left out";
           add = std::move(changed);
         }
       }
+      st.object_notes.push_back("object " + std::to_string(o.id) + ": " + how + ", " + std::to_string(add.size()) +
+                                " points added");
       if (add.empty()) continue;
       ++st.self_completed;
       add_points(o, cloud.points, add);

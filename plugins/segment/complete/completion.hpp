@@ -123,6 +123,8 @@ struct CompletionStats {
   // One line per candidate pair: completed, or why not (no floor, a growth
   // leaking out of its region, grown shapes that disagree); for `-v`.
   std::vector<std::string> pair_notes;
+  // One line per object self-completion looked at (rule 5): how it grew.
+  std::vector<std::string> object_notes;
 };
 
 // `missions` must be the aligned missions the objects were detected in (same

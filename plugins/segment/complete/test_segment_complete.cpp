@@ -217,6 +217,8 @@ TEST(SegmentComplete, ObjectsGetTheirBaseBackButNotTheFloor) {
   seg::CompletionStats st;
   const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
   EXPECT_EQ(st.self_completed, 1u);
+  ASSERT_EQ(st.object_notes.size(), 1u);  // what -v prints
+  EXPECT_EQ(st.object_notes[0].rfind("object 0: grown inside its box, ", 0), 0u) << st.object_notes[0];
   const auto& got = out.objects[0].points;
   EXPECT_GT(count_in_box(got, {1.0f, 0.f, 0.03f}, {1.6f, 0.4f, 0.12f}), 0u);
   EXPECT_EQ(count_in_box(got, {1.0f, 0.f, 0.03f}, {1.6f, 0.4f, 0.8f}),
@@ -239,7 +241,11 @@ TEST(SegmentComplete, AgainstAWallOnlyTheBaseIsAdded) {
   const ObjectSet in = one_object(c, 0, [](const Eigen::Vector3f& p) {
     return p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.12f && p.z() < 0.81f;
   });
-  const ObjectSet out = seg::complete_objects(in, s.missions, {});
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  ASSERT_EQ(st.object_notes.size(), 1u);
+  EXPECT_NE(st.object_notes[0].find("leaks out of its box"), std::string::npos) << st.object_notes[0];
+  EXPECT_NE(st.object_notes[0].find("only its base added"), std::string::npos) << st.object_notes[0];
   const auto& got = out.objects[0].points;
   EXPECT_GT(count_in_box(got, {1.0f, 0.f, 0.03f}, {1.6f, 0.4f, 0.12f}), 0u) << "base not added";
   EXPECT_EQ(count_in_box(got, {0.94f, -1.f, 0.25f}, {0.96f, 3.f, 2.5f}), 0u) << "wall above the base added";
