@@ -3,11 +3,12 @@
 
 #include <lista_objreg/svd_registration.hpp>
 
+#include "voxel_cloud.hpp"
+
 #include <lista/error.hpp>
 #include <lista_pcl/fast_kdtree.hpp>
 #include <lista_pcl/quiet.hpp>
 
-#include <pcl/filters/voxel_grid.h>
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
 
@@ -20,19 +21,6 @@ namespace lista::registration {
 namespace {
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
-
-Cloud::Ptr to_cloud(const std::vector<Eigen::Vector3f>& pts, double voxel) {
-  Cloud::Ptr c(new Cloud);
-  c->reserve(pts.size());
-  for (const auto& p : pts) c->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
-  if (voxel <= 0.0) return c;
-  Cloud::Ptr d(new Cloud);
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setLeafSize(voxel, voxel, voxel);
-  grid.setInputCloud(c);
-  grid.filter(*d);
-  return d->size() >= 3 ? d : c;
-}
 
 // Truncated mean squared nearest-neighbour distance of T*from to `to`, over
 // at most max_points evenly strided points of `from` (0 = all).
@@ -295,7 +283,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
 IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                      const IcpConfig& cfg) {
   if (source.empty() || target.empty()) throw Error("cannot register an object with no points");
-  const Cloud::Ptr src = to_cloud(source, cfg.voxel), dst = to_cloud(target, cfg.voxel);
+  const Cloud::Ptr src = voxel_cloud(source, cfg.voxel), dst = voxel_cloud(target, cfg.voxel);
   // ICP pulls every source point towards the target, so a source with parts
   // the target never saw is dragged off. Register the view covering fewer
   // voxels (mostly the partial one) onto the other, then invert.

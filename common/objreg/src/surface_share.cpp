@@ -2,7 +2,7 @@
 
 #include <lista_pcl/fast_kdtree.hpp>
 
-#include <pcl/filters/voxel_grid.h>
+#include "voxel_cloud.hpp"
 
 #include <Eigen/Eigenvalues>
 
@@ -14,19 +14,6 @@ namespace lista::registration {
 namespace {
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
-
-Cloud::Ptr downsampled(const std::vector<Eigen::Vector3f>& pts, double voxel) {
-  Cloud::Ptr c(new Cloud);
-  c->reserve(pts.size());
-  for (const auto& p : pts) c->push_back(pcl::PointXYZ(p.x(), p.y(), p.z()));
-  if (voxel <= 0.0) return c;
-  Cloud::Ptr d(new Cloud);
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  grid.setLeafSize(float(voxel), float(voxel), float(voxel));
-  grid.setInputCloud(c);
-  grid.filter(*d);
-  return d->empty() ? c : d;
-}
 
 // `q` between the sampled lines of a surface: within `tolerance` of the
 // neighbours' plane and inside their spread in it. One ring (a line) has
@@ -58,8 +45,8 @@ bool between_samples(const Eigen::Vector3f& q, const Cloud& cloud, const pcl::In
 double surface_share(const std::vector<Eigen::Vector3f>& from, const std::vector<Eigen::Vector3f>& to,
                      const Eigen::Isometry3d& t, const SurfaceShareConfig& cfg) {
   if (from.empty() || to.empty()) return 0.0;
-  const Cloud::Ptr src = downsampled(from, cfg.voxel);
-  const Cloud::Ptr dst = downsampled(to, cfg.voxel);
+  const Cloud::Ptr src = voxel_cloud(from, cfg.voxel);
+  const Cloud::Ptr dst = voxel_cloud(to, cfg.voxel);
   pcl_search::FastKdTree tree;
   tree.setInputCloud(dst);
   const Eigen::Isometry3f tf = t.cast<float>();
