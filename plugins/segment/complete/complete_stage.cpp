@@ -20,6 +20,7 @@ class CompleteStage : public Stage {
     c_.shape_slack = p.get<double>("shape_slack");
     c_.max_leak = p.get<double>("max_leak");
     c_.self_complete = p.get<bool>("self_complete");
+    c_.leak_own_box = p.get<std::string>("leak_growth") == "own_box";
     c_.static_check = p.get<bool>("static_check");
     c_.static_share = p.get<double>("static_share");
     c_.nested_share = p.get<double>("nested_share");
@@ -31,7 +32,7 @@ class CompleteStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.complete";
-    i.version = "1.1.0";
+    i.version = "1.2.0";
     i.summary = "Grows partial change clusters of short moves into whole objects";
     i.doc =
         "First, an object with at least floor_share of its points within the floor clearance of its local floor "
@@ -54,7 +55,8 @@ class CompleteStage : public Stage {
         "within max(shape_tolerance x the larger, shape_slack)). Then, with self_complete, every object "
         "grows the same way inside its own box grown by box_margin, down to the floor if it stands "
         "on it (the difference cannot confirm change next to the floor, so objects lose their base); "
-        "if that growth wants out of the box, only the base below its lowest part is added. With "
+        "if that growth wants out of the box (it touches a wall or furniture), it is cut to the object's own box "
+        "and the base below its lowest part is added (leak_growth = base: the base only). With "
         "static_check, when at least static_share of what a self-completion would add lies in voxels "
         "every neighbouring mission also holds above its own local floor, those points are left out: "
         "they did not change (a sliver of phantom change on a static wall stays a sliver; below the "
@@ -81,6 +83,11 @@ class CompleteStage : public Stage {
         ParamSpec::real("floor_percentile", 0.1, "of the per-cell lowest points, the local floor").range(0, 1),
         ParamSpec::real("shape_tolerance", 0.25, "relative disagreement of the pair's extents allowed").range(0, 2),
         ParamSpec::real("shape_slack", 0.15, "absolute disagreement of the pair's extents allowed").range(0, 2).unit("m"),
+        ParamSpec::text("leak_growth", "own_box",
+                        "what an object's self-completion adds when its growth leaks out of its box grown by "
+                        "box_margin (it touches a wall or furniture): own_box = what the growth reaches inside the "
+                        "object's own box, and its base; base = only the base below its lowest part")
+            .one_of({"own_box", "base"}),
         ParamSpec::boolean("self_complete", true, "also complete every object inside its own box grown by box_margin (its base, mostly)"),
         ParamSpec::boolean("static_check", true,
                            "self-completion leaves out points every neighbouring mission also holds (see static_share)"),

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <iterator>
 #include <limits>
 #include <thread>
 #include <tuple>
@@ -644,6 +645,18 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       } else if (on_floor) {
         add = base_points(o, cloud, f, owned[o.mission]);
         how = "its growth leaks out of its box (" + leak_note(g) + "), only its base added";
+        if (c.leak_own_box) {
+          // What leaks is the thing it touches, beyond its own extent; within
+          // that extent the connected points are its own (a sparse scan's
+          // difference may flag only part of a desk's whole box).
+          Box own{o.bbox_min, o.bbox_max};
+          own.lo.z() = f.clear_z;
+          const Growth inside = grow(o.points, cloud, own, f.clear_z, owned[o.mission]);
+          std::vector<uint32_t> both;
+          std::set_union(add.begin(), add.end(), inside.added.begin(), inside.added.end(), std::back_inserter(both));
+          add = std::move(both);
+          how = "its growth leaks out of its box (" + leak_note(g) + "), grown inside its own box and base";
+        }
       } else {
         how = "its growth leaks out of its box (" + leak_note(g) + "), not grown";
       }

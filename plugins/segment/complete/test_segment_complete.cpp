@@ -226,9 +226,10 @@ TEST(SegmentComplete, ObjectsGetTheirBaseBackButNotTheFloor) {
   EXPECT_EQ(count_in_box(got, {-1.f, -1.f, -0.01f}, {4.f, 3.f, 0.01f}), 0u) << "floor points added";
 }
 
-TEST(SegmentComplete, AgainstAWallOnlyTheBaseIsAdded) {
+TEST(SegmentComplete, AgainstAWallOnlyTheObjectsOwnBoxIsAdded) {
   // The box stands against a wall (x = 0.95, floor to 2.5 m): growing inside
-  // the box would leak up the wall, so only its base comes back.
+  // the box grown by box_margin would leak up the wall. The difference found
+  // its top and its far face (x = 1.6) only, as a sparse scan's may.
   Scene s = make_scene();
   PointSet& c = s.cloud[0];
   for (float y = -1.f; y <= 3.f; y += kStep)
@@ -239,16 +240,35 @@ TEST(SegmentComplete, AgainstAWallOnlyTheBaseIsAdded) {
     }
   s.missions.missions[0].scans[0].points = std::make_shared<const PointSet>(c);
   const ObjectSet in = one_object(c, 0, [](const Eigen::Vector3f& p) {
-    return p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.12f && p.z() < 0.81f;
+    const bool in_box = p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() < 0.81f;
+    return in_box && (p.z() > 0.6f || (p.x() > 1.55f && p.z() > 0.12f));
   });
+  const Eigen::Vector3f near_face_lo{0.99f, 0.f, 0.2f}, near_face_hi{1.05f, 0.4f, 0.5f};
+  ASSERT_GT(count_in_box(c, near_face_lo, near_face_hi), 0u);
+  const Eigen::Vector3f wall_lo{0.94f, -1.f, 0.25f}, wall_hi{0.96f, 3.f, 2.5f};
+
   seg::CompletionStats st;
   const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
-  ASSERT_EQ(st.object_notes.size(), 1u);
+  ASSERT_EQ(st.object_notes.size(), 1u);  // what -v prints
   EXPECT_NE(st.object_notes[0].find("leaks out of its box"), std::string::npos) << st.object_notes[0];
-  EXPECT_NE(st.object_notes[0].find("only its base added"), std::string::npos) << st.object_notes[0];
+  EXPECT_NE(st.object_notes[0].find("grown inside its own box and base"), std::string::npos) << st.object_notes[0];
   const auto& got = out.objects[0].points;
   EXPECT_GT(count_in_box(got, {1.0f, 0.f, 0.03f}, {1.6f, 0.4f, 0.12f}), 0u) << "base not added";
-  EXPECT_EQ(count_in_box(got, {0.94f, -1.f, 0.25f}, {0.96f, 3.f, 2.5f}), 0u) << "wall above the base added";
+  EXPECT_EQ(count_in_box(got, near_face_lo, near_face_hi), count_in_box(c, near_face_lo, near_face_hi))
+      << "the near face inside the box not added";
+  EXPECT_EQ(count_in_box(got, wall_lo, wall_hi), 0u) << "wall added";
+
+  // leak_growth = base: only what lies below the found part's lowest points.
+  seg::CompletionConfig base_only;
+  base_only.leak_own_box = false;
+  seg::CompletionStats st_base;
+  const ObjectSet out_base = seg::complete_objects(in, s.missions, base_only, &st_base);
+  ASSERT_EQ(st_base.object_notes.size(), 1u);
+  EXPECT_NE(st_base.object_notes[0].find("only its base added"), std::string::npos) << st_base.object_notes[0];
+  const auto& got_base = out_base.objects[0].points;
+  EXPECT_GT(count_in_box(got_base, {1.55f, 0.f, 0.03f}, {1.6f, 0.4f, 0.12f}), 0u) << "base not added";
+  EXPECT_EQ(count_in_box(got_base, near_face_lo, near_face_hi), 0u);
+  EXPECT_EQ(count_in_box(got_base, wall_lo, wall_hi), 0u) << "wall added";
 }
 
 TEST(SegmentComplete, PhantomChangeOnStaticFurnitureStaysASliver) {
