@@ -48,9 +48,10 @@ class CompleteStage : public Stage {
         "boxes are at most pair_gap apart are paired (nearest first, each at most once); each grows "
         "through its own mission's full cloud (breadth-first over occupied voxels of edge `voxel`, "
         "inside the pair's union box grown by box_margin, above the local floor clearance, "
-        "never into another object's points). The growth is kept only if neither growth finds more "
-        "than max_leak occupied voxels just outside the region per voxel it grew into (else it is part of a wall "
-        "or of furniture it touches) and both grown objects have the "
+        "never into another object's points). Where a growth finds more "
+        "than max_leak occupied voxels just outside the region per voxel it grew into (it touches a wall or "
+        "furniture), both grow again inside the union of the two boxes without margin (leak_growth = own_box; "
+        "base: the pair is left alone). The growth is kept only if both grown objects have the "
         "shape of one rigid object (height above the floor and footprint-rectangle sides agree "
         "within max(shape_tolerance x the larger, shape_slack)). Then, with self_complete, every object "
         "grows the same way inside its own box grown by box_margin, down to the floor if it stands "
@@ -84,9 +85,10 @@ class CompleteStage : public Stage {
         ParamSpec::real("shape_tolerance", 0.25, "relative disagreement of the pair's extents allowed").range(0, 2),
         ParamSpec::real("shape_slack", 0.15, "absolute disagreement of the pair's extents allowed").range(0, 2).unit("m"),
         ParamSpec::text("leak_growth", "own_box",
-                        "what an object's self-completion adds when its growth leaks out of its box grown by "
-                        "box_margin (it touches a wall or furniture): own_box = what the growth reaches inside the "
-                        "object's own box, and its base; base = only the base below its lowest part")
+                        "what a growth that leaks out of its region (the object touches a wall or furniture) keeps: "
+                        "own_box = a self-completion what it reaches inside the object's own box, and its base; a "
+                        "short-move pair what it reaches inside the union of its two boxes (shapes must agree); "
+                        "base = a self-completion only the base below its lowest part, a pair nothing")
             .one_of({"own_box", "base"}),
         ParamSpec::boolean("self_complete", true, "also complete every object inside its own box grown by box_margin (its base, mostly)"),
         ParamSpec::boolean("static_check", true,

@@ -558,7 +558,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   std::vector<char> used(out.objects.size(), 0);
   struct Pair {
     size_t a, b;
-    Box region, floor_region;
+    Box own, region, floor_region;  // own: the union of the two boxes, no margin
   };
   std::vector<Pair> pairs;
   for (const auto& [gap, i, j] : candidate_pairs()) {
@@ -566,7 +566,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     used[i] = used[j] = 1;
     const Box r = pair_region(out.objects[i], out.objects[j]);
     // Down to the floor: the region's lower bound is set once the floor is known.
-    pairs.push_back({i, j, r.grown(margin, 0.f, margin), r.grown(margin + 0.75f, 1.5f, margin)});
+    pairs.push_back({i, j, r, r.grown(margin, 0.f, margin), r.grown(margin + 0.75f, 1.5f, margin)});
   }
   st.pairs = pairs.size();
 
@@ -598,9 +598,22 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     Box ra = p.region, rb = p.region;
     ra.lo.z() = std::min(ra.lo.z(), min_a);
     rb.lo.z() = std::min(rb.lo.z(), min_b);
-    const Growth ga = grow(a.points, ca, ra, min_a, owned[a.mission]);
-    const Growth gb = grow(b.points, cb, rb, min_b, owned[b.mission]);
-    const bool contained = ga.contained(c.max_leak) && gb.contained(c.max_leak);
+    Growth ga = grow(a.points, ca, ra, min_a, owned[a.mission]);
+    Growth gb = grow(b.points, cb, rb, min_b, owned[b.mission]);
+    bool contained = ga.contained(c.max_leak) && gb.contained(c.max_leak);
+    std::string kept_to;
+    if (!contained && c.leak_own_box) {
+      // As in step 5: what leaks is the thing they touch; the pair's own
+      // box (the two clusters' union, no margin) holds the object. The
+      // shapes must still agree.
+      kept_to = " inside the pair's own box (a growth leaked: " + leak_note(ga) + " / " + leak_note(gb) + ")";
+      Box oa = p.own, ob = p.own;
+      oa.lo.z() = std::min(oa.lo.z(), min_a);
+      ob.lo.z() = std::min(ob.lo.z(), min_b);
+      ga = grow(a.points, ca, oa, min_a, owned[a.mission]);
+      gb = grow(b.points, cb, ob, min_b, owned[b.mission]);
+      contained = true;
+    }
     const Eigen::Vector3f sa = shape_of(a.points, ga.added, ca.points, floor_a, min_a);
     const Eigen::Vector3f sb = shape_of(b.points, gb.added, cb.points, floor_b, min_b);
     if (!contained || !same_shape(sa, sb, c)) {
@@ -608,11 +621,12 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       st.pair_notes.push_back(which + "not completed, " +
                               (!contained ? "a growth leaks out of the pair's region (" + leak_note(ga) + " / " +
                                                 leak_note(gb) + ", max_leak " + format_number(c.max_leak) + ")"
-                                          : "grown shapes differ (" + shape_note(sa) + " / " + shape_note(sb) + ")"));
+                                          : "grown shapes differ" + kept_to + " (" + shape_note(sa) + " / " +
+                                                shape_note(sb) + ")"));
       continue;
     }
     ++st.completed;
-    st.pair_notes.push_back(which + "completed, " + std::to_string(ga.added.size()) + " + " +
+    st.pair_notes.push_back(which + "completed" + kept_to + ", " + std::to_string(ga.added.size()) + " + " +
                             std::to_string(gb.added.size()) + " points added (" + shape_note(sa) + " / " +
                             shape_note(sb) + ")");
     for (auto [o, add, cloud] : {std::tuple{&a, &ga.added, &ca}, std::tuple{&b, &gb.added, &cb}}) {

@@ -99,9 +99,10 @@ struct CompletionConfig {
   double shape_slack = 0.15;      // m, absolute disagreement always allowed
   double max_leak = 0.1;          // leaked voxels per voxel grown into, at most
   bool self_complete = true;      // also complete every object inside its own box (rule 5)
-  // Rule 5, when an object's growth leaks out of its box grown by box_margin
-  // (it touches a wall or furniture): also add what the growth reaches
-  // inside the object's own box (true), or only its base (false).
+  // When a growth leaks out of its region (the object touches a wall or
+  // furniture): rule 5 also adds what the growth reaches inside the
+  // object's own box, rules 1-4 grow the pair inside the union of its two
+  // boxes (true); or only the base, and no pair completion (false).
   bool leak_own_box = true;
   bool static_check = true;       // rule 5 adds nothing every neighbouring mission also holds
   double static_share = 0.8;      // ... once at least this share of the growth is held there
