@@ -35,7 +35,10 @@
 //     off points that another object of that mission already owns.
 //  4. Check. Neither growth may want out of R: occupied voxels next to it
 //     but outside R, over `max_leak` per voxel it grew into, mean it is part
-//     of something bigger (a wall, the desk the object touches). And both
+//     of something bigger (a wall, the desk the object touches): then, with
+//     `leak_own_box`, both grow again inside the union of the two objects'
+//     boxes without margin (R less the margin: the object, not what it
+//     touches), else the pair is left alone. And both
 //     grown objects must have the same shape as one rigid object would: height above the floor and the two sides of their
 //     footprint rectangle (lista::geometry) agree within max(`shape_tolerance` x the larger,
 //     `shape_slack`). Otherwise both objects are kept as they were, so an
@@ -45,8 +48,9 @@
 //     for objects standing on it. The difference cannot confirm change next
 //     to the floor (the floor voxel is occupied in both missions), so objects
 //     lose their base; this gives it back. If the growth wants out of the box
-//     (the object touches a wall), only the base below its lowest detected
-//     part, in the columns that part occupies, is added.
+//     (the object touches a wall), the base below its lowest detected part,
+//     in the columns that part occupies, is added, and with `leak_own_box`
+//     what the growth reaches inside the object's own box (no margin).
 //     With `static_check`, when at least `static_share` of the points a
 //     self-completion would add lie in voxels also occupied (above that
 //     mission's local floor) in every neighbouring mission (m - 1 and m + 1,
