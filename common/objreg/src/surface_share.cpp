@@ -40,24 +40,19 @@ bool between_samples(const Eigen::Vector3f& q, const Cloud& cloud, const pcl::In
   return a * a / lambda(1) + b * b / lambda(2) <= 2.25;
 }
 
-}  // namespace
-
-double surface_share(const std::vector<Eigen::Vector3f>& from, const std::vector<Eigen::Vector3f>& to,
-                     const Eigen::Isometry3d& t, const SurfaceShareConfig& cfg) {
-  if (from.empty() || to.empty()) return 0.0;
-  const Cloud::Ptr src = voxel_cloud(from, cfg.voxel);
-  const Cloud::Ptr dst = voxel_cloud(to, cfg.voxel);
-  pcl_search::FastKdTree tree;
-  tree.setInputCloud(dst);
+// Share of `src` points, moved by `t`, on the surface of `dst` (searched by
+// `tree`).
+double one_way(const Cloud& src, const Cloud& dst, const pcl_search::FastKdTree& tree, const Eigen::Isometry3d& t,
+               const SurfaceShareConfig& cfg) {
   const Eigen::Isometry3f tf = t.cast<float>();
-  const double step = cfg.max_points > 0 && src->size() > size_t(cfg.max_points)
-                          ? double(src->size()) / cfg.max_points : 1.0;
+  const double step = cfg.max_points > 0 && src.size() > size_t(cfg.max_points)
+                          ? double(src.size()) / cfg.max_points : 1.0;
   const float inlier2 = float(cfg.inlier * cfg.inlier);
   pcl::Indices near;
   std::vector<float> d2;
   size_t used = 0, on = 0;
-  for (double k = 0.0; k < double(src->size()); k += step, ++used) {
-    const Eigen::Vector3f q = tf * (*src)[size_t(k)].getVector3fMap();
+  for (double k = 0.0; k < double(src.size()); k += step, ++used) {
+    const Eigen::Vector3f q = tf * src[size_t(k)].getVector3fMap();
     const pcl::PointXYZ p(q.x(), q.y(), q.z());
     const float nearest = tree.nearest_sqr_distance(p);
     if (nearest >= 0.0f && nearest < inlier2) {
@@ -66,9 +61,23 @@ double surface_share(const std::vector<Eigen::Vector3f>& from, const std::vector
     }
     if (cfg.gap <= cfg.inlier || nearest < 0.0f || nearest > float(cfg.gap * cfg.gap)) continue;
     tree.radiusSearch(p, cfg.gap, near, d2, 64);
-    if (between_samples(q, *dst, near, 0.5 * cfg.inlier)) ++on;
+    if (between_samples(q, dst, near, 0.5 * cfg.inlier)) ++on;
   }
   return used == 0 ? 0.0 : double(on) / double(used);
+}
+
+}  // namespace
+
+SurfaceShares surface_shares(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
+                             const Eigen::Isometry3d& t, const SurfaceShareConfig& cfg) {
+  if (source.empty() || target.empty()) return {};
+  // Each view downsampled and indexed once, for both directions.
+  const Cloud::Ptr src = voxel_cloud(source, cfg.voxel);
+  const Cloud::Ptr dst = voxel_cloud(target, cfg.voxel);
+  pcl_search::FastKdTree src_tree, dst_tree;
+  src_tree.setInputCloud(src);
+  dst_tree.setInputCloud(dst);
+  return {one_way(*src, *dst, dst_tree, t, cfg), one_way(*dst, *src, src_tree, t.inverse(), cfg)};
 }
 
 }  // namespace lista::registration

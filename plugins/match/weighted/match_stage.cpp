@@ -63,8 +63,9 @@ class WeightedMatchStage : public Stage {
       // Judged again on the surfaces, not the points: a sparse scanner's
       // views interleave their rings (registration::surface_share).
       if (surface_.gap > 0.0) {
-        r.source_inliers = registration::surface_share(a, b, r.transform, surface_);
-        r.target_inliers = registration::surface_share(b, a, r.transform.inverse(), surface_);
+        const registration::SurfaceShares on = registration::surface_shares(a, b, r.transform, surface_);
+        r.source_inliers = on.source;
+        r.target_inliers = on.target;
       }
       // The view with the better-explained points is mostly the smaller or
       // partial one: it must fit; the other must fit at least in part.

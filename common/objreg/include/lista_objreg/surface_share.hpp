@@ -22,12 +22,17 @@ struct SurfaceShareConfig {
   double voxel = 0.04;    // m: both views downsampled first (0 = none)
   double inlier = 0.05;   // m: a point this near a point of the other view is on its surface
   double gap = 0.15;      // m: the widest sampling gap bridged (0 = point test only)
-  int max_points = 2000;  // at most this many points of `from` judged (strided); 0 = all
+  int max_points = 2000;  // at most this many points of each view judged (strided); 0 = all
 };
 
-// Share of the points of `from`, moved by `t`, on the surface of `to` (0 for
-// an empty view).
-double surface_share(const std::vector<Eigen::Vector3f>& from, const std::vector<Eigen::Vector3f>& to,
-                     const Eigen::Isometry3d& t, const SurfaceShareConfig& cfg);
+struct SurfaceShares {
+  double source = 0.0;  // share of the source's points, moved by t, on the target's surface
+  double target = 0.0;  // share of the target's points, moved by t^-1, on the source's surface
+};
+
+// Both shares of a registered pair (0 for an empty view); p_target = t *
+// p_source.
+SurfaceShares surface_shares(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
+                             const Eigen::Isometry3d& t, const SurfaceShareConfig& cfg);
 
 }  // namespace lista::registration
