@@ -19,6 +19,7 @@ class CompleteStage : public Stage {
     c_.shape_tolerance = p.get<double>("shape_tolerance");
     c_.shape_slack = p.get<double>("shape_slack");
     c_.max_leak = p.get<double>("max_leak");
+    c_.pair_retry = p.get<bool>("pair_retry");
     c_.self_complete = p.get<bool>("self_complete");
     c_.leak_own_box = p.get<std::string>("leak_growth") == "own_box";
     c_.static_check = p.get<bool>("static_check");
@@ -32,7 +33,7 @@ class CompleteStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.complete";
-    i.version = "1.2.0";
+    i.version = "1.3.0";
     i.summary = "Grows partial change clusters of short moves into whole objects";
     i.doc =
         "First, an object with at least floor_share of its points within the floor clearance of its local floor "
@@ -45,7 +46,8 @@ class CompleteStage : public Stage {
         "without hitting it (a sparse scanner), where a thing that moved stands free (a cart's deck) or continues "
         "on one side only (the sliver of a table top moved a little). An object moved by less than its own size keeps occupying the overlap of its two poses, so "
         "the volumetric difference finds only slivers of it. For consecutive missions, clusters whose "
-        "boxes are at most pair_gap apart are paired (nearest first, each at most once); each grows "
+        "boxes are at most pair_gap apart are paired (nearest first, each in at most one completed pair; with "
+        "pair_retry a refused pair frees both for their next candidates); each grows "
         "through its own mission's full cloud (breadth-first over occupied voxels of edge `voxel`, "
         "inside the pair's union box grown by box_margin, above the local floor clearance, "
         "never into another object's points). Where a growth finds more "
@@ -111,6 +113,9 @@ class CompleteStage : public Stage {
                            "a thin object (thin_height) whose own mission continues its surface on at least this many "
                            "of its four sides is a patch of an unchanged surface and dropped; 0 = never")
             .range(0, 4),
+        ParamSpec::boolean("pair_retry", true,
+                           "a pair whose growth is refused (leak or shapes) frees both objects for their next-nearest "
+                           "candidates; false = each object is offered its nearest candidate only"),
         ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
     };
     return i;

@@ -554,25 +554,31 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   }
   if (st.floor_only || st.thin_static || st.thin_surface) out.renumber();
 
-  // 1. Pairs, nearest first, each object in at most one.
-  std::vector<char> used(out.objects.size(), 0);
+  // 1. Pairs, nearest first, each object in at most one completed pair.
+  // With pair_retry, a pair whose growth is refused frees both objects for
+  // their next-nearest candidates (two slivers of one short move whose boxes
+  // touch a third object's as closely: the first candidate may be the wrong one).
   struct Pair {
     size_t a, b;
     Box own, region, floor_region;  // own: the union of the two boxes, no margin
   };
   std::vector<Pair> pairs;
-  for (const auto& [gap, i, j] : candidate_pairs()) {
-    if (used[i] || used[j]) continue;
-    used[i] = used[j] = 1;
-    const Box r = pair_region(out.objects[i], out.objects[j]);
-    // Down to the floor: the region's lower bound is set once the floor is known.
-    pairs.push_back({i, j, r, r.grown(margin, 0.f, margin), r.grown(margin + 0.75f, 1.5f, margin)});
+  {
+    std::vector<char> used(out.objects.size(), 0);
+    for (const auto& [gap, i, j] : candidate_pairs()) {
+      if (!c.pair_retry) {
+        if (used[i] || used[j]) continue;
+        used[i] = used[j] = 1;
+      }
+      const Box r = pair_region(out.objects[i], out.objects[j]);
+      // Down to the floor: the region's lower bound is set once the floor is known.
+      pairs.push_back({i, j, r, r.grown(margin, 0.f, margin), r.grown(margin + 0.75f, 1.5f, margin)});
+    }
   }
-  st.pairs = pairs.size();
 
-  // 2. Each mission's points around its pairs and kept objects, exactly: the
-  // leak check counts points just outside a region, so points gathered for
-  // a candidate pair not taken, or for a dropped object, must not be there.
+  // 2. Each mission's points around the pairs to try and the kept objects
+  // (a dropped object's points need not stay). The leak check looks one
+  // voxel past a region, well inside its gathered floor region.
   std::vector<std::vector<Box>> regions(nm);
   for (const auto& p : pairs)
     for (size_t k : {p.a, p.b}) regions[out.objects[k].mission].push_back(p.floor_region);
@@ -583,7 +589,10 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     for (size_t i = 0; i < o.points.size(); ++i) owned[o.mission].insert(point_key(o.points.scan[i], o.points.index[i]));
 
   // 3-4. Grow both objects of each pair; keep the growth if the shapes agree.
+  std::vector<char> completed(out.objects.size(), 0);
   for (const auto& p : pairs) {
+    if (completed[p.a] || completed[p.b]) continue;
+    ++st.pairs;
     Object &a = out.objects[p.a], &b = out.objects[p.b];
     const LocalCloud &ca = clouds[a.mission], &cb = clouds[b.mission];
     Floor fa, fb;
@@ -595,11 +604,18 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       continue;
     }
     const float floor_a = fa.z, floor_b = fb.z, min_a = fa.clear_z, min_b = fb.clear_z;
-    Box ra = p.region, rb = p.region;
-    ra.lo.z() = std::min(ra.lo.z(), min_a);
-    rb.lo.z() = std::min(rb.lo.z(), min_b);
-    Growth ga = grow(a.points, ca, ra, min_a, owned[a.mission]);
-    Growth gb = grow(b.points, cb, rb, min_b, owned[b.mission]);
+    Growth ga, gb;
+    Eigen::Vector3f sa, sb;
+    auto grow_both = [&](const Box& region) {
+      Box ra = region, rb = region;
+      ra.lo.z() = std::min(ra.lo.z(), min_a);
+      rb.lo.z() = std::min(rb.lo.z(), min_b);
+      ga = grow(a.points, ca, ra, min_a, owned[a.mission]);
+      gb = grow(b.points, cb, rb, min_b, owned[b.mission]);
+      sa = shape_of(a.points, ga.added, ca.points, floor_a, min_a);
+      sb = shape_of(b.points, gb.added, cb.points, floor_b, min_b);
+    };
+    grow_both(p.region);
     bool contained = ga.contained(c.max_leak) && gb.contained(c.max_leak);
     std::string kept_to;
     if (!contained && c.leak_own_box) {
@@ -607,15 +623,9 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       // box (the two clusters' union, no margin) holds the object. The
       // shapes must still agree.
       kept_to = " inside the pair's own box (a growth leaked: " + leak_note(ga) + " / " + leak_note(gb) + ")";
-      Box oa = p.own, ob = p.own;
-      oa.lo.z() = std::min(oa.lo.z(), min_a);
-      ob.lo.z() = std::min(ob.lo.z(), min_b);
-      ga = grow(a.points, ca, oa, min_a, owned[a.mission]);
-      gb = grow(b.points, cb, ob, min_b, owned[b.mission]);
+      grow_both(p.own);
       contained = true;
     }
-    const Eigen::Vector3f sa = shape_of(a.points, ga.added, ca.points, floor_a, min_a);
-    const Eigen::Vector3f sb = shape_of(b.points, gb.added, cb.points, floor_b, min_b);
     if (!contained || !same_shape(sa, sb, c)) {
       ++st.rejected;
       st.pair_notes.push_back(which + "not completed, " +
@@ -626,6 +636,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       continue;
     }
     ++st.completed;
+    completed[p.a] = completed[p.b] = 1;
     st.pair_notes.push_back(which + "completed" + kept_to + ", " + std::to_string(ga.added.size()) + " + " +
                             std::to_string(gb.added.size()) + " points added (" + shape_note(sa) + " / " +
                             shape_note(sb) + ")");

@@ -23,8 +23,12 @@
 //     way; it does not depend on static_check.
 //  1. Pairs. An object a of m and an object b of n whose bounding boxes are at
 //     most `pair_gap` apart are a candidate pair (both slivers of one object
-//     seen at two poses). Pairs are taken greedily by increasing gap, each
-//     object in at most one pair, so the result does not depend on order.
+//     seen at two poses). Pairs are tried greedily by increasing gap, each
+//     object in at most one completed pair, so the result does not depend
+//     on order; with `pair_retry` a pair refused by step 4 leaves both
+//     objects free for their next candidates (the nearest box may be a third
+//     object's, touching the first as closely as its true partner does),
+//     without it each object is offered its nearest candidate only.
 //  2. Region. The growth region R is the union box of a and b grown by
 //     `box_margin`, reaching down to the local floor. For a rigid object moved
 //     by less than its size, the part that did not change (the overlap of its
@@ -102,6 +106,9 @@ struct CompletionConfig {
   double shape_tolerance = 0.25;  // relative disagreement of the pair's extents allowed
   double shape_slack = 0.15;      // m, absolute disagreement always allowed
   double max_leak = 0.1;          // leaked voxels per voxel grown into, at most
+  // A pair whose growth is refused frees its two objects for their next
+  // candidates (true); or each object is offered its nearest candidate only.
+  bool pair_retry = true;
   bool self_complete = true;      // also complete every object inside its own box (rule 5)
   // When a growth leaks out of its region (the object touches a wall or
   // furniture): rule 5 also adds what the growth reaches inside the

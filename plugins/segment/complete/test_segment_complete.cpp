@@ -209,6 +209,40 @@ TEST(SegmentComplete, DisagreeingShapesAreLeftAlone) {
   EXPECT_EQ(out.objects[1].points.size(), in.objects[1].points.size());
 }
 
+// A tall static cabinet stands 0.2 m from A's sliver of the moved box, and
+// the difference flagged a sliver of it in B (residual misalignment): that is
+// A's nearest candidate (0.2 m against the true partner's 0.32 m). Its shapes
+// disagree, so with pair_retry A's sliver goes on to its next candidate.
+TEST(SegmentComplete, ARefusedPairFreesItsObjectsForTheirNextCandidates) {
+  const Scene s = make_scene(0.3f, 1.6f);  // static cabinet x 0.3..0.8, 1.6 m tall
+  ObjectSet in = slivers(s);
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 0.59f && p.x() <= 0.81f && p.z() > 0.05f;  // its whole height
+  }));
+  in.objects.back().id = 2;
+  seg::CompletionConfig c;
+  c.self_complete = false;
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  ASSERT_EQ(st.pair_notes.size(), 2u) << st.pair_notes[0];
+  EXPECT_EQ(st.pair_notes[0].rfind("objects 0 + 2: not completed, grown shapes differ", 0), 0u) << st.pair_notes[0];
+  EXPECT_EQ(st.pair_notes[1].rfind("objects 0 + 1: completed", 0), 0u) << st.pair_notes[1];
+  EXPECT_EQ(st.pairs, 2u);
+  EXPECT_EQ(st.completed, 1u);
+  const float clear = 0.08f;
+  EXPECT_EQ(count_in_box(out.objects[0].points, {1.0f, 0.f, clear}, {1.6f, 0.4f, 0.8f}),
+            count_in_box(s.cloud[0], {1.0f, 0.f, clear}, {1.6f, 0.4f, 0.8f}));
+  EXPECT_EQ(out.objects[2].points.size(), in.objects[2].points.size());
+
+  // Without: A's sliver is offered the cabinet only, and stays a sliver.
+  c.pair_retry = false;
+  seg::CompletionStats st_once;
+  const ObjectSet out_once = seg::complete_objects(in, s.missions, c, &st_once);
+  EXPECT_EQ(st_once.pairs, 1u);
+  EXPECT_EQ(st_once.completed, 0u);
+  EXPECT_EQ(out_once.objects[0].points.size(), in.objects[0].points.size());
+}
+
 TEST(SegmentComplete, FarApartClustersAreNotPaired) {
   const Scene s = make_scene();
   ObjectSet in = slivers(s);
@@ -432,6 +466,7 @@ TEST(SegmentComplete, TheFloorItselfIsNoObject) {
   seg::CompletionConfig off;
   off.floor_share = 0.0;
   off.thin_surface_sides = 0;  // the floor patch is also a thin patch of a larger surface
+  off.pair_retry = false;       // (with it the refused floor pair frees the sliver for B's)
   seg::CompletionStats st_off;
   EXPECT_EQ(seg::complete_objects(in, s.missions, off, &st_off).objects.size(), 4u);
   EXPECT_EQ(st_off.completed, 0u) << "the floor patch took the sliver's pair";
