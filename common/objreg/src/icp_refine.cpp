@@ -198,14 +198,19 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   // degrees; among poses scoring within symmetry_tolerance of the best, the
   // one with the smallest rotation is the simplest explanation of the move.
   auto angle = [](const Eigen::Isometry3d& t) { return Eigen::AngleAxisd(t.linear()).angle(); };
+  // Among the admissible candidates when there are any (cfg.admissible).
+  auto admissible = [&](const Candidate& c) { return !cfg.admissible || cfg.admissible(c.t); };
   auto pick = [&](const std::vector<Candidate>& cs) {
+    const bool any = std::any_of(cs.begin(), cs.end(), admissible);
+    auto eligible = [&](size_t i) { return !any || admissible(cs[i]); };
     size_t b = 0;
-    for (size_t i = 1; i < cs.size(); ++i)
-      if (cs[i].score < cs[b].score) b = i;
+    while (!eligible(b)) ++b;
+    for (size_t i = b + 1; i < cs.size(); ++i)
+      if (eligible(i) && cs[i].score < cs[b].score) b = i;
     const double limit = cs[b].score * (1.0 + cfg.symmetry_tolerance);
     size_t s = b;
     for (size_t i = 0; i < cs.size(); ++i)
-      if (cs[i].score <= limit && angle(cs[i].t) < angle(cs[s].t) - 1e-6) s = i;
+      if (eligible(i) && cs[i].score <= limit && angle(cs[i].t) < angle(cs[s].t) - 1e-6) s = i;
     return s;
   };
 
@@ -228,6 +233,12 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   for (size_t i = 1; i < coarse.size(); ++i)
     if (angle(coarse[i].t) < angle(coarse[least_turned].t)) least_turned = i;
   if (std::find(chosen.begin(), chosen.end(), least_turned) == chosen.end()) chosen.push_back(least_turned);
+  // The best admissible hypothesis gets its fine pass too.
+  for (size_t i = 0; cfg.admissible && i < coarse.size(); ++i)
+    if (admissible(coarse[i])) {
+      if (std::find(chosen.begin(), chosen.end(), i) == chosen.end()) chosen.push_back(i);
+      break;
+    }
   // GICP's plane-to-plane minimum can sit a few degrees off on box-like
   // objects (measured: a cart stuck at a 90-degree hypothesis, 4.5 deg from
   // the truth, which point-to-point ICP reached with a lower score), so a
@@ -275,6 +286,10 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     }
   }
   best.alternatives = distinct_ties(ties, win, cs, cfg);
+  if (cfg.admissible)
+    best.alternatives.erase(std::remove_if(best.alternatives.begin(), best.alternatives.end(),
+                                           [&](const Eigen::Isometry3d& a) { return !cfg.admissible(a); }),
+                            best.alternatives.end());
   return best;
 }
 
@@ -288,7 +303,10 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
   // the target never saw is dragged off. Register the view covering fewer
   // voxels (mostly the partial one) onto the other, then invert.
   if (dst->size() >= src->size()) return refine_pair(source, target, src, dst, cfg);
-  IcpResult r = refine_pair(target, source, dst, src, cfg);
+  IcpConfig reversed = cfg;
+  if (cfg.admissible)
+    reversed.admissible = [&cfg](const Eigen::Isometry3d& t) { return cfg.admissible(t.inverse()); };
+  IcpResult r = refine_pair(target, source, dst, src, reversed);
   r.transform = r.transform.inverse();
   for (Eigen::Isometry3d& a : r.alternatives) a = a.inverse();
   std::swap(r.source_inliers, r.target_inliers);

@@ -6,6 +6,7 @@
 #include <lista/parallel.hpp>
 #include <lista_objreg/icp_refine.hpp>
 #include <lista_objreg/surface_share.hpp>
+#include <lista_objreg/upright.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -32,6 +33,7 @@ class WeightedMatchStage : public Stage {
     cfg_.min_shape_fit = p.get<double>("min_shape_fit");
     max_lift_ = p.get<double>("max_lift");
     max_tilt_ = p.get<double>("max_tilt");
+    upright_poses_ = p.get<bool>("upright_poses");
     shape_.method = "icp";
     shape_.voxel = p.get<double>("shape_voxel");
     shape_.inlier_distance = p.get<double>("shape_distance");
@@ -59,7 +61,15 @@ class WeightedMatchStage : public Stage {
       if (ctx.cancelled()) return;
       const auto& a = pairs[k].first->points.xyz;
       const auto& b = pairs[k].second->points.xyz;
-      registration::IcpResult r = registration::icp_refine(a, b, shape_);
+      registration::IcpConfig cfg = shape_;
+      const Object &oa = *pairs[k].first, &ob = *pairs[k].second;
+      // Objects moved on the floor stay upright: the best upright pose is
+      // the one judged, not a better-scoring one lying on its side.
+      if (upright_poses_)
+        cfg.admissible = [&](const Eigen::Isometry3d& t) {
+          return registration::stays_on_floor(oa, ob, t, max_lift_, max_tilt_);
+        };
+      registration::IcpResult r = registration::icp_refine(a, b, cfg);
       // Judged again on the surfaces, not the points: a sparse scanner's
       // views interleave their rings (registration::surface_share).
       if (surface_.gap > 0.0) {
@@ -75,7 +85,7 @@ class WeightedMatchStage : public Stage {
       // A registration that lifts a floor-standing object (a desk's top onto a
       // cabinet's) or tips it over fits two things, not one object moved.
       // -1: never a candidate, whatever min_shape_fit (the cost clamps it to a misfit of 1).
-      if (!stays_on_floor(*pairs[k].first, *pairs[k].second, r.transform, max_lift_, max_tilt_)) fit[k] = -1.0;
+      if (!registration::stays_on_floor(*pairs[k].first, *pairs[k].second, r.transform, max_lift_, max_tilt_)) fit[k] = -1.0;
       ctx.progress().advance();
     });
     ctx.progress().end();
@@ -121,12 +131,13 @@ class WeightedMatchStage : public Stage {
   registration::IcpConfig shape_;
   registration::SurfaceShareConfig surface_;
   double max_lift_ = 0.0, max_tilt_ = 180.0;
+  bool upright_poses_ = true;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.5.0";
+  s.version = "1.6.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
@@ -144,7 +155,9 @@ StageInfo info() {
       "within shape_distance / 2 of the plane its points within shape_gap span around it (a partial view must "
       "be explained; the other view at least in part); fit < min_shape_fit is no candidate, nor is a pair standing on floors in both missions (floor_z "
       "known) that the registration lifts by more than max_lift relative to the floors or tilts by more than "
-      "max_tilt (a desk's top fitted onto a cabinet's is two things, not one moved). Last, cost <= max_cost (< 0: alpha + beta + shape_weight x "
+      "max_tilt (a desk's top fitted onto a cabinet's is two things, not one moved); with upright_poses such a "
+      "pair is registered among the poses that keep it on its floor (the best of them is judged), without it "
+      "the best pose of all is judged and refused when off the floor. Last, cost <= max_cost (< 0: alpha + beta + shape_weight x "
       "(1 - min_shape_fit)). shape_weight = 0 and min_shape_fit = 0 give the paper's two-term cost and skip "
       "the registration. The Hungarian algorithm picks the cheapest set "
       "of pairs, each pair only if cheaper than leaving both unmatched. With change points that say against "
@@ -193,6 +206,10 @@ StageInfo info() {
       ParamSpec::real("max_lift", 0.15, "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than this, relative to the floors, when registered; 0 = off")
           .range(0.0, 100.0).unit("m"),
       ParamSpec::real("max_tilt", 20.0, "floor gate: nor tilted by more than this (180 = off)").range(1.0, 180.0).unit("deg"),
+      ParamSpec::boolean("upright_poses", true,
+                         "floor gate: a pair standing on floors in both missions is registered among upright poses "
+                         "only (max_lift, max_tilt), so a better-scoring pose lying on its side does not refuse it; "
+                         "false = register freely, refuse the pair when that pose is off the floor"),
   };
   return s;
 }

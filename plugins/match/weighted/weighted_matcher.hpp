@@ -71,14 +71,6 @@ struct WeightedMatchConfig {
 // every candidate that passed the other gates.
 using PairFit = std::function<std::vector<double>(const std::vector<std::pair<const Object*, const Object*>>&)>;
 
-// The floor gate: an object standing on the floor in both missions (floor_z
-// known for both) stays upright on it, so the registration `t` (mapping a's
-// points onto b's) may lift a's centroid, relative to the two floors, by at
-// most `max_lift` (0 = no lift check) and tilt it by at most `max_tilt_deg`.
-// True when either floor is unknown.
-bool stays_on_floor(const Object& a, const Object& b, const Eigen::Isometry3d& t, double max_lift,
-                    double max_tilt_deg);
-
 // Every object of `objects` gets one ObjectChange. `groups` may be null;
 // `fit` may be empty only when shape_weight and min_shape_fit are 0.
 Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptors,

@@ -2,6 +2,7 @@
 // the SVD guess, its axis flips and yaw hypotheses; see lista_objreg/icp_refine.hpp.
 #include "../svd/register_objects.hpp"
 #include <lista_objreg/icp_refine.hpp>
+#include <lista_objreg/upright.hpp>
 
 #include <lista/lista.hpp>
 
@@ -28,6 +29,8 @@ class IcpStage : public Stage {
     cfg_.max_points = p.get<int>("max_points");
     cfg_.fine_max_points = p.get<int>("fine_max_points");
     cfg_.max_score_points = p.get<int>("max_score_points");
+    max_lift_ = p.get<double>("max_lift");
+    max_tilt_ = p.get<double>("max_tilt");
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
@@ -37,7 +40,12 @@ class IcpStage : public Stage {
     double inlier_sum = 0.0;
     int pairs = 0, ambiguous = 0;
     Matches out = register_matches(objects, matches, [&](const Object& s, const Object& t) {
-      const IcpResult r = icp_refine(s.points.xyz, t.points.xyz, cfg_);
+      IcpConfig cfg = cfg_;
+      // Both standing on floors: moved on the floor, so upright poses only
+      // (match.weighted's floor gate judged the pair the same way).
+      if (max_lift_ > 0.0 || max_tilt_ < 180.0)
+        cfg.admissible = [&](const Eigen::Isometry3d& pose) { return stays_on_floor(s, t, pose, max_lift_, max_tilt_); };
+      const IcpResult r = icp_refine(s.points.xyz, t.points.xyz, cfg);
       std::lock_guard<std::mutex> lock(mutex);
       inlier_sum += r.inlier_ratio;
       ++pairs;
@@ -55,12 +63,13 @@ class IcpStage : public Stage {
 
  private:
   IcpConfig cfg_;
+  double max_lift_ = 0.15, max_tilt_ = 20.0;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "register.icp";
-  s.version = "1.2.0";
+  s.version = "1.3.0";
   s.summary = "6-DoF transform of each moved object by (G)ICP from SVD and yaw hypotheses";
   s.doc =
       "For each matched pair: initial guesses are the SVD principal-frame transform (register.svd) with its "
@@ -78,6 +87,9 @@ StageInfo info() {
       "p_match = T * p. The other poses within symmetry_tolerance that differ from the chosen one by at least "
       "distinct_degrees or distinct_metres are written as alternative_transforms (the pose is ambiguous: a box's "
       "half-turn, a barrel's any turn). "
+      "A pair standing on floors in both missions (floor_z known) is registered among upright poses only: lifted "
+      "by at most max_lift relative to the floors and tilted by at most max_tilt (match.weighted's floor gate); "
+      "alternatives are upright too. "
       "Records the mean inlier share as 'mean_inlier_ratio' and the pairs with alternatives as 'ambiguous_pairs'.";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a refined transform for every moved object"}};
@@ -105,6 +117,12 @@ StageInfo info() {
       ParamSpec::integer("max_score_points", 10000,
                          "points each score queries each way (evenly strided; the searched cloud stays whole); 0 = all")
           .range(0, 100000000),
+      ParamSpec::real("max_lift", 0.15,
+                      "an object standing on floors in both missions (floor_z known) is registered upright: lifted by "
+                      "at most this relative to the floors (0 = no lift check)")
+          .range(0.0, 10.0)
+          .unit("m"),
+      ParamSpec::real("max_tilt", 20.0, "... and tilted by at most this (180 = any pose)").range(1.0, 180.0).unit("deg"),
   };
   return s;
 }

@@ -187,6 +187,43 @@ TEST(IcpRefine, SymmetricBoxNudgedIsNotReportedTurnedAround) {
   EXPECT_LE(r.score, raw.score * 1.1 + 1e-12);
 }
 
+// IcpConfig::admissible (match.weighted and register.icp pass "upright on
+// its floor"): the best admissible pose wins over a better-scoring one the
+// caller cannot accept, in either registration direction.
+TEST(IcpRefine, TheBestAdmissiblePoseWins) {
+  const auto box = cabinet(7);
+  const Eigen::Isometry3d truth = yaw_move(0.1, {0.3, -0.2, 0.0});
+  const auto dst = transformed(cabinet(8), truth, 0.002, 8);
+  const Eigen::Isometry3d half_turn = yaw_move(0.1 + M_PI, truth * box_centroid(box) - yaw_move(0.1 + M_PI, {0, 0, 0}) * box_centroid(box));
+  // Forbid the small move (the pose the unconstrained search picks): the
+  // half-turn fits as well and is the answer.
+  auto far_from = [](const Eigen::Isometry3d& pose) {
+    return [pose](const Eigen::Isometry3d& t) {
+      double m, deg;
+      errors(t, pose, m, deg);
+      return deg > 90.0;
+    };
+  };
+  IcpConfig cfg;
+  cfg.admissible = far_from(truth);
+  const IcpResult r = icp_refine(box, dst, cfg);
+  double e_m, e_deg;
+  errors(r.transform, half_turn, e_m, e_deg);
+  EXPECT_LT(e_deg, 3.0);
+  EXPECT_LT(e_m, 0.03);
+  for (const Eigen::Isometry3d& a : r.alternatives) EXPECT_TRUE(cfg.admissible(a)) << "an inadmissible alternative";
+  // The other direction (the other view is the one moved, then inverted).
+  IcpConfig back;
+  back.admissible = far_from(truth.inverse());
+  errors(icp_refine(dst, box, back).transform, half_turn.inverse(), e_m, e_deg);
+  EXPECT_LT(e_deg, 3.0);
+  EXPECT_LT(e_m, 0.03);
+  // Nothing admissible: the pose found without the predicate.
+  IcpConfig none;
+  none.admissible = [](const Eigen::Isometry3d&) { return false; };
+  EXPECT_TRUE(icp_refine(box, dst, none).transform.isApprox(icp_refine(box, dst, IcpConfig{}).transform, 1e-9));
+}
+
 TEST(IcpRefine, StageListsTheAlternativesAtBothEndsAsInverses) {
   const Eigen::Isometry3d truth = yaw_move(0.1, {0.3, -0.2, 0.0});
   const Matches out = register_moved_pair(cabinet(7), transformed(cabinet(8), truth, 0.002, 8), {});

@@ -35,6 +35,7 @@
 #include <lista/points.hpp>
 
 #include <Eigen/Geometry>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -58,6 +59,12 @@ struct IcpConfig {
                                       // than max_points; 0 = all, < 0 = as max_points
   int max_score_points = 0;           // scores query at most this many points each way (strided; the
                                       // searched cloud stays whole); 0 = all
+  // Poses (source onto target) the caller can accept, e.g. upright for two
+  // objects standing on floors. When set, the best admissible pose wins
+  // over better-scoring inadmissible ones, and only admissible poses are
+  // listed as alternatives; if no refined pose is admissible the best one
+  // is returned as without it. Empty: every pose.
+  std::function<bool(const Eigen::Isometry3d&)> admissible;
 };
 
 struct IcpResult {
