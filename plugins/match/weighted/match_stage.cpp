@@ -85,7 +85,7 @@ class WeightedMatchStage : public Stage {
       // A registration that lifts a floor-standing object (a desk's top onto a
       // cabinet's) or tips it over fits two things, not one object moved.
       // -1: never a candidate, whatever min_shape_fit (the cost clamps it to a misfit of 1).
-      if (!registration::stays_on_floor(*pairs[k].first, *pairs[k].second, r.transform, max_lift_, max_tilt_)) fit[k] = -1.0;
+      if (!registration::stays_on_floor(oa, ob, r.transform, max_lift_, max_tilt_)) fit[k] = -1.0;
       ctx.progress().advance();
     });
     ctx.progress().end();
