@@ -55,6 +55,12 @@ struct JointAlignmentReport {
 // residual solved without them. ratio 0: never.
 bool scan_edges_disagree(double residual_with, double residual_without, double ratio);
 
+// The warning when fewer than half of at least 8 neighbouring-scan
+// registrations of mission `mission` were accepted ("" otherwise). It names
+// both causes: scans that overlap too little to register (a 16-beam scanner
+// outdoors, on correct poses), and poses that do not belong to the scans.
+std::string scan_edges_warning(const std::string& mission, size_t accepted, size_t tried);
+
 // With three or more missions, those whose scan-to-scan edges are to blame:
 // taking out their edges alone (residual_without_each[m], NaN for a
 // mission without edges) brings the closures' residual down from

@@ -59,6 +59,7 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   // block by block, so memory stays bounded however long a mission is.
   constexpr size_t kBlock = 64;
   std::vector<std::optional<PoseGraphEdge>> edges;
+  std::vector<size_t> mission_end(set.missions.size());  // end of each mission's edges
   for (size_t m = 0; m < set.missions.size(); ++m) {
     const auto& scans = set.missions[m].scans;
     for (size_t first = 0; first < scans.size(); first += kBlock) {
@@ -94,6 +95,7 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
         edges[offset + i] = e;
       });
     }
+    mission_end[m] = edges.size();
   }
   if (stop() && on_cancel) on_cancel();
   std::vector<PoseGraphEdge> out;
@@ -101,6 +103,11 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
     if (e) out.push_back(*e);
   report.tried = edges.size();
   report.accepted = out.size();
+  for (size_t m = 0, begin = 0; m < mission_end.size(); begin = mission_end[m++]) {
+    report.tried_per_mission.push_back(mission_end[m] - begin);
+    report.accepted_per_mission.push_back(size_t(
+        std::count_if(edges.begin() + long(begin), edges.begin() + long(mission_end[m]), [](const auto& e) { return e.has_value(); })));
+  }
   return out;
 }
 

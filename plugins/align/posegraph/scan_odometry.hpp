@@ -44,6 +44,7 @@ Cloud above_ground(const Cloud& scan, const Eigen::Isometry3d& pose, double clea
 
 struct ScanEdgeReport {
   size_t tried = 0, accepted = 0;
+  std::vector<size_t> tried_per_mission, accepted_per_mission;  // by mission index
 };
 
 // Edges between graph nodes: node of scan s of mission m is offsets[m] + s.
