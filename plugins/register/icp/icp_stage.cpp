@@ -122,7 +122,7 @@ StageInfo info() {
                       "at most this relative to the floors (0 = no lift check)")
           .range(0.0, 10.0)
           .unit("m"),
-      ParamSpec::real("max_tilt", 20.0, "... and tilted by at most this (180 = any pose)").range(1.0, 180.0).unit("deg"),
+      ParamSpec::real("max_tilt", 20.0, "an object standing on floors in both missions is registered tilted by at most this (180 = any pose)").range(1.0, 180.0).unit("deg"),
   };
   return s;
 }
