@@ -200,8 +200,8 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   auto angle = [](const Eigen::Isometry3d& t) { return Eigen::AngleAxisd(t.linear()).angle(); };
   // Among the admissible candidates when there are any (cfg.admissible).
   auto admissible = [&](const Candidate& c) { return !cfg.admissible || cfg.admissible(c.t); };
-  auto pick = [&](const std::vector<Candidate>& cs) {
-    const bool any = std::any_of(cs.begin(), cs.end(), admissible);
+  auto pick = [&](const std::vector<Candidate>& cs, bool constrained = true) {
+    const bool any = constrained && std::any_of(cs.begin(), cs.end(), admissible);
     auto eligible = [&](size_t i) { return !any || admissible(cs[i]); };
     size_t b = 0;
     while (!eligible(b)) ++b;
@@ -262,6 +262,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     fine.push_back(best_i);
   }
   const size_t win = pick(fine);
+  const bool turned_away = cfg.admissible && pick(fine, false) != win;
   const Candidate& winner = fine[win];
   IcpResult best;
   best.hypotheses = static_cast<int>(guesses.size());
@@ -270,6 +271,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   best.source_inliers = winner.in_source;
   best.target_inliers = winner.in_target;
   best.inlier_ratio = 0.5 * (winner.in_source + winner.in_target);
+  best.inadmissible_preferred = turned_away;
   // A tie A = S * T reveals a symmetry S = A * T^-1 of the target (a
   // square crate's quarter turn); its powers S^k * T are tried too (the
   // crate's half turn), scored as they stand: the fine pass refines a few

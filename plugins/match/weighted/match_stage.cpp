@@ -56,6 +56,7 @@ class WeightedMatchStage : public Stage {
   std::vector<double> shape_fit(const std::vector<std::pair<const Object*, const Object*>>& pairs, Context& ctx) const {
     std::vector<double> fit(pairs.size(), 0.0);
     std::vector<std::pair<double, double>> shares(pairs.size());
+    std::vector<char> upright_decided(pairs.size(), 0);
     ctx.progress().begin("shape check of candidate pairs", pairs.size());
     parallel_for(pairs.size(), ctx.threads(), [&](size_t k) {
       if (ctx.cancelled()) return;
@@ -82,6 +83,7 @@ class WeightedMatchStage : public Stage {
       const double hi = std::max(r.source_inliers, r.target_inliers), lo = std::min(r.source_inliers, r.target_inliers);
       fit[k] = 0.75 * hi + 0.25 * lo;
       shares[k] = {r.source_inliers, r.target_inliers};
+      upright_decided[k] = r.inadmissible_preferred;
       // A registration that lifts a floor-standing object (a desk's top onto a
       // cabinet's) or tips it over fits two things, not one object moved.
       // -1: never a candidate, whatever min_shape_fit (the cost clamps it to a misfit of 1).
@@ -91,9 +93,10 @@ class WeightedMatchStage : public Stage {
     ctx.progress().end();
     ctx.throw_if_cancelled();
     for (size_t k = 0; k < pairs.size(); ++k) {
-      char line[160];
-      std::snprintf(line, sizeof line, "shape fit of objects %d -> %d: %.3f (shares explained %.3f / %.3f)%s",
+      char line[200];
+      std::snprintf(line, sizeof line, "shape fit of objects %d -> %d: %.3f (shares explained %.3f / %.3f)%s%s",
                     pairs[k].first->id, pairs[k].second->id, fit[k], shares[k].first, shares[k].second,
+                    upright_decided[k] ? ", upright pose (a tipped or lifted one scored better)" : "",
                     fit[k] < 0.0 ? ", registered off its floor: no candidate" : "");
       ctx.debug(line);
     }

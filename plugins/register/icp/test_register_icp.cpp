@@ -212,6 +212,11 @@ TEST(IcpRefine, TheBestAdmissiblePoseWins) {
   EXPECT_LT(e_deg, 3.0);
   EXPECT_LT(e_m, 0.03);
   for (const Eigen::Isometry3d& a : r.alternatives) EXPECT_TRUE(cfg.admissible(a)) << "an inadmissible alternative";
+  EXPECT_TRUE(r.inadmissible_preferred);  // the predicate decided, and says so
+  IcpConfig any;
+  any.admissible = [](const Eigen::Isometry3d&) { return true; };
+  EXPECT_FALSE(icp_refine(box, dst, any).inadmissible_preferred);
+  EXPECT_FALSE(icp_refine(box, dst, IcpConfig{}).inadmissible_preferred);
   // The other direction (the other view is the one moved, then inverted).
   IcpConfig back;
   back.admissible = far_from(truth.inverse());

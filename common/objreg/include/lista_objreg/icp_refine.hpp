@@ -74,6 +74,9 @@ struct IcpResult {
   double source_inliers = 0.0;  // share of moved source points within inlier_distance of the target
   double target_inliers = 0.0;  // share of target points within inlier_distance of the moved source
   int hypotheses = 0;
+  // True when, without IcpConfig::admissible, another (inadmissible) pose
+  // would have been chosen: the constraint decided.
+  bool inadmissible_preferred = false;
   // Other poses scoring within symmetry_tolerance of `transform`, each at
   // least distinct_degrees / distinct_metres from it and from one another,
   // best first; empty when the pose is unambiguous.
