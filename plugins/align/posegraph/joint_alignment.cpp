@@ -194,8 +194,8 @@ double closure_rms(const MissionSet& set, const Graph& g, const std::vector<Keyf
 
 std::string scan_edges_warning(const std::string& mission, size_t accepted, size_t tried) {
   if (tried < 8 || 2 * accepted >= tried) return "";
-  // Measured on correct poses: a VLP-16 on an open site registers 152-182
-  // of 494 neighbouring pairs (fsc seeds 2 and 36, both missions); the
+  // Measured on correct poses: a VLP-16 on an open site registers about a
+  // third (fsc seeds 2 and 36: 151 and 182 of 494 over both missions); the
   // demo's mission B with its poses shuffled registers 0 of 13.
   return "mission '" + mission + "': only " + std::to_string(accepted) + " of " + std::to_string(tried) +
          " neighbouring scans register where their poses (poses.txt or VIEWPOINT) put them, so the alignment "

@@ -105,8 +105,8 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   report.accepted = out.size();
   for (size_t m = 0, begin = 0; m < mission_end.size(); begin = mission_end[m++]) {
     report.tried_per_mission.push_back(mission_end[m] - begin);
-    report.accepted_per_mission.push_back(size_t(
-        std::count_if(edges.begin() + long(begin), edges.begin() + long(mission_end[m]), [](const auto& e) { return e.has_value(); })));
+    const auto from = edges.begin() + long(begin), to = edges.begin() + long(mission_end[m]);
+    report.accepted_per_mission.push_back(size_t(std::count_if(from, to, [](const auto& e) { return e.has_value(); })));
   }
   return out;
 }
