@@ -249,6 +249,21 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
   EXPECT_FALSE(std::filesystem::exists(out / "report.html")) << "the earlier run's page beside a failed rerun";
 
+  // A folder the failed run created itself is not left behind empty; one
+  // that existed before stays.
+  const std::filesystem::path fresh = dir_->path() / "fresh-out";
+  const auto fresh_run = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                                  broken.string() + " --out " + fresh.string() + " --threads 1 2>&1");
+  EXPECT_EQ(fresh_run.status, 1) << fresh_run.output;
+  EXPECT_FALSE(std::filesystem::exists(fresh)) << fresh_run.output;
+  const std::filesystem::path made = dir_->path() / "made-out";
+  std::filesystem::create_directories(made);
+  EXPECT_EQ(e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                     broken.string() + " --out " + made.string() + " --threads 1 -q 2>&1")
+                .status,
+            1);
+  EXPECT_TRUE(std::filesystem::is_directory(made)) << "a folder the user made is theirs";
+
   // A page of the user's own that happens to be called report.html stays.
   const std::string own_page = "<html><body>my notes</body></html>\n";
   std::ofstream(out / "report.html") << own_page;

@@ -86,6 +86,15 @@ void remove_report(const std::string& out, const char* why, bool quiet) {
   }
 }
 
+// A folder this run created holds nothing worth keeping when the run fails
+// before writing into it: it goes, so a failed run leaves no empty result
+// folder behind. One the user made, or one with files in it, stays.
+void remove_if_created_and_empty(const std::string& out, bool created, bool quiet) {
+  std::error_code ec;
+  if (out.empty() || !created || !fs::is_directory(out, ec) || !fs::is_empty(out, ec) || ec) return;
+  if (fs::remove(out, ec) && !quiet) std::cerr << "lista-run: removed the empty output folder " << out << "\n";
+}
+
 struct Options {
   std::string pipeline, dataset, out, describe;
   std::vector<std::string> sets, plugin_dirs;
@@ -193,6 +202,8 @@ int run(const Options& o) {
     return exit_ok;
   }
 
+  std::error_code exists_ec;
+  const bool created_output = !output_dir.empty() && !fs::exists(output_dir, exists_ec);
   if (std::string why = output_problem(output_dir, true); !why.empty()) return fail(why);
   remove_report(output_dir, "left by an earlier run; a complete run writes its own", o.quiet);
 
@@ -211,10 +222,12 @@ int run(const Options& o) {
     execute(plan, options);
   } catch (const lista::Cancelled&) {
     remove_report(output_dir, "the run was cancelled", false);
+    remove_if_created_and_empty(output_dir, created_output, false);
     std::cerr << "lista-run: cancelled\n";
     return exit_cancelled;
   } catch (const std::exception& e) {
     remove_report(output_dir, "the run did not complete", false);
+    remove_if_created_and_empty(output_dir, created_output, false);
     return fail(e.what());
   }
   return exit_ok;
