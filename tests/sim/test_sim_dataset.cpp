@@ -315,3 +315,34 @@ TEST(SimDataset, ViewsMergeSweepsAlongAPass) {
   EXPECT_GT(points_in(pass), 2 * points_in(one));
   EXPECT_NE(simulate("views --objects 4 --scans-per-view 0 --out " + (temp_root() / "views-zero").string()), 0);
 }
+
+// --furniture places Sweet Home 3D models in a mission scene beside the
+// procedural classes (here a one-desk catalogue); a folder without a
+// catalogue fails before any dataset is written.
+TEST(SimDataset, MissionScenesPlaceCatalogueFurniture) {
+  const fs::path shapes = temp_root() / "desk-catalogue";
+  fs::create_directories(shapes / "desk");
+  std::ofstream(shapes / "desk" / "desk.obj") << "v 0 0 0\nv 200 0 0\nv 200 0 80\nv 0 0 80\n"
+                                                 "v 0 75 0\nv 200 75 0\nv 200 75 80\nv 0 75 80\n"
+                                                 "f 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n";
+  std::ofstream(shapes / "PluginFurnitureCatalog.properties")
+      << "id#1=Test#desk\nname#1=Desk\ncategory#1=Office\nmodel#1=/desk/desk.obj\nwidth#1=150\ndepth#1=70\n"
+         "height#1=75\n";
+  const fs::path dir = temp_root() / "tiny-furniture";
+  ASSERT_EQ(simulate("--preset tiny --seed 4 --scans 4 --threads 2 --furniture " + shapes.string() + " --out " +
+                     dir.string()),
+            0);
+  const auto truth = nlohmann::json::parse(slurp(dir / "ground_truth.json"));
+  int desks = 0, procedural = 0;
+  for (const auto& o : truth["objects"]) {
+    if (o["dynamic"].get<bool>()) continue;
+    (o["class"] == "sh3d/office" ? desks : procedural) += 1;
+  }
+  EXPECT_GT(desks, 0) << "a third of the objects are drawn from the catalogue";
+  EXPECT_GT(procedural, desks);
+  const fs::path none = temp_root() / "tiny-no-furniture";
+  EXPECT_NE(simulate("--preset tiny --furniture " + (temp_root() / "no-such-shapes").string() + " --out " +
+                     none.string()),
+            0);
+  EXPECT_FALSE(fs::exists(none));
+}

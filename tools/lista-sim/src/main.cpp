@@ -21,10 +21,23 @@ namespace {
 
 int default_threads() { return int(std::max(1u, std::thread::hardware_concurrency())); }
 
+// Sweet Home 3D furniture from `folder`, reporting what could not be read.
+std::vector<lista::sim::Shape> furniture_from(const std::string& folder, const char* who) {
+  std::vector<std::string> skipped;
+  std::vector<lista::sim::Shape> shapes = lista::sim::load_furniture(folder, &skipped);
+  std::fprintf(stderr, "%s: %zu furniture shapes from %s (%zu models could not be read)\n", who, shapes.size(),
+               folder.c_str(), skipped.size());
+  for (const auto& why : skipped) std::fprintf(stderr, "  skipped: %s\n", why.c_str());
+  return shapes;
+}
+
 int run_dataset(const std::string& preset_name, const std::string& out, uint64_t seed, int missions,
-                int scans, const std::string& sensor_name, int threads, bool overwrite) {
+                int scans, const std::string& sensor_name, int threads, bool overwrite, const std::string& furniture) {
   using namespace lista::sim;
   Preset preset = make_preset(preset_name);
+  // Real furniture beside the procedural classes: about a third of the
+  // objects drawn (scenario.cpp), scenes no procedural generator made.
+  if (!furniture.empty()) preset.changes.extra_shapes = furniture_from(furniture, "lista-sim");
   if (missions > 0) preset.route.missions = missions;
   if (scans > 0) preset.route.scans = scans;
   int columns = preset.columns;
@@ -77,6 +90,10 @@ int main(int argc, char** argv) {
   app.add_option("--sensor", sensor, "os0-128, xt32, vlp16, os1-64 or hdl32 (default: the preset's)");
   app.add_option("--threads", threads, "worker threads")->check(lista::cli::at_least(1));
   app.add_flag("--overwrite", overwrite, "replace a dataset already in --out");
+  std::string scene_furniture;
+  app.add_option("--furniture", scene_furniture,
+                 "also place Sweet Home 3D furniture from this folder, about a third of the objects "
+                 "(tools/fetch-shapes.sh DIR unpacks it)");
 
   lista::sim::ViewsOptions views;
   auto* views_cmd = app.add_subcommand("views", "partial scans of single objects (descriptor training)");
@@ -111,13 +128,7 @@ int main(int argc, char** argv) {
     if (views_cmd->parsed()) {
       views.progress = isatty(STDERR_FILENO);
       views.procedural = !no_procedural;
-      if (!furniture.empty()) {
-        std::vector<std::string> skipped;
-        views.extra_shapes = lista::sim::load_furniture(furniture, &skipped);
-        std::fprintf(stderr, "lista-sim views: %zu furniture shapes from %s (%zu models could not be read)\n",
-                     views.extra_shapes.size(), furniture.c_str(), skipped.size());
-        for (const auto& why : skipped) std::fprintf(stderr, "  skipped: %s\n", why.c_str());
-      }
+      if (!furniture.empty()) views.extra_shapes = furniture_from(furniture, "lista-sim views");
       const auto stats = lista::sim::write_views(views);
       std::printf("views: %zu views of %d objects (%zu shapes), %zu points -> %s\n", stats.views, views.objects,
                   stats.shapes, stats.points, views.out.c_str());
@@ -127,7 +138,7 @@ int main(int argc, char** argv) {
       std::cerr << "lista-sim: --preset and --out are required (or use the 'views' subcommand); see --help\n";
       return 2;
     }
-    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite);
+    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;
