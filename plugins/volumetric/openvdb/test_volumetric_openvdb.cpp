@@ -1,6 +1,7 @@
 // volumetric.openvdb on the synthetic two-room scene, and its agreement with
 // volumetric.octomap on the same input.
 #include "../octomap/volumetric_octomap.hpp"
+#include "vdb_counts.hpp"
 #include "volumetric_openvdb.hpp"
 
 #include "../common/expect_volumetric_params.hpp"
@@ -198,4 +199,23 @@ TEST(VolumetricOpenVdb, GrazeHeightReachesTheRayCasting) {
     run_stage(volumetric::make_volumetric_openvdb(p), scene(), 2, &ctx);
     return ctx.info.metrics.at("diff").at("A.free_voxels");
   });
+}
+
+// The packed counters: hits and misses are kept apart, and each saturates
+// at 65535 alone (a mission of more scans than that keeps working).
+TEST(VdbCounts, FieldsAddApartAndSaturateAlone) {
+  using namespace lista::volumetric;
+  int32_t v = counts::pack(0, 0);
+  v = counts::add(v, 1, 0);
+  v = counts::add(v, 0, 1);
+  v = counts::add(v, 0, 1);
+  EXPECT_EQ(counts::hits(v), 1u);
+  EXPECT_EQ(counts::misses(v), 2u);
+  v = counts::add(counts::pack(65534, 7), 5, 1);
+  EXPECT_EQ(counts::hits(v), 65535u) << "saturates, does not wrap into the misses";
+  EXPECT_EQ(counts::misses(v), 8u);
+  v = counts::add(counts::pack(3, 65535), 1, 1);
+  EXPECT_EQ(counts::hits(v), 4u) << "a full miss counter does not carry into the hits";
+  EXPECT_EQ(counts::misses(v), 65535u);
+  EXPECT_EQ(counts::add(v, 70000, 70000), counts::pack(65535, 65535));
 }
