@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <omp.h>
 
 namespace lista::raycast {
@@ -79,74 +80,126 @@ struct Decider {
   }
 };
 
+// Per scan, per point: the ChangedAgainst bits found so far (0 = not changed).
+using PointBits = std::vector<std::vector<uint8_t>>;
+
+PointBits no_bits(const Mission& mission) {
+  PointBits bits(mission.scans.size());
+  for (size_t i = 0; i < bits.size(); ++i) bits[i].assign(mission.scans[i].points->size(), 0);
+  return bits;
+}
+
+// ORs into `bits` what mission `mission` (map `own_map`) changed against
+// `previous_map` and / or `next_map` (either may be null).
+void mark_changes(const Mission& mission, const OccupancyMap& own_map, const OccupancyMap* previous_map,
+                  const OccupancyMap* next_map, const VolumetricConfig& config, int threads, PointBits& bits) {
+  const Decider decide{config, logodds(config.occupied_threshold)};
+  const double inv_res = 1.0 / config.resolution;
+#pragma omp parallel num_threads(std::max(1, threads))
+  {
+    auto own = own_map.reader();
+    std::unique_ptr<OccupancyReader> previous = previous_map ? previous_map->reader() : nullptr;
+    std::unique_ptr<OccupancyReader> next = next_map ? next_map->reader() : nullptr;
+#pragma omp for schedule(dynamic, 1)
+    for (long i = 0; i < static_cast<long>(mission.scans.size()); ++i) {
+      const PointSet& pts = *mission.scans[i].points;
+      const Eigen::Affine3d to_index = Eigen::Scaling(inv_res) * mission.sensor_to_common(static_cast<size_t>(i));
+      std::vector<uint8_t>& b = bits[static_cast<size_t>(i)];
+      for (size_t j = 0; j < pts.size(); ++j)
+        b[j] |= decide.changed(*own, previous.get(), next.get(), voxel_of(to_index * pts.xyz[j].cast<double>()));
+    }
+  }
+}
+
+// The changed points (bits != 0) in the common frame, in scan then file
+// order, with their bits; the number of distinct changed voxels in `voxels`.
+PointSet collect_changes(const Mission& mission, const PointBits& bits, double resolution, uint64_t& voxels) {
+  const double inv_res = 1.0 / resolution;
+  size_t total = 0;
+  for (const auto& b : bits) total += static_cast<size_t>(std::count_if(b.begin(), b.end(), [](uint8_t x) { return x; }));
+  PointSet set;
+  set.reserve(total);
+  std::vector<uint8_t> against;  // the scans have no such channel: set after the points
+  against.reserve(total);
+  std::vector<uint64_t> keys;
+  keys.reserve(total);
+  for (size_t i = 0; i < mission.scans.size(); ++i) {
+    const PointSet& pts = *mission.scans[i].points;
+    const Eigen::Isometry3f to_common = mission.sensor_to_common(i).cast<float>();
+    const Eigen::Affine3d to_index = Eigen::Scaling(inv_res) * mission.sensor_to_common(i);
+    for (size_t j = 0; j < pts.size(); ++j) {
+      if (!bits[i][j]) continue;
+      set.push_back_from(pts, j);
+      against.push_back(bits[i][j]);
+      keys.push_back(pack(voxel_of(to_index * pts.xyz[j].cast<double>())));
+      set.xyz.back() = to_common * pts.xyz[j];
+      set.scan.back() = static_cast<uint32_t>(i);  // provenance follows the mission's scan order
+      if (pts.index.empty()) set.index.back() = static_cast<uint32_t>(j);
+    }
+  }
+  set.changed_against = std::move(against);
+  std::sort(keys.begin(), keys.end());
+  voxels = static_cast<uint64_t>(std::unique(keys.begin(), keys.end()) - keys.begin());
+  return set;
+}
+
+void add_mission(MissionPoints& out, ChangeStats* stats, size_t m, const Mission& mission, PointSet set,
+                 uint64_t voxels) {
+  if (stats) {
+    stats->changed_points[m] = set.size();
+    stats->changed_voxels[m] = voxels;
+  }
+  out.missions.push_back(mission.name);
+  out.sets.push_back(std::move(set));
+}
+
 }  // namespace
 
 MissionPoints detect_changes(const MissionSet& missions, const std::vector<const OccupancyMap*>& maps,
                              const VolumetricConfig& config, int threads, ChangeStats* stats) {
   const size_t n = missions.missions.size();
   if (maps.size() != n) throw Error("detect_changes: one map per mission expected");
-  const Decider decide{config, logodds(config.occupied_threshold)};
-  const double inv_res = 1.0 / config.resolution;
   MissionPoints out;
   if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
-
   for (size_t m = 0; m < n; ++m) {
     const Mission& mission = missions.missions[m];
-    const size_t scans = mission.scans.size();
-    std::vector<std::vector<uint32_t>> changed(scans);  // per scan: point positions in the PointSet
-    std::vector<std::vector<uint8_t>> against(scans);   // per scan: their ChangedAgainst bits
-    std::vector<std::vector<uint64_t>> changed_voxels(scans);
-
-#pragma omp parallel num_threads(std::max(1, threads))
-    {
-      auto own = maps[m]->reader();
-      std::unique_ptr<OccupancyReader> previous = m > 0 ? maps[m - 1]->reader() : nullptr;
-      std::unique_ptr<OccupancyReader> next = m + 1 < n ? maps[m + 1]->reader() : nullptr;
-#pragma omp for schedule(dynamic, 1)
-      for (long i = 0; i < static_cast<long>(scans); ++i) {
-        const PointSet& pts = *mission.scans[i].points;
-        const Eigen::Affine3d to_index =
-            Eigen::Scaling(inv_res) * mission.sensor_to_common(static_cast<size_t>(i));
-        for (size_t j = 0; j < pts.size(); ++j) {
-          const Voxel v = voxel_of(to_index * pts.xyz[j].cast<double>());
-          if (const uint8_t bits = decide.changed(*own, previous.get(), next.get(), v)) {
-            changed[i].push_back(static_cast<uint32_t>(j));
-            against[i].push_back(bits);
-            changed_voxels[i].push_back(pack(v));
-          }
-        }
-      }
-    }
-
-    PointSet set;
-    size_t total = 0;
-    for (const auto& c : changed) total += c.size();
-    set.reserve(total);
-    std::vector<uint8_t> bits;  // the scans have no such channel: set after the points
-    bits.reserve(total);
-    for (size_t i = 0; i < scans; ++i) {
-      const PointSet& pts = *mission.scans[i].points;
-      const Eigen::Isometry3f to_common = mission.sensor_to_common(i).cast<float>();
-      for (size_t k = 0; k < changed[i].size(); ++k) {
-        const uint32_t j = changed[i][k];
-        set.push_back_from(pts, j);
-        bits.push_back(against[i][k]);
-        set.xyz.back() = to_common * pts.xyz[j];
-        set.scan.back() = static_cast<uint32_t>(i);  // provenance follows the mission's scan order
-        if (pts.index.empty()) set.index.back() = j;
-      }
-    }
-    set.changed_against = std::move(bits);
-    if (stats) {
-      std::vector<uint64_t> all;
-      for (auto& c : changed_voxels) all.insert(all.end(), c.begin(), c.end());
-      std::sort(all.begin(), all.end());
-      stats->changed_voxels[m] = static_cast<uint64_t>(std::unique(all.begin(), all.end()) - all.begin());
-      stats->changed_points[m] = total;
-    }
-    out.missions.push_back(mission.name);
-    out.sets.push_back(std::move(set));
+    PointBits bits = no_bits(mission);
+    mark_changes(mission, *maps[m], m > 0 ? maps[m - 1] : nullptr, m + 1 < n ? maps[m + 1] : nullptr, config,
+                 threads, bits);
+    uint64_t voxels = 0;
+    PointSet set = collect_changes(mission, bits, config.resolution, voxels);
+    add_mission(out, stats, m, mission, std::move(set), voxels);
   }
+  return out;
+}
+
+MissionPoints detect_changes_windowed(const MissionSet& missions,
+                                      const std::function<std::unique_ptr<OccupancyMap>(size_t)>& build_map,
+                                      const VolumetricConfig& config, int threads, ChangeStats* stats) {
+  const size_t n = missions.missions.size();
+  if (n == 0) return {};
+  MissionPoints out;
+  if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
+  // A point's bit against the previous mission and its bit against the
+  // next are decided apart, so one pair of consecutive maps at a time
+  // suffices: map m+1 is built while only map m lives, then both missions
+  // are marked against each other and map m goes.
+  std::unique_ptr<OccupancyMap> earlier = build_map(0);
+  PointBits earlier_bits = no_bits(missions.missions[0]);
+  for (size_t m = 0; m + 1 < n; ++m) {
+    std::unique_ptr<OccupancyMap> later = build_map(m + 1);
+    PointBits later_bits = no_bits(missions.missions[m + 1]);
+    mark_changes(missions.missions[m], *earlier, nullptr, later.get(), config, threads, earlier_bits);
+    mark_changes(missions.missions[m + 1], *later, earlier.get(), nullptr, config, threads, later_bits);
+    earlier = std::move(later);  // map m goes
+    uint64_t voxels = 0;
+    PointSet set = collect_changes(missions.missions[m], earlier_bits, config.resolution, voxels);
+    add_mission(out, stats, m, missions.missions[m], std::move(set), voxels);
+    earlier_bits = std::move(later_bits);
+  }
+  uint64_t voxels = 0;
+  PointSet set = collect_changes(missions.missions[n - 1], earlier_bits, config.resolution, voxels);
+  add_mission(out, stats, n - 1, missions.missions[n - 1], std::move(set), voxels);
   return out;
 }
 

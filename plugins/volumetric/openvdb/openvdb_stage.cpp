@@ -39,18 +39,19 @@ class OpenVdbStage : public Stage {
     for (const std::string& w : raycast::undetectable_pairs(missions, config_)) ctx.warn(w);
     size_t scans = 0;
     for (const auto& m : missions.missions) scans += m.scans.size();
-    std::vector<std::unique_ptr<raycast::OccupancyMap>> maps;
-    std::vector<const raycast::OccupancyMap*> views;
     std::vector<raycast::MapStats> stats(missions.missions.size());
     ctx.progress().begin("ray casting", scans);
-    for (size_t m = 0; m < missions.missions.size(); ++m) {
-      ctx.throw_if_cancelled();
-      maps.push_back(build_vdb_map(missions.missions[m], config_, ctx.threads(), stats[m], &ctx.progress()));
-      views.push_back(maps.back().get());
-    }
-    ctx.progress().end();
+    // Maps are built in mission order and freed when no longer needed: at
+    // most two at once, however many missions there are.
     raycast::ChangeStats changes;
-    MissionPoints out = raycast::detect_changes(missions, views, config_, ctx.threads(), &changes);
+    MissionPoints out = raycast::detect_changes_windowed(
+        missions,
+        [&](size_t m) {
+          ctx.throw_if_cancelled();
+          return build_vdb_map(missions.missions[m], config_, ctx.threads(), stats[m], &ctx.progress());
+        },
+        config_, ctx.threads(), &changes);
+    ctx.progress().end();
     raycast::record_stats(ctx, missions, stats, changes);
     ctx.info("changed points: " + std::to_string(out.total()));
     Outputs o;

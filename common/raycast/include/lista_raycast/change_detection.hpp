@@ -9,6 +9,7 @@
 #include <lista_raycast/voxel.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -62,6 +63,16 @@ MissionPoints detect_changes(const MissionSet& missions,
                              const std::vector<const OccupancyMap*>& maps,
                              const VolumetricConfig& config, int threads,
                              ChangeStats* stats = nullptr);
+
+// detect_changes with maps built on demand, in mission order, by
+// `build_map(m)`: map m+1 is built while only map m is held, and map m is
+// freed once both are marked against each other, so at most two maps live
+// at once, whatever the number of missions (a map can take gigabytes
+// outdoors). The same result as building all maps first.
+MissionPoints detect_changes_windowed(const MissionSet& missions,
+                                      const std::function<std::unique_ptr<OccupancyMap>(size_t)>& build_map,
+                                      const VolumetricConfig& config, int threads,
+                                      ChangeStats* stats = nullptr);
 
 // Context::record of the per-mission numbers, keys "<mission>.<what>".
 void record_stats(Context& context, const MissionSet& missions, const std::vector<MapStats>& maps,
