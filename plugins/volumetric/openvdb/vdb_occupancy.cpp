@@ -1,7 +1,9 @@
 // How the map is built, and why it is fast:
-//  - scans are shared out to threads (dynamic); each thread owns an Int32Grid
-//    of per-voxel counters (hits << 16 | misses, 16 bits each, saturating),
-//    so ray casting never locks;
+//  - scans are shared out to threads (dynamic); a thread casts its scan into
+//    its own masks (below) without locking, then adds them, under a lock,
+//    into the mission's one Int32Grid of per-voxel counters (hits << 16 |
+//    misses, 16 bits each, saturating). One grid, not one per thread: each
+//    thread's grid would span about the whole mission's observed space;
 //  - a scan is first cast into two bit masks (MaskGrid: 64 bytes per 8^3
 //    leaf, so a scan's free space stays in cache): its hit voxels, then the
 //    free voxels of its beams. Setting a bit twice is a no-op, so every voxel
@@ -16,10 +18,9 @@
 //    cell; at kStopRun = 8 the loss does not show in the changed points;
 //  - the DDA writes through a cached leaf pointer, falling back to a
 //    ValueAccessor only on leaf changes;
-//  - thread grids merge by adding counts leaf by leaf; the merged counters
-//    are the map, and a lookup turns them into log-odds =
-//    clamp(hits*l_hit + misses*l_miss). Integer counts make the result
-//    independent of thread count and scheduling. Unlike OctoMap, clamping is
+//  - the counters are the map, and a lookup turns them into log-odds =
+//    clamp(hits*l_hit + misses*l_miss). Integer counts (saturating adds
+//    commute) make the result independent of thread count and scheduling. Unlike OctoMap, clamping is
 //    applied once at the end instead of after each scan; the two differ only
 //    for voxels whose state flipped within one mission;
 //  - memory: 4 bytes per observed voxel (the counters are the map; no
@@ -97,8 +98,13 @@ class ScanMask {
   int ox_ = kNoLeaf, oy_ = kNoLeaf, oz_ = kNoLeaf;
 };
 
-struct ThreadWork {
+// The mission's counters, shared by the casting threads.
+struct SharedCounts {
   openvdb::Int32Grid::Ptr grid = openvdb::Int32Grid::create(0);
+  std::mutex mutex;
+};
+
+struct ThreadWork {
   ScanMask hits, free;
   std::vector<Eigen::Vector3d> ends;
   std::vector<char> is_hit;
@@ -121,7 +127,7 @@ void add_mask(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& mask, 
   }
 }
 
-void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, ThreadWork& work) {
+void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, ThreadWork& work, SharedCounts& counts) {
   const PointSet& pts = *mission.scans[i].points;
   const double inv_res = 1.0 / c.resolution;
   const double max_range = c.max_range > 0 ? c.max_range * inv_res : 0.0;
@@ -149,26 +155,17 @@ void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, Thre
       return run < kStopRun;
     });
   }
-  auto acc = work.grid->getAccessor();
-  add_mask(acc, work.hits.tree(), nullptr, true);
-  add_mask(acc, work.free.tree(), &work.hits.tree(), false);
+  {
+    std::lock_guard<std::mutex> lock(counts.mutex);
+    auto acc = counts.grid->getAccessor();
+    add_mask(acc, work.hits.tree(), nullptr, true);
+    add_mask(acc, work.free.tree(), &work.hits.tree(), false);
+  }
   work.hits.clear();
   work.free.clear();
   work.rays += pts.size();
   work.visits += visits;
   work.walked += walked;
-}
-
-// Adds the counts of `src` into `dst`.
-void merge_counts(openvdb::Int32Grid& dst, const openvdb::Int32Grid& src) {
-  auto acc = dst.getAccessor();
-  for (auto leaf = src.tree().cbeginLeaf(); leaf; ++leaf) {
-    CountLeaf* d = acc.touchLeaf(leaf->origin());
-    for (auto it = leaf->cbeginValueOn(); it; ++it) {
-      const openvdb::Index off = it.pos();
-      d->setValueOn(off, counts::add(d->getValue(off), counts::hits(*it), counts::misses(*it)));
-    }
-  }
 }
 
 // Clamped log-odds of a voxel's counters.
@@ -215,13 +212,14 @@ std::unique_ptr<OccupancyMap> build_vdb_map(const Mission& mission, const Volume
   std::call_once(init, [] { openvdb::initialize(); });
   const int n_threads = std::max(1, std::min<int>(threads, static_cast<int>(mission.scans.size())));
   std::vector<ThreadWork> work(n_threads);
+  SharedCounts shared;
   std::atomic<size_t> next{0};
   std::exception_ptr failure;
   std::mutex failure_mutex;
   auto worker = [&](int t) {
     try {
       for (size_t i; (i = next.fetch_add(1)) < mission.scans.size();) {
-        cast_scan(mission, i, c, work[t]);
+        cast_scan(mission, i, c, work[t], shared);
         if (progress) progress->advance(1);
       }
     } catch (...) {
@@ -235,16 +233,11 @@ std::unique_ptr<OccupancyMap> build_vdb_map(const Mission& mission, const Volume
   for (auto& th : pool) th.join();
   if (failure) std::rethrow_exception(failure);
 
-  for (int t = 1; t < n_threads; ++t) {
-    merge_counts(*work[0].grid, *work[t].grid);
-    work[t].grid.reset();
-  }
-
   // The merged counters are the map; log-odds are computed on lookup.
   const LogOdds to_logodds{logodds(c.prob_hit), logodds(c.prob_miss), logodds(c.clamping_min),
                            logodds(c.clamping_max)};
   const float l_occ = logodds(c.occupied_threshold);
-  openvdb::Int32Grid::Ptr grid = work[0].grid;
+  openvdb::Int32Grid::Ptr grid = shared.grid;
   grid->setTransform(openvdb::math::Transform::createLinearTransform(c.resolution));
   grid->setName(mission.name);
   stats = MapStats{};
