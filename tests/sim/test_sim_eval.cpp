@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -85,4 +86,38 @@ TEST(SimEval, EmptyRunHasRecallZero) {
   EXPECT_EQ(s["points"]["recall"], 0.0);
   EXPECT_EQ(s["points"]["tp"], 0);
   EXPECT_EQ(s["objects"].back()["recall"], 0.0);
+}
+
+// The confidence AUC: the perfect run has no wrong report (no AUC); one
+// report given a wrong status is wrong, and the AUC says whether the
+// confidences rank it below the right ones (1), above them (0) or alike (0.5).
+TEST(SimEval, ConfidenceAucRanksWrongReportsAgainstRightOnes) {
+  const fs::path run_dir = root() / "confidence";
+  ASSERT_EQ(run("lista-eval", "--dataset " + tiny().string() + " --truth " + run_dir.string(), root() / "t.log"), 0);
+  auto score = [&](const char* name) {
+    const fs::path json = root() / name;
+    EXPECT_EQ(run("lista-eval", "--dataset " + tiny().string() + " --run " + run_dir.string() + " --json", json), 0);
+    return read_json(json)["confidence"];
+  };
+  const auto perfect = score("c0.json");
+  EXPECT_EQ(perfect["wrong"], 0);
+  EXPECT_TRUE(perfect["auc"].is_null()) << "no wrong report to rank";
+  io::Report r = io::read_report((run_dir / "report.json").string());
+  auto removed = std::find_if(r.objects.begin(), r.objects.end(), [](const io::ReportObject& o) { return o.status == "removed"; });
+  ASSERT_NE(removed, r.objects.end());
+  removed->status = "added";  // the wrong status: a wrong report
+  for (auto& o : r.objects) o.confidence = &o == &*removed ? 0.1 : 0.9;
+  io::write_report((run_dir / "report.json").string(), r);
+  const auto below = score("c1.json");
+  EXPECT_EQ(below["wrong"], 1);
+  EXPECT_EQ(below["right"].get<size_t>(), r.objects.size() - 1);
+  EXPECT_DOUBLE_EQ(below["auc"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(below["auc_removed_added"].get<double>(), 1.0);
+  EXPECT_TRUE(below["auc_moved"].is_null()) << "every move is right";
+  removed->confidence = 0.95;
+  io::write_report((run_dir / "report.json").string(), r);
+  EXPECT_DOUBLE_EQ(score("c2.json")["auc"].get<double>(), 0.0);
+  removed->confidence = 0.9;
+  io::write_report((run_dir / "report.json").string(), r);
+  EXPECT_DOUBLE_EQ(score("c3.json")["auc"].get<double>(), 0.5);
 }

@@ -52,6 +52,12 @@ std::string format_table(const Score& s, bool objects) {
                   all.pose_off_listed);
     out += line;
   }
+  {
+    const ConfidenceScore& c = s.confidence;
+    out += "  confidence: AUC " + num(c.auc, "%.3f") + " (moved " + num(c.auc_moved, "%.3f") +
+           ", removed/added " + num(c.auc_unpaired, "%.3f") + "; " + std::to_string(c.right) + " reports right, " +
+           std::to_string(c.wrong) + " wrong)\n";
+  }
   if (objects) {
     out += "per truly changed object (report -1: none paired; match: the report's / the right one)\n";
     std::snprintf(line, sizeof line, "  %-12s %6s %-16s %-14s %7s %6s %5s %-8s %13s %8s %9s  %s\n", "mission",
@@ -115,6 +121,11 @@ std::string format_json(const Score& s) {
                        {"pose_off", o.pose_off},
                        {"pose_off_listed", o.pose_off_listed}});
   j["objects"] = objects;
+  j["confidence"] = {{"right", s.confidence.right},
+                     {"wrong", s.confidence.wrong},
+                     {"auc", jnum(s.confidence.auc)},
+                     {"auc_moved", jnum(s.confidence.auc_moved)},
+                     {"auc_removed_added", jnum(s.confidence.auc_unpaired)}};
   json verdicts = json::array();
   for (const auto& v : s.verdicts)
     verdicts.push_back({{"mission", v.mission},

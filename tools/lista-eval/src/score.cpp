@@ -197,6 +197,44 @@ void add_scan_pose_ate(const Truth& truth, const std::string& run_dir, std::vect
 
 }  // namespace
 
+double auc_of(const std::vector<std::pair<double, bool>>& scored) {
+  std::vector<double> right, wrong;
+  for (const auto& [score, ok] : scored) (ok ? right : wrong).push_back(score);
+  if (right.empty() || wrong.empty()) return kUndefined;
+  std::sort(wrong.begin(), wrong.end());
+  double sum = 0.0;  // per right report: wrong ones below it, ties half
+  for (double r : right) {
+    const auto lo = std::lower_bound(wrong.begin(), wrong.end(), r);
+    const auto hi = std::upper_bound(lo, wrong.end(), r);
+    sum += double(lo - wrong.begin()) + 0.5 * double(hi - lo);
+  }
+  return sum / (double(right.size()) * double(wrong.size()));
+}
+
+namespace {
+
+ConfidenceScore score_confidence(const io::Report& report, const std::vector<ObjectVerdict>& verdicts) {
+  std::map<std::pair<std::string, int>, bool> right;  // (mission, report id) -> right
+  for (const ObjectVerdict& v : verdicts)
+    if (v.report_id >= 0)
+      right[{v.mission, v.report_id}] = v.verdict == "ok" || v.verdict == "pose off" || v.verdict == "pose listed";
+  ConfidenceScore c;
+  std::vector<std::pair<double, bool>> all, moved, unpaired;
+  for (const auto& o : report.objects) {
+    const auto it = right.find({o.mission, o.id});
+    const bool ok = it != right.end() && it->second;
+    (ok ? c.right : c.wrong)++;
+    all.push_back({o.confidence, ok});
+    (o.status == "moved" ? moved : unpaired).push_back({o.confidence, ok});
+  }
+  c.auc = auc_of(all);
+  c.auc_moved = auc_of(moved);
+  c.auc_unpaired = auc_of(unpaired);
+  return c;
+}
+
+}  // namespace
+
 Score score_run(const Truth& truth, const std::string& run_dir) {
   const std::string report_path = (std::filesystem::path(run_dir) / "report.json").string();
   if (!std::filesystem::exists(report_path)) throw Error(report_path + ": missing");
@@ -330,6 +368,7 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     all.rotation_error_deg.insert(all.rotation_error_deg.end(), os.rotation_error_deg.begin(), os.rotation_error_deg.end());
   }
   score.objects.push_back(all);
+  score.confidence = score_confidence(report, score.verdicts);
 
   // Alignment ATE: both trajectories in the first mission's map frame.
   const std::string& first = truth.labels[0].name;

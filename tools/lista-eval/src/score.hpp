@@ -90,12 +90,29 @@ struct AlignmentScore {
   double scan_ate_rmse_m = kUndefined;
 };
 
+// How well the reports' confidence sorts right reports above wrong ones.
+// A report is right when it is paired with a truly changed object and its
+// verdict is ok, pose off or pose listed (status accepted and, for a move,
+// the right partner); an unpaired report is wrong. AUC = the chance that a
+// right report's confidence is above a wrong one's (ties count half): 1 =
+// sorted perfectly, 0.5 = no better than chance, NaN without both kinds.
+struct ConfidenceScore {
+  size_t right = 0, wrong = 0;
+  double auc = kUndefined;           // all reports
+  double auc_moved = kUndefined;     // reports with status moved
+  double auc_unpaired = kUndefined;  // removed and added reports
+};
+
+// AUC of (score, right) pairs as ConfidenceScore defines it.
+double auc_of(const std::vector<std::pair<double, bool>>& scored);
+
 struct Score {
   std::vector<std::string> missions;
   PointScore points;
   std::vector<ObjectScore> objects;  // per mission, then the totals ("all")
   std::vector<AlignmentScore> alignment;  // missions with poses_gt.txt, then "all"
   std::vector<ObjectVerdict> verdicts;    // per mission, by true id
+  ConfidenceScore confidence;
 };
 
 // Reads <run>/report.json and <run>/changes/<mission>.pcd; throws lista::Error
