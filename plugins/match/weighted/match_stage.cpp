@@ -31,6 +31,8 @@ class WeightedMatchStage : public Stage {
     cfg_.max_cost = p.get<double>("max_cost");
     cfg_.shape_weight = p.get<double>("shape_weight");
     cfg_.min_shape_fit = p.get<double>("min_shape_fit");
+    cfg_.evidence_voxel = p.get<double>("evidence_voxel");
+    cfg_.evidence_voxels = p.get<double>("evidence_voxels");
     max_lift_ = p.get<double>("max_lift");
     max_tilt_ = p.get<double>("max_tilt");
     upright_poses_ = p.get<bool>("upright_poses");
@@ -140,7 +142,7 @@ class WeightedMatchStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.6.0";
+  s.version = "1.7.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
@@ -172,7 +174,10 @@ StageInfo info() {
       "ambiguity) + 0.5 * group confidence, ambiguity = w / (cost of the best rival pair of either end), "
       "the lower of its two ends' for both (one move, one confidence); "
       "of an unmatched object = 0.5 * min(1, cheapest rejected candidate cost / max_cost; 1 if none) + "
-      "0.5 * group confidence.";
+      "0.5 * group confidence; either then becomes evidence * (0.5 + 0.5 * it) (a move's ends each their own, "
+      "the lower for both), evidence = 1 - exp(-v / evidence_voxels), v = the object's occupied "
+      "evidence_voxel cubes (the surface it shows): a change a few voxels large is mostly a fragment, a "
+      "leftover or noise.";
   s.inputs = {{"objects", "objects", "changed objects of all missions"},
               {"descriptors", "descriptors", "one descriptor per object"},
               {"groups", "groups", "descriptor groups (soft or hard constraint)", true}};
@@ -206,6 +211,14 @@ StageInfo info() {
                       "other object's points within this distance span a surface around it (a sparse scanner's rings) and it "
                       "lies within shape_distance / 2 of that surface; 0 = points only")
           .range(0.0, 1.0).unit("m"),
+      ParamSpec::real("evidence_voxel", 0.1, "cube edge for measuring the surface an object shows (confidence)")
+          .range(0.01, 1.0)
+          .unit("m"),
+      ParamSpec::real("evidence_voxels", 40.0,
+                      "confidence = evidence x (0.5 + 0.5 x the matching and group terms), evidence = "
+                      "1 - exp(-v / evidence_voxels), v = the object's occupied evidence_voxel cubes (0.63 at "
+                      "this many); 0 = the matching and group terms alone")
+          .range(0.0, 1e6),
       ParamSpec::real("max_lift", 0.15, "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than this, relative to the floors, when registered; 0 = off")
           .range(0.0, 100.0).unit("m"),
       ParamSpec::real("max_tilt", 20.0, "floor gate: nor tilted by more than this (180 = off)").range(1.0, 180.0).unit("deg"),

@@ -432,3 +432,36 @@ TEST(MatchWeighted, FloorGateMeasuresLiftFromTheFloorsAndTilt) {
   t.translation().z() = 5.0;
   EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.15, 20.0)) << "a floor unknown: no gate";
 }
+
+// Confidence scales with the surface an object shows: a removed object of
+// a few voxels (a fragment, a leftover) is less sure than one of many, the
+// rest alike; evidence_voxels = 0 gives both the unscaled value.
+TEST(MatchWeighted, ConfidenceGrowsWithTheSurfaceShown) {
+  Scene s;
+  s.objects.missions = {"A", "B"};
+  std::vector<Eigen::Vector3f> wall, speck;
+  for (int x = 0; x < 20; ++x)
+    for (int z = 0; z < 10; ++z) wall.emplace_back(0.1f * x + 0.05f, 0.05f, 0.1f * z + 0.05f);  // 200 cubes
+  for (int x = 0; x < 3; ++x) speck.emplace_back(20.0f + 0.1f * x + 0.05f, 0.05f, 0.05f);       // 3 cubes
+  const int big = s.add_points(0, wall, chair);
+  const int small = s.add_points(0, speck, chair);
+  const Groups g = groups_of({big, small}, {0, 0}, {1.0, 1.0});
+  const Matches on = run_stage(s, no_shape_check, &g);
+  ASSERT_EQ(on.find(big)->status, ChangeStatus::removed);
+  ASSERT_EQ(on.find(small)->status, ChangeStatus::removed);
+  EXPECT_NEAR(on.find(big)->confidence, 1.0 - std::exp(-200.0 / 40.0), 1e-9);
+  EXPECT_NEAR(on.find(small)->confidence, 1.0 - std::exp(-3.0 / 40.0), 1e-9);
+  auto off_params = no_shape_check;
+  off_params["evidence_voxels"] = 0.0;
+  const Matches off = run_stage(s, off_params, &g);
+  EXPECT_DOUBLE_EQ(off.find(big)->confidence, 1.0) << "no candidate, sure group: the unscaled value";
+  EXPECT_DOUBLE_EQ(off.find(small)->confidence, 1.0);
+
+  WeightedMatchConfig cfg;
+  cfg.evidence_voxels = 40.0;
+  Object o;
+  o.points.xyz = wall;
+  EXPECT_NEAR(surface_evidence(o, cfg), 1.0 - std::exp(-200.0 / 40.0), 1e-12);
+  cfg.evidence_voxel = 1.0;  // the whole wall in two 1 m cubes
+  EXPECT_NEAR(surface_evidence(o, cfg), 1.0 - std::exp(-2.0 / 40.0), 1e-12);
+}

@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <unordered_set>
 
 namespace lista::matching {
 
@@ -145,6 +146,19 @@ struct UnionFind {
 };
 
 }  // namespace
+
+double surface_evidence(const Object& object, const WeightedMatchConfig& cfg) {
+  if (cfg.evidence_voxels <= 0.0) return 1.0;
+  const double inv = 1.0 / cfg.evidence_voxel;
+  std::unordered_set<uint64_t> cubes;
+  cubes.reserve(object.points.size());
+  for (const auto& p : object.points.xyz) {
+    const Eigen::Vector3d k = (p.cast<double>() * inv).array().floor();
+    cubes.insert((uint64_t(uint32_t(int32_t(k.x())) & 0x1fffff) << 42) |
+                 (uint64_t(uint32_t(int32_t(k.y())) & 0x1fffff) << 21) | uint64_t(uint32_t(int32_t(k.z())) & 0x1fffff));
+  }
+  return 1.0 - std::exp(-double(cubes.size()) / cfg.evidence_voxels);
+}
 
 Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptors,
                        const Groups* groups, const WeightedMatchConfig& cfg, std::string* warning,
@@ -287,6 +301,9 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
       const double alone = had_candidate[i] ? std::clamp(best_rejected[i] / max_cost, 0.0, 1.0) : 1.0;
       c.confidence = 0.5 * alone + 0.5 * g;
     }
+    // A change is as sure as the surface it shows: a few voxels are mostly
+    // a fragment, a leftover or noise. The terms above count for half.
+    if (cfg.evidence_voxels > 0.0) c.confidence = surface_evidence(o, cfg) * (0.5 + 0.5 * c.confidence);
     c.confidence = std::clamp(c.confidence, 0.0, 1.0);
     std::vector<size_t> members = chain_members[chains.root(i)];
     std::sort(members.begin(), members.end(), [&](size_t x, size_t y) {
