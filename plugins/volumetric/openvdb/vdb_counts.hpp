@@ -1,9 +1,8 @@
 // A voxel's hit and miss counters packed in one 32-bit grid value (the
 // map's only per-voxel storage): hits in the high 16 bits, misses in the
 // low 16, each saturating at 65535. A voxel gets at most one update per
-// scan, and the clamped log-odds stop moving after a handful of updates, so
-// saturation changes a voxel's state only for a near tie of over 65535 hits
-// and misses within one mission.
+// scan, so a count saturates only where more than 65535 scans of one
+// mission saw the voxel; only there can its state differ from exact counts.
 #pragma once
 
 #include <algorithm>

@@ -25,8 +25,7 @@
 //    for voxels whose state flipped within one mission;
 //  - memory: 4 bytes per observed voxel (the counters are the map; no
 //    log-odds grid beside them). A count saturates at 65535 scans of one
-//    mission per voxel, where log-odds clamped after a handful of updates
-//    long ago (a tie of over 65535 hits and misses would be needed to tell).
+//    mission per voxel (vdb_counts.hpp).
 #include "vdb_occupancy.hpp"
 
 #include "vdb_counts.hpp"
