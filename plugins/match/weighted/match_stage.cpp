@@ -171,11 +171,10 @@ StageInfo info() {
       "(match = partner in the next mission, else the previous one); an unmatched object is 'removed' when "
       "it changed against the next mission (or is in the first), 'added' when only against the previous one "
       "(or is in the last). history chains matches across all missions. Confidence of a move = 0.5 * (1 - "
-      "ambiguity) + 0.5 * group confidence, ambiguity = w / (cost of the best rival pair of either end), "
-      "the lower of its two ends' for both (one move, one confidence); "
+      "ambiguity) + 0.5 * group confidence, ambiguity = w / (cost of the best rival pair of either end); "
       "of an unmatched object = 0.5 * min(1, cheapest rejected candidate cost / max_cost; 1 if none) + "
-      "0.5 * group confidence; either then becomes evidence * (0.5 + 0.5 * it) (a move's ends each their own, "
-      "the lower for both), evidence = 1 - exp(-v / evidence_voxels), v = the object's occupied "
+      "0.5 * group confidence; either then becomes evidence * (0.5 + 0.5 * it) (a move's ends each their own; "
+      "both ends then carry the lower: one move, one confidence), evidence = 1 - exp(-v / evidence_voxels), v = the object's occupied "
       "evidence_voxel cubes (the surface it shows): a change a few voxels large is mostly a fragment, a "
       "leftover or noise.";
   s.inputs = {{"objects", "objects", "changed objects of all missions"},
