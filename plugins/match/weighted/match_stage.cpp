@@ -173,7 +173,7 @@ StageInfo info() {
       "(or is in the last). history chains matches across all missions. Confidence of a move = 0.5 * (1 - "
       "ambiguity) + 0.5 * group confidence, ambiguity = w / (cost of the best rival pair of either end); "
       "of an unmatched object = 0.5 * min(1, cheapest rejected candidate cost / max_cost; 1 if none) + "
-      "0.5 * group confidence; either then becomes evidence * (0.5 + 0.5 * it) (a move's ends each their own; "
+      "0.5 * group confidence; either then becomes evidence * (0.5 + 0.5 * it), a move's also times its shape fit (a move's ends each their own; "
       "both ends then carry the lower: one move, one confidence), evidence = 1 - exp(-v / evidence_voxels), v = the object's occupied "
       "evidence_voxel cubes (the surface it shows): a change a few voxels large is mostly a fragment, a "
       "leftover or noise.";
@@ -214,7 +214,7 @@ StageInfo info() {
           .range(0.01, 1.0)
           .unit("m"),
       ParamSpec::real("evidence_voxels", 40.0,
-                      "confidence = evidence x (0.5 + 0.5 x the matching and group terms), evidence = "
+                      "confidence = evidence x (0.5 + 0.5 x the matching and group terms), x the shape fit for a move; evidence = "
                       "1 - exp(-v / evidence_voxels), v = the object's occupied evidence_voxel cubes (0.63 at "
                       "this many); 0 = the matching and group terms alone")
           .range(0.0, 1e6),

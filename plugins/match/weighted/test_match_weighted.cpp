@@ -465,3 +465,35 @@ TEST(MatchWeighted, ConfidenceGrowsWithTheSurfaceShown) {
   cfg.evidence_voxel = 1.0;  // the whole wall in two 1 m cubes
   EXPECT_NEAR(surface_evidence(o, cfg), 1.0 - std::exp(-2.0 / 40.0), 1e-12);
 }
+
+// A move is also as sure as its shape fit: the same move fitting 0.9
+// instead of 1 keeps 0.9 of its confidence, at both ends.
+TEST(MatchWeighted, AMovesConfidenceScalesWithItsFit) {
+  Scene s;
+  s.objects.missions = {"A", "B"};
+  std::vector<Eigen::Vector3f> wall_a, wall_b;
+  for (int x = 0; x < 20; ++x)
+    for (int z = 0; z < 10; ++z) {
+      wall_a.emplace_back(0.1f * x + 0.05f, 0.05f, 0.1f * z + 0.05f);
+      wall_b.emplace_back(0.1f * x + 3.05f, 0.05f, 0.1f * z + 0.05f);
+    }
+  const int a = s.add_points(0, wall_a, chair);
+  const int b = s.add_points(1, wall_b, chair);
+  WeightedMatchConfig cfg;
+  cfg.shape_weight = 0.5;
+  cfg.min_shape_fit = 0.8;
+  cfg.evidence_voxels = 40.0;
+  auto with_fit = [&](double f) {
+    return match_weighted(s.objects, s.descriptors, nullptr, cfg, nullptr,
+                          [f](const std::vector<std::pair<const Object*, const Object*>>& pairs) {
+                            return std::vector<double>(pairs.size(), f);
+                          });
+  };
+  const Matches sure = with_fit(1.0), less = with_fit(0.9);
+  ASSERT_EQ(sure.find(a)->match, b);
+  ASSERT_EQ(less.find(a)->match, b);
+  EXPECT_NEAR(less.find(a)->confidence, 0.9 * sure.find(a)->confidence, 1e-12);
+  EXPECT_DOUBLE_EQ(less.find(a)->confidence, less.find(b)->confidence);
+  cfg.evidence_voxels = 0.0;  // before 1.7.0: the fit is not a factor
+  EXPECT_DOUBLE_EQ(with_fit(0.9).find(a)->confidence, with_fit(1.0).find(a)->confidence);
+}

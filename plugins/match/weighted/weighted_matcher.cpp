@@ -189,6 +189,7 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
   std::vector<int> next(n_obj, -1), prev(n_obj, -1);
   std::vector<double> next_cost(n_obj, 0.0), prev_cost(n_obj, 0.0);
   std::vector<double> ambiguity(n_obj, 0.0);  // 0 = unambiguous, 1 = a rival as good
+  std::vector<double> move_fit(n_obj, 1.0);   // shape fit of the object's move(s), the lower; 1 = unchecked
   std::vector<bool> had_candidate(n_obj, false);
   std::vector<double> best_rejected(n_obj, std::numeric_limits<double>::max());
   UnionFind chains(n_obj);
@@ -252,6 +253,9 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
       const double w = pc.weighted(i, j);
       next[ia] = b[j]->id, next_cost[ia] = w;
       prev[jb] = a[i]->id, prev_cost[jb] = w;
+      const double pair_fit = 1.0 - pc.shape(i, j);
+      move_fit[ia] = std::min(move_fit[ia], pair_fit);
+      move_fit[jb] = std::min(move_fit[jb], pair_fit);
       chains.join(ia, jb);
       // Rivals: the next best partner of either end.
       double rival = std::numeric_limits<double>::max();
@@ -301,9 +305,13 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
       const double alone = had_candidate[i] ? std::clamp(best_rejected[i] / max_cost, 0.0, 1.0) : 1.0;
       c.confidence = 0.5 * alone + 0.5 * g;
     }
-    // A change is as sure as the surface it shows: a few voxels are mostly
-    // a fragment, a leftover or noise. The terms above count for half.
-    if (cfg.evidence_voxels > 0.0) c.confidence = surface_evidence(o, cfg) * (0.5 + 0.5 * c.confidence);
+    // A change is as sure as the surface it shows (a few voxels are mostly
+    // a fragment, a leftover or noise), a move also as its shape fit. The
+    // terms above count for half.
+    if (cfg.evidence_voxels > 0.0) {
+      c.confidence = surface_evidence(o, cfg) * (0.5 + 0.5 * c.confidence);
+      if (c.status == ChangeStatus::moved) c.confidence *= move_fit[i];
+    }
     c.confidence = std::clamp(c.confidence, 0.0, 1.0);
     std::vector<size_t> members = chain_members[chains.root(i)];
     std::sort(members.begin(), members.end(), [&](size_t x, size_t y) {

@@ -28,13 +28,14 @@
 // clearly closer or more similar than the worst candidate to survive its
 // penalty.
 //
-// Confidence = evidence x (0.5 + 0.5 x c), the lower of a move's two ends'.
+// Confidence = evidence x (0.5 + 0.5 x c), a move's also x its shape fit,
+// the lower of a move's two ends'.
 // c of a move: 0.5 x (1 - ambiguity) + 0.5 x group confidence; of an
 // unmatched object: 0.5 x how far its nearest rejected candidate stayed
 // from the gate + 0.5 x group confidence. Evidence: how much surface the
 // object shows (on 34 sets unmatched reports under 300 points were right
 // 7 % of the time, over 3000 points 87 %, while c ranked them backwards;
-// docs/matching.md, "Confidence").
+// the fit ranks moves better still; docs/matching.md, "Confidence").
 //
 // Shape check (not in the paper). Two changes of similar size and
 // descriptor (a removed desk, an added desk of another model) are not a move
@@ -73,8 +74,9 @@ struct WeightedMatchConfig {
   double min_shape_fit = 0.0;       // shape gate: smallest fit of a pair; 0 = off
   // Evidence 1 - exp(-v / evidence_voxels), v = the object's occupied
   // evidence_voxel cubes (its observed surface); confidence = evidence x
-  // (0.5 + 0.5 x the matching and group terms). evidence_voxels = 0: the
-  // matching and group terms alone (match.weighted before 1.7.0).
+  // (0.5 + 0.5 x the matching and group terms), x the shape fit for a move.
+  // evidence_voxels = 0: the matching and group terms alone
+  // (match.weighted before 1.7.0).
   double evidence_voxel = 0.1;      // m
   double evidence_voxels = 0.0;
 };
