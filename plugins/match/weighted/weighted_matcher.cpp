@@ -4,6 +4,7 @@
 
 #include <lista/error.hpp>
 #include <lista_geometry/object_geometry.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -152,11 +153,8 @@ double surface_evidence(const Object& object, const WeightedMatchConfig& cfg) {
   const double inv = 1.0 / cfg.evidence_voxel;
   std::unordered_set<uint64_t> cubes;
   cubes.reserve(object.points.size());
-  for (const auto& p : object.points.xyz) {
-    const Eigen::Vector3d k = (p.cast<double>() * inv).array().floor();
-    cubes.insert((uint64_t(uint32_t(int32_t(k.x())) & 0x1fffff) << 42) |
-                 (uint64_t(uint32_t(int32_t(k.y())) & 0x1fffff) << 21) | uint64_t(uint32_t(int32_t(k.z())) & 0x1fffff));
-  }
+  for (const auto& p : object.points.xyz)
+    cubes.insert(geometry::voxel_key((p.cast<double>() * inv).array().floor().cast<int>()));
   return 1.0 - std::exp(-double(cubes.size()) / cfg.evidence_voxels);
 }
 
