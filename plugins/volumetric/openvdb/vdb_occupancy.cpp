@@ -126,7 +126,7 @@ void add_mask(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& mask, 
   }
 }
 
-void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, ThreadWork& work, SharedCounts& counts) {
+void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, ThreadWork& work, SharedCounts& shared) {
   const PointSet& pts = *mission.scans[i].points;
   const double inv_res = 1.0 / c.resolution;
   const double max_range = c.max_range > 0 ? c.max_range * inv_res : 0.0;
@@ -155,8 +155,8 @@ void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, Thre
     });
   }
   {
-    std::lock_guard<std::mutex> lock(counts.mutex);
-    auto acc = counts.grid->getAccessor();
+    std::lock_guard<std::mutex> lock(shared.mutex);
+    auto acc = shared.grid->getAccessor();
     add_mask(acc, work.hits.tree(), nullptr, true);
     add_mask(acc, work.free.tree(), &work.hits.tree(), false);
   }
