@@ -197,6 +197,9 @@ void add_scan_pose_ate(const Truth& truth, const std::string& run_dir, std::vect
 
 }  // namespace
 
+namespace {
+
+// AUC of (score, right) pairs as ConfidenceScore defines it.
 double auc_of(const std::vector<std::pair<double, bool>>& scored) {
   std::vector<double> right, wrong;
   for (const auto& [score, ok] : scored) (ok ? right : wrong).push_back(score);
@@ -210,8 +213,6 @@ double auc_of(const std::vector<std::pair<double, bool>>& scored) {
   }
   return sum / (double(right.size()) * double(wrong.size()));
 }
-
-namespace {
 
 ConfidenceScore score_confidence(const io::Report& report, const std::vector<ObjectVerdict>& verdicts) {
   std::map<std::pair<std::string, int>, bool> right;  // (mission, report id) -> right

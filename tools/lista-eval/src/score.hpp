@@ -103,9 +103,6 @@ struct ConfidenceScore {
   double auc_unpaired = kUndefined;  // removed and added reports
 };
 
-// AUC of (score, right) pairs as ConfidenceScore defines it.
-double auc_of(const std::vector<std::pair<double, bool>>& scored);
-
 struct Score {
   std::vector<std::string> missions;
   PointScore points;
