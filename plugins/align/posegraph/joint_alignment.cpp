@@ -64,6 +64,110 @@ std::vector<std::string> unpinned_placements(const MissionSet& set, const std::v
   return out;
 }
 
+// Missions linked to the first through inter-mission closures.
+std::vector<char> linked_to_first(size_t missions, const std::vector<Keyframe>& kf,
+                                  const std::vector<Closure>& closures) {
+  std::vector<std::vector<size_t>> links(missions);
+  for (const auto& c : closures) {
+    const size_t a = kf[c.reference].mission, b = kf[c.query].mission;
+    if (a == b) continue;
+    links[a].push_back(b);
+    links[b].push_back(a);
+  }
+  std::vector<char> linked(missions, 0);
+  std::vector<size_t> todo{0};
+  linked[0] = 1;
+  while (!todo.empty()) {
+    const size_t m = todo.back();
+    todo.pop_back();
+    for (size_t k : links[m])
+      if (!linked[k]) linked[k] = 1, todo.push_back(k);
+  }
+  return linked;
+}
+
+// Mission pairs linked by fewer than check_below closures are checked on
+// their whole maps: two or three closures can agree on a half-turned fit of
+// a symmetric room. A placement that clearly fits the maps better replaces
+// the pair's closures (in `closures` and `verified`), with a warning.
+// Returns how many pairs were replaced.
+size_t recheck_weak_links(const MissionSet& set, const std::vector<Keyframe>& kf, std::vector<Closure>& closures,
+                          std::vector<Closure>& verified, const JointAlignmentOptions& o, Context& ctx) {
+  std::map<std::pair<size_t, size_t>, std::vector<size_t>> by_pair;
+  for (size_t i = 0; i < closures.size(); ++i) {
+    const size_t a = kf[closures[i].reference].mission, b = kf[closures[i].query].mission;
+    if (a != b) by_pair[{a, b}].push_back(i);
+  }
+  size_t replaced = 0;
+  for (const auto& [pair, list] : by_pair) {
+    if (list.size() >= size_t(std::max(0, o.global.check_below))) continue;
+    ctx.throw_if_cancelled();
+    const Closure* tightest = &closures[list.front()];
+    for (size_t i : list)
+      if (closures[i].rmse < tightest->rmse) tightest = &closures[i];
+    const Eigen::Isometry3d incumbent = implied_map_transform(kf, *tightest);
+    const auto better = global_search(kf, pair.first, pair.second, o.global, o.verify, ctx.threads(), incumbent);
+    if (!better) continue;
+    auto of_pair = [&](const Closure& c) {
+      return kf[c.reference].mission == pair.first && kf[c.query].mission == pair.second;
+    };
+    closures.erase(std::remove_if(closures.begin(), closures.end(), of_pair), closures.end());
+    verified.erase(std::remove_if(verified.begin(), verified.end(), of_pair), verified.end());
+    closures.insert(closures.end(), better->closures.begin(), better->closures.end());
+    verified.insert(verified.end(), better->closures.begin(), better->closures.end());
+    ++replaced;
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "the %zu loop closure(s) between '%s' and '%s' were replaced by a whole-map placement %.0f deg "
+                  "from theirs: %.0f %% of the plan view lies on the other map under it against %.0f %% under the "
+                  "closures' (a near-symmetric place?); check the change maps",
+                  list.size(), set.missions[pair.first].name.c_str(), set.missions[pair.second].name.c_str(),
+                  rotation_angle(better->reference_T_query.linear().transpose() * incumbent.linear()) * 180.0 / M_PI,
+                  100.0 * better->plan_score, 100.0 * better->incumbent_plan_score);
+    ctx.warn(text);
+  }
+  return replaced;
+}
+
+// Each mission the closures leave apart from the first is searched for on
+// the maps of the linked missions (global_search.hpp); the best placement
+// (highest verified overlap) links it, with a warning, and may in turn place
+// others. Returns the closures it found.
+std::vector<Closure> link_unplaced_missions(const MissionSet& set, const std::vector<Keyframe>& kf,
+                                            const std::vector<Closure>& closures, const JointAlignmentOptions& o,
+                                            Context& ctx) {
+  const size_t n = set.missions.size();
+  std::vector<Closure> all = closures, found;
+  for (bool progress = true; progress;) {
+    progress = false;
+    const std::vector<char> linked = linked_to_first(n, kf, all);
+    for (size_t m = 1; m < n && !progress; ++m) {
+      if (linked[m]) continue;
+      ctx.throw_if_cancelled();
+      std::optional<GlobalPlacement> best;
+      size_t best_on = 0;
+      for (size_t a = 0; a < n; ++a) {
+        if (!linked[a]) continue;
+        auto p = global_search(kf, a, m, o.global, o.verify, ctx.threads());
+        if (p && (!best || p->overlap > best->overlap)) best = std::move(p), best_on = a;
+      }
+      if (!best) continue;
+      char text[480];
+      std::snprintf(text, sizeof text,
+                    "mission '%s' was placed on '%s' by a whole-map search, since no Scan Context candidate linked it "
+                    "(too few scans taken near the same spots?): the maps registered with %.0f %% overlap, inlier "
+                    "RMSE %.3f m (%.0f %% of its plan view on the other's); check its change map",
+                    set.missions[m].name.c_str(), set.missions[best_on].name.c_str(), 100.0 * best->overlap,
+                    best->rmse, 100.0 * best->plan_score);
+      ctx.warn(text);
+      all.insert(all.end(), best->closures.begin(), best->closures.end());
+      found.insert(found.end(), best->closures.begin(), best->closures.end());
+      progress = true;
+    }
+  }
+  return found;
+}
+
 }  // namespace
 
 
@@ -131,7 +235,7 @@ std::vector<Eigen::Isometry3d> initial_transforms(const MissionSet& set, const s
   if (!isolated.empty())
     throw Error("mission " + isolated + " links to no other mission: no verified loop closure (" +
                 std::to_string(report.candidates) + " candidates, " + std::to_string(report.verified) +
-                " verified in all). Most often the poses do not fit the scans (scans not in the sensor frame, poses in "
+                " verified in all, and no placement of its whole map verified). Most often the poses do not fit the scans (scans not in the sensor frame, poses in "
                 "another order); else the missions do not overlap, or relax max_descriptor_distance / min_overlap");
   if (!detached.empty())
     throw Error("mission " + detached + " is not connected to the reference mission '" + set.missions[0].name +
@@ -247,12 +351,21 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   ctx.info(std::to_string(kf.size()) + " keyframes, " + std::to_string(candidates.size()) +
            " Scan Context candidates after " + elapsed());
   ctx.throw_if_cancelled();
-  const std::vector<Closure> verified = verify_candidates(kf, candidates, {}, o.verify, threads);
+  std::vector<Closure> verified = verify_candidates(kf, candidates, {}, o.verify, threads);
   report.verified = verified.size();
   std::vector<AmbiguousPlacement> ambiguous;
   std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency, &ambiguous);
   for (const std::string& w : unpinned_placements(set, kf, closures, ambiguous)) ctx.warn(w);
   report.consistent = closures.size();
+  if (o.global_search) {
+    report.global_replaced = recheck_weak_links(set, kf, closures, verified, o, ctx);
+    const std::vector<Closure> found = link_unplaced_missions(set, kf, closures, o, ctx);
+    report.global = found.size();
+    // Among the verified too: after the first solve the closures are drawn
+    // again from those the solution agrees with.
+    verified.insert(verified.end(), found.begin(), found.end());
+    closures.insert(closures.end(), found.begin(), found.end());
+  }
   for (const auto& c : closures) {
     if (kf[c.reference].mission == kf[c.query].mission) {
       ++report.intra;

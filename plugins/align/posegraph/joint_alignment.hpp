@@ -4,6 +4,7 @@
 // stage so that tests can drive it with plain options.
 #pragma once
 
+#include "global_search.hpp"
 #include "loop_closures.hpp"
 #include "pose_graph.hpp"
 #include "scan_odometry.hpp"
@@ -21,6 +22,10 @@ struct JointAlignmentOptions {
   CandidateOptions candidates;
   VerifyOptions verify;
   ConsistencyOptions consistency;
+  // A mission left unlinked by the Scan Context closures is searched for on
+  // the linked missions' maps (global_search.hpp) unless this is off.
+  bool global_search = true;
+  GlobalSearchOptions global;
   PoseGraphOptions graph;
   ScanEdgeOptions scan_edges;
   double odometry_sigma_translation = 0.02;  // m per consecutive-scan edge
@@ -39,6 +44,8 @@ struct JointAlignmentOptions {
 struct JointAlignmentReport {
   size_t keyframes = 0, candidates = 0, verified = 0, consistent = 0, proximity = 0, final_closures = 0;
   size_t intra = 0;  // consistent closures within one mission
+  size_t global = 0;  // closures found by the whole-map search
+  size_t global_replaced = 0;  // weakly linked mission pairs whose closures the whole maps overruled
   size_t scan_edges_tried = 0, scan_edges = 0;  // scan-to-scan registrations tried / accepted
   std::vector<size_t> closures_per_mission;  // consistent closures to other missions
   double initial_cost = 0.0, final_cost = 0.0;

@@ -43,6 +43,7 @@ JointAlignmentOptions options_from(const Params& p) {
   // Coarse clouds match less tightly than fine ones: refuse early only well below the bar.
   o.verify.registration.min_coarse_overlap = 0.6 * o.verify.min_overlap;
   o.verify.max_rmse = p.get<double>("max_rmse");
+  o.global_search = p.get<bool>("global_search");
   o.consistency.distance = p.get<double>("consistency_distance");
   o.consistency.angle = p.get<double>("consistency_angle") * kDeg;
   o.odometry_sigma_translation = p.get<double>("odometry_sigma_translation");
@@ -88,6 +89,8 @@ class PoseGraphStage : public Stage {
     ctx.record("closures_consistent", static_cast<double>(report.consistent));
     ctx.record("closures_intra", static_cast<double>(report.intra));
     ctx.record("closures_proximity", static_cast<double>(report.proximity));
+    ctx.record("closures_global", static_cast<double>(report.global));
+    ctx.record("pairs_replaced_by_global", static_cast<double>(report.global_replaced));
     ctx.record("scan_edges", static_cast<double>(report.scan_edges));
     ctx.record("scan_edges_left_out", static_cast<double>(report.scan_edges_left_out));
     if (report.scan_edges > 0) {
@@ -118,7 +121,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.2.1";
+  s.version = "1.3.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
@@ -130,7 +133,10 @@ StageInfo posegraph_stage_info() {
       "under every column shift and the best under max_descriptor_distance becomes a candidate with its "
       "yaw. Candidates are verified by coarse-to-fine GICP between the submaps and refused below "
       "min_overlap (checked both ways, so a floor matched to a floor alone is refused) or above max_rmse; "
-      "a vote per mission pair drops closures that disagree with the best supported one. Missions are placed by a spanning tree over closures from the first (reference) "
+      "a vote per mission pair drops closures that disagree with the best supported one. A mission left unlinked "
+      "is searched for on the linked missions' whole maps (global_search): their plan views (what stands 0.3-2.5 m "
+      "over the ground) correlated over every yaw and offset, the best placements verified keyframe to keyframe "
+      "like closures, with a warning naming it. Missions are placed by a spanning tree over closures from the first (reference) "
       "mission; a mission without closures is an error naming it. The pose graph holds every mission's "
       "odometry chain (relative poses of consecutive scans from poses.txt), scan-to-scan edges (each scan "
       "registered by GICP onto the next scan_edges scans, from the odometry guess (the ground left out "
@@ -172,6 +178,10 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("inlier_distance", 0.3, "distance counted as overlap in the fitness check").range(0.01, 10).unit("m"),
       ParamSpec::real("min_overlap", 0.5, "share of each submap's points with a partner in the other (both ways) to accept a closure").range(0, 1),
       ParamSpec::real("max_rmse", 0.15, "inlier RMSE above which a closure is refused").range(0.001, 10).unit("m"),
+      ParamSpec::boolean("global_search", true,
+                         "a mission that no Scan Context closure links is searched for on the linked missions' maps: "
+                         "plan views correlated over every yaw and offset, the best placements verified keyframe to "
+                         "keyframe (missions of a few scans seldom revisit a spot closely enough for Scan Context)"),
       ParamSpec::real("consistency_distance", 2.0, "closures of one mission pair agree within this").range(0.01, 100).unit("m"),
       ParamSpec::real("consistency_angle", 10.0, "and within this rotation").range(0.1, 180).unit("deg"),
       ParamSpec::real("odometry_sigma_translation", 0.02, "std. dev. of an odometry edge").range(1e-5, 10).unit("m"),

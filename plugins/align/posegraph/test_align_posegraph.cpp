@@ -1,3 +1,4 @@
+#include "global_search.hpp"
 #include "joint_alignment.hpp"
 #include "loop_closures.hpp"
 #include "pose_graph.hpp"
@@ -151,6 +152,102 @@ TEST(AlignPosegraph, MissionWithoutOverlapIsAnErrorNamingIt) {
     EXPECT_NE(std::string(e.what()).find("'field'"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("links to no other mission"), std::string::npos) << e.what();
   }
+}
+
+// Missions of a few scans each, taken at scattered spots of the hall (a
+// survey of stations): no two keyframes of different missions stand close
+// enough for Scan Context, yet both maps show the whole hall.
+MissionSet scattered_pair(int furniture = 40) {
+  const Scene hall = make_hall(kHallX, kHallY, furniture, 7);
+  const auto loop_a = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
+  const auto loop_b = loop_route(kHallX, kHallY, 4.0, 1.0, 17.0, 0.6);
+  std::vector<Eigen::Isometry3d> truth_a, truth_b, poses_b;
+  for (size_t i : {0, 34}) truth_a.push_back(loop_a[i]);
+  for (size_t i : {0, 34}) truth_b.push_back(loop_b[i]);
+  for (const auto& t : truth_b) poses_b.push_back(offset(6, -4, 0.3, 120) * t);
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, truth_a, truth_a, 1));
+  set.missions.push_back(make_mission("b", hall, truth_b, poses_b, 2));
+  return set;
+}
+
+TEST(AlignPosegraph, FewScanMissionsArePlacedByAWholeMapSearch) {
+  const MissionSet set = scattered_pair();
+  Params off = light();
+  off.set("global_search", false);
+  BasicContext quiet("align", 2, 0);
+  try {
+    run_stage(set, quiet, off);
+    FAIL() << "Scan Context alone was expected to find nothing here";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'b' links to no other mission"), std::string::npos) << e.what();
+  }
+
+  BasicContext ctx("align", 2, 0);
+  ctx.min_level = LogLevel::info;
+  const auto& aligned = run_stage(set, ctx).at("missions").as<MissionSet>();
+  const auto after = trajectory_error(aligned);
+  ASSERT_TRUE(after);
+  EXPECT_LT(after->rmse, 0.05);
+  EXPECT_GT(ctx.info.metrics["align"].at("closures_global"), 0.0);
+  bool warned = false;
+  for (const auto& m : ctx.messages)
+    warned = warned || m.find("mission 'b' was placed on 'a' by a whole-map search") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
+TEST(GlobalSearch, AnEmptyRectangularHallIsRefusedNotGuessed) {
+  // Without furniture the hall fits its own map turned by half a turn as
+  // well: the search must not pick one of the two.
+  const MissionSet set = scattered_pair(0);
+  BasicContext ctx("align", 2, 0);
+  try {
+    run_stage(set, ctx);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'b' links to no other mission"), std::string::npos) << e.what();
+  }
+  // It is the rival that refuses it: without the margin a placement passes.
+  const auto kf = make_keyframes(set, KeyframeOptions{}, 2);
+  GlobalSearchOptions o;
+  EXPECT_FALSE(global_search(kf, 0, 1, o, VerifyOptions{}, 2));
+  o.margin = 0.0;
+  EXPECT_TRUE(global_search(kf, 0, 1, o, VerifyOptions{}, 2));
+}
+
+TEST(GlobalSearch, OverrulesAHalfTurnedIncumbentAndKeepsATrueOne) {
+  // What recheck of a weakly linked pair sees: closures that agree on the
+  // half-turned fit of the hall (turned about its centre), or on the truth.
+  const MissionSet set = scattered_pair();
+  const auto kf = make_keyframes(set, KeyframeOptions{}, 2);
+  const Eigen::Isometry3d truth = offset(6, -4, 0.3, 120).inverse();
+  const Eigen::Isometry3d half_turn =
+      offset(kHallX / 2, kHallY / 2, 0, 0) * offset(0, 0, 0, 180) * offset(-kHallX / 2, -kHallY / 2, 0, 0) * truth;
+  const auto better = global_search(kf, 0, 1, GlobalSearchOptions{}, VerifyOptions{}, 2, half_turn);
+  ASSERT_TRUE(better);
+  const Eigen::Vector3d at = set.missions[1].scans[1].pose.translation();
+  EXPECT_LT((better->reference_T_query * at - truth * at).norm(), 0.3);
+  EXPECT_GT(better->plan_score, 1.1 * better->incumbent_plan_score);
+  EXPECT_FALSE(better->closures.empty());
+  EXPECT_FALSE(global_search(kf, 0, 1, GlobalSearchOptions{}, VerifyOptions{}, 2, truth));
+}
+
+TEST(GlobalSearch, BestPlanViewPlacementUndoesTheMapOffset) {
+  const MissionSet set = scattered_pair();
+  KeyframeOptions ko;
+  const auto kf = make_keyframes(set, ko, 2);
+  const auto placements = plan_view_placements(kf, 0, 1, GlobalSearchOptions{}, 2);
+  ASSERT_FALSE(placements.empty());
+  // b's map is its world turned by 120 deg and moved; the best placement puts it back.
+  const Eigen::Isometry3d truth = offset(6, -4, 0.3, 120).inverse();
+  const Eigen::Isometry3d& best = placements.front().reference_T_query;
+  const Eigen::Vector3d at = set.missions[1].scans[1].pose.translation();
+  EXPECT_LT((best * at - truth * at).head<2>().norm(), 0.5);
+  EXPECT_LT(rotation_angle(best.linear().transpose() * truth.linear()) * 180 / M_PI, 2.0);
+  EXPECT_NEAR(best.translation().z(), truth.translation().z(), 0.2);
+  EXPECT_GT(placements.front().plan_score, 0.8);
+  for (size_t i = 1; i < placements.size(); ++i)
+    EXPECT_LE(placements[i].plan_score, placements[i - 1].plan_score);
 }
 
 TEST(AlignPosegraph, SingleMissionPassesThrough) {

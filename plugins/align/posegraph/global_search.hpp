@@ -1,0 +1,71 @@
+// Whole-map search for a mission that Scan Context could not link to any
+// other: the two missions' maps seen from above (walls, furniture, vehicles:
+// what stands between band_low and band_high over the ground) are correlated
+// over every yaw and horizontal offset, coarse then fine, and the best
+// placements are verified keyframe to keyframe by the same registration and
+// bars as any loop closure. Scan Context needs two keyframes taken near one
+// spot; missions of a few scans each (a survey of scattered stations, a
+// sparse log) rarely have such a pair, while their maps still overlap.
+#pragma once
+
+#include "loop_closures.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+namespace lista::align {
+
+struct GlobalSearchOptions {
+  double cell = 0.25;          // m: plan-view cells of the fine search
+  double coarse_cell = 1.0;    // m: of the search over every yaw; grown so a map spans at most max_coarse_cells
+  int max_coarse_cells = 80;
+  double yaw_step = 3.0 * M_PI / 180.0;  // rad, coarse search
+  double band_low = 0.3;       // m above a keyframe's ground: lower points (the ground) are left out
+  double band_high = 2.5;      // m: higher points (ceilings, canopies) too
+  int hypotheses = 8;          // best coarse placements refined and verified
+  // Whole-map registration bars. Maps seen from distant spots share fewer
+  // surfaces than two submaps from one spot, so the overlap asked (of the
+  // smaller map, within the registration's inlier distance) is lower than a
+  // closure's; and the registered placement's plan-view score must beat
+  // every distinct rival's by `margin` of itself.
+  double min_overlap = 0.3;
+  double max_rmse = 0.2;       // m
+  double margin = 0.1;
+  int max_pairs = 24;
+  // Mission pairs the loop closures link by fewer closures than this are
+  // checked against the whole maps too: two or three closures on a wrong,
+  // half-turned fit of a symmetric room agree with each other.
+  int check_below = 4;          // closures that hold the placement in the pose graph, spread over the query mission
+};
+
+// One placement of the query mission's map on the reference mission's.
+struct GlobalPlacement {
+  Eigen::Isometry3d reference_T_query = Eigen::Isometry3d::Identity();  // map to map
+  double plan_score = 0.0;   // share of the query's plan-view cells next to the reference's
+  double overlap = 0.0, rmse = 0.0;  // of the whole-map registration that verified it (the smaller map's share)
+  bool incumbent = false;            // the incumbent's own fit
+  double incumbent_plan_score = 0.0; // the incumbent's as given (not registered), when one was given
+  std::vector<Closure> closures;  // keyframe pairs that carry it into the pose graph
+};
+
+// Plan-view candidates, best first (at most options.hypotheses), before
+// verification. Exposed for tests.
+std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& keyframes, size_t reference,
+                                                  size_t query, const GlobalSearchOptions& options, int threads);
+
+// Each plan-view placement refined by registering the query mission's whole
+// map onto the reference's (verify's registration); of those that pass the
+// options' bars, the one with the best plan-view score afterwards, as
+// closures between keyframes, if it clearly beats every rival; none
+// otherwise. An `incumbent` (the placement
+// the loop closures chose) competes as one more: when it, or a placement
+// that agrees with it, fits best, or the best does not beat its plan-view
+// score as given by `margin`, none is returned either.
+std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyframes, size_t reference,
+                                             size_t query, const GlobalSearchOptions& options,
+                                             const VerifyOptions& verify, int threads,
+                                             const std::optional<Eigen::Isometry3d>& incumbent = std::nullopt);
+
+}  // namespace lista::align
