@@ -13,6 +13,22 @@ namespace lista::align {
 
 namespace {
 
+// Missions reachable from the first through `links` (per mission, the
+// missions it is linked to).
+std::vector<char> reachable_from_first(const std::vector<std::vector<size_t>>& links) {
+  std::vector<char> reached(links.size(), 0);
+  if (links.empty()) return reached;
+  std::vector<size_t> todo{0};
+  reached[0] = 1;
+  while (!todo.empty()) {
+    const size_t m = todo.back();
+    todo.pop_back();
+    for (size_t k : links[m])
+      if (!reached[k]) reached[k] = 1, todo.push_back(k);
+  }
+  return reached;
+}
+
 // Missions whose placement rests only on ambiguous pairs (a rival fit came
 // within the margin): not linked to the first mission through any pair the
 // maps decide. With many missions most pairs of a near-symmetric place are
@@ -31,15 +47,7 @@ std::vector<std::string> unpinned_placements(const MissionSet& set, const std::v
     decided[pair.first].push_back(pair.second);
     decided[pair.second].push_back(pair.first);
   }
-  std::vector<char> pinned(n, 0);
-  std::vector<size_t> todo{0};
-  pinned[0] = 1;
-  while (!todo.empty()) {
-    const size_t m = todo.back();
-    todo.pop_back();
-    for (size_t k : decided[m])
-      if (!pinned[k]) pinned[k] = 1, todo.push_back(k);
-  }
+  const std::vector<char> pinned = reachable_from_first(decided);
   std::vector<std::string> out;
   for (size_t m = 1; m < n; ++m) {
     if (pinned[m]) continue;
@@ -74,16 +82,7 @@ std::vector<char> linked_to_first(size_t missions, const std::vector<Keyframe>& 
     links[a].push_back(b);
     links[b].push_back(a);
   }
-  std::vector<char> linked(missions, 0);
-  std::vector<size_t> todo{0};
-  linked[0] = 1;
-  while (!todo.empty()) {
-    const size_t m = todo.back();
-    todo.pop_back();
-    for (size_t k : links[m])
-      if (!linked[k]) linked[k] = 1, todo.push_back(k);
-  }
-  return linked;
+  return reachable_from_first(links);
 }
 
 // Mission pairs linked by fewer than check_below closures are checked on
