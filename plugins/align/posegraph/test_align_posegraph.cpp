@@ -196,6 +196,22 @@ TEST(AlignPosegraph, FewScanMissionsArePlacedByAWholeMapSearch) {
   EXPECT_TRUE(warned);
 }
 
+TEST(GlobalSearch, PlacesEveryFewScanMissionOfThree) {
+  MissionSet set = scattered_pair();
+  const Scene hall = make_hall(kHallX, kHallY, 40, 7);
+  const auto loop_c = loop_route(kHallX, kHallY, 4.0, 1.0, 42.0, -0.5);
+  std::vector<Eigen::Isometry3d> truth_c, poses_c;
+  for (size_t i : {0, 30}) truth_c.push_back(loop_c[i]);
+  for (const auto& t : truth_c) poses_c.push_back(offset(-20, 9, -0.4, -75) * t);
+  set.missions.push_back(make_mission("c", hall, truth_c, poses_c, 3));
+  BasicContext ctx("align", 2, 0);
+  const auto& aligned = run_stage(set, ctx).at("missions").as<MissionSet>();
+  const auto after = trajectory_error(aligned);
+  ASSERT_TRUE(after);
+  EXPECT_LT(after->rmse, 0.05);
+  EXPECT_GT(ctx.info.metrics["align"].at("closures_global"), 0.0);
+}
+
 TEST(GlobalSearch, AnEmptyRectangularHallIsRefusedNotGuessed) {
   // Without furniture the hall fits its own map turned by half a turn as
   // well: the search must not pick one of the two.
