@@ -1,11 +1,12 @@
 // Whole-map search for a mission that Scan Context could not link to any
-// other: the two missions' maps seen from above (walls, furniture, vehicles:
-// what stands between band_low and band_high over the ground) are correlated
-// over every yaw and horizontal offset, coarse then fine, and the best
-// placements are verified keyframe to keyframe by the same registration and
-// bars as any loop closure. Scan Context needs two keyframes taken near one
-// spot; missions of a few scans each (a survey of scattered stations, a
-// sparse log) rarely have such a pair, while their maps still overlap.
+// other (or linked by too few closures to trust): the two missions' maps
+// seen from above (walls, furniture, vehicles: what stands between band_low
+// and band_high over the ground) are correlated over every yaw and
+// horizontal offset, coarse then fine, and the best placements are verified
+// by registering whole map onto whole map. Scan Context needs two keyframes
+// taken near one spot; missions of a few scans each (a survey of scattered
+// stations, a sparse log) rarely have such a pair, while their maps still
+// overlap.
 #pragma once
 
 #include "loop_closures.hpp"
@@ -33,11 +34,11 @@ struct GlobalSearchOptions {
   double min_overlap = 0.3;
   double max_rmse = 0.2;       // m
   double margin = 0.1;
-  int max_pairs = 24;
+  int max_pairs = 24;           // closures that hold the placement in the pose graph, spread over the query mission
   // Mission pairs the loop closures link by fewer closures than this are
   // checked against the whole maps too: two or three closures on a wrong,
   // half-turned fit of a symmetric room agree with each other.
-  int check_below = 4;          // closures that hold the placement in the pose graph, spread over the query mission
+  int check_below = 4;
 };
 
 // One placement of the query mission's map on the reference mission's.
