@@ -133,10 +133,11 @@ StageInfo posegraph_stage_info() {
       "under every column shift and the best under max_descriptor_distance becomes a candidate with its "
       "yaw. Candidates are verified by coarse-to-fine GICP between the submaps and refused below "
       "min_overlap (checked both ways, so a floor matched to a floor alone is refused) or above max_rmse; "
-      "a vote per mission pair drops closures that disagree with the best supported one. A mission left unlinked "
-      "is searched for on the linked missions' whole maps (global_search): their plan views (what stands 0.3-2.5 m "
-      "over the ground) correlated over every yaw and offset, the best placements verified keyframe to keyframe "
-      "like closures, with a warning naming it. Missions are placed by a spanning tree over closures from the first (reference) "
+      "a vote per mission pair drops closures that disagree with the best supported one. A mission left unlinked, "
+      "or a pair linked by fewer than 4 closures, is searched for on the whole maps (global_search): plan views "
+      "(what stands 0.3-2.5 m over the ground) correlated over every yaw and offset, the best placements "
+      "registered map onto map; one that clearly beats every rival (and the closures' placement) places the "
+      "mission, with a warning naming it. Missions are placed by a spanning tree over closures from the first (reference) "
       "mission; a mission without closures is an error naming it. The pose graph holds every mission's "
       "odometry chain (relative poses of consecutive scans from poses.txt), scan-to-scan edges (each scan "
       "registered by GICP onto the next scan_edges scans, from the odometry guess (the ground left out "
@@ -149,7 +150,7 @@ StageInfo posegraph_stage_info() {
       "are left out, with a warning naming whose: with three or more missions only those of a mission whose removal "
       "alone brings the residual down as far (a sparse scanner's mission among dense ones), else all. "
       "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
-      "keyframes, candidates, closures, scan_edges, scan_edges_left_out, closure residuals with and without "
+      "keyframes, candidates, closures, closures_global, pairs_replaced_by_global, scan_edges, scan_edges_left_out, closure residuals with and without "
       "them, costs, and ATE before/after when every mission has poses_gt.txt.";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with corrected poses and to_common"}};
@@ -180,8 +181,9 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("max_rmse", 0.15, "inlier RMSE above which a closure is refused").range(0.001, 10).unit("m"),
       ParamSpec::boolean("global_search", true,
                          "a mission that no Scan Context closure links is searched for on the linked missions' maps: "
-                         "plan views correlated over every yaw and offset, the best placements verified keyframe to "
-                         "keyframe (missions of a few scans seldom revisit a spot closely enough for Scan Context)"),
+                         "plan views correlated over every yaw and offset, the best placements registered map onto "
+                         "map; pairs linked by fewer than 4 closures are checked the same way (missions of a few scans "
+                         "seldom revisit a spot closely enough for Scan Context)"),
       ParamSpec::real("consistency_distance", 2.0, "closures of one mission pair agree within this").range(0.01, 100).unit("m"),
       ParamSpec::real("consistency_angle", 10.0, "and within this rotation").range(0.1, 180).unit("deg"),
       ParamSpec::real("odometry_sigma_translation", 0.02, "std. dev. of an odometry edge").range(1e-5, 10).unit("m"),
