@@ -67,7 +67,9 @@ std::string misordered_scan_names(const Mission& m) {
 class MissionsStage : public Stage {
  public:
   explicit MissionsStage(const Params& p)
-      : path_(p.get<std::string>("path")), missions_(p.get<std::vector<std::string>>("missions")) {}
+      : path_(p.get<std::string>("path")),
+        missions_(p.get<std::vector<std::string>>("missions")),
+        min_range_(p.get<double>("min_range")) {}
 
   Outputs run(const Inputs&, Context& ctx) override {
     const std::string dataset = path_.empty() ? ctx.run_info().dataset : path_;
@@ -84,6 +86,7 @@ class MissionsStage : public Stage {
     opt.threads = ctx.threads();
     MissionSet set;
     set.dataset = dataset;
+    size_t near_dropped = 0;
     ctx.progress().begin("reading missions", names.size());
     for (const auto& name : names) {
       ctx.throw_if_cancelled();
@@ -92,6 +95,7 @@ class MissionsStage : public Stage {
       MissionSet part = read_dataset(dataset, one);
       for (const auto& seen : set.missions)
         if (seen.name == part.missions[0].name) throw Error("mission '" + name + "' listed twice in 'missions'");
+      near_dropped += drop_near_points(part.missions[0]);
       set.missions.push_back(std::move(part.missions[0]));
       ctx.progress().advance();
     }
@@ -117,8 +121,9 @@ class MissionsStage : public Stage {
                  "frame, give their poses in poses.txt and put them in scans/ (docs/formats.md)");
       // Nothing to align or compare; later stages would blame the poses.
       if (m.point_count() == 0)
-        throw Error("mission '" + m.name + "': none of its " + std::to_string(m.scans.size()) +
-                    " scans has a finite point; leave it out with --set " + ctx.stage_id() +
+        throw Error("mission '" + m.name + "': none of its " + std::to_string(m.scans.size()) + " scans has a finite " +
+                    (min_range_ > 0 ? "point farther than min_range from the sensor" : std::string("point")) +
+                    "; leave it out with --set " + ctx.stage_id() +
                     ".missions=[...] (listing at least two others: change needs two missions to compare)");
       std::vector<std::string> empty;
       for (const auto& scan : m.scans)
@@ -141,20 +146,45 @@ class MissionsStage : public Stage {
     ctx.record("scans", double(scans));
     ctx.record("points", double(points));
     ctx.record("skipped_nonfinite", double(skipped));
+    ctx.record("dropped_near", double(near_dropped));
+    if (near_dropped > 0)
+      ctx.info(std::to_string(near_dropped) + " points nearer than min_range to their sensor dropped");
     Outputs out;
     out.put("missions", std::move(set));
     return out;
   }
 
  private:
+  // Drops the points nearer than min_range to their sensor (the robot's own
+  // body, the operator carrying the scanner: they move with the sensor and
+  // would leave a trail of change along every path). Kept points keep their
+  // file index, so changes/ still names original points. Returns how many.
+  size_t drop_near_points(Mission& m) const {
+    if (min_range_ <= 0.0) return 0;
+    const float r2 = float(min_range_ * min_range_);
+    size_t dropped = 0;
+    for (auto& scan : m.scans) {
+      if (!scan.points) continue;
+      const PointSet& all = *scan.points;
+      auto kept = std::make_shared<PointSet>();
+      kept->reserve(all.size());
+      for (size_t i = 0; i < all.size(); ++i)
+        if (all.xyz[i].squaredNorm() >= r2) kept->push_back_from(all, i);
+      dropped += all.size() - kept->size();
+      if (kept->size() != all.size()) scan.points = std::move(kept);
+    }
+    return dropped;
+  }
+
   std::string path_;
   std::vector<std::string> missions_;
+  double min_range_;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "io.missions";
-  s.version = "1.0.0";
+  s.version = "1.1.0";
   s.summary = "reads a dataset of missions (poses.txt + scans/, or the VIEWPOINT layout)";
   s.doc =
       "Reads the missions of a dataset folder as in the data contract, section 1: per mission poses.txt "
@@ -162,12 +192,18 @@ StageInfo info() {
       "name, or a folder of map-frame .pcd scans carrying the sensor pose in VIEWPOINT; poses_gt.txt when "
       "present. Scans are read in parallel. Non-finite points are skipped and counted. Errors: scan count "
       "!= pose count, unreadable or malformed file (with its line), non-orthonormal rotation, empty "
-      "mission. Poses more than a km from zero (georeferenced) are moved by a whole number of km so float "
+      "mission. With min_range > 0, points nearer their sensor are dropped (a robot's own body), the others "
+      "keeping their file index. Poses more than a km from zero (georeferenced) are moved by a whole number of km so float "
       "points keep millimetres; io.report adds the offset back. See docs/formats.md.";
   s.outputs = {{"missions", "missions", "the missions, each in its own map frame (to_common = identity)"}};
   s.params = {
       ParamSpec::text("path", "", "dataset folder; empty = the run's dataset (lista-run --dataset)"),
-      ParamSpec::text_list("missions", {}, "mission folder names in the order to use; empty = all, sorted")};
+      ParamSpec::text_list("missions", {}, "mission folder names in the order to use; empty = all, sorted"),
+      ParamSpec::real("min_range", 0.0,
+                      "points nearer their sensor than this are dropped: the robot's own body or the operator, which "
+                      "move with the sensor and would leave a trail of change along every path (a legged robot with "
+                      "a LiDAR on its back: about 1 m); dropped points keep no place in changes/; 0 keeps all")
+          .range(0, 100).unit("m")};
   return s;
 }
 

@@ -67,6 +67,32 @@ TEST(IoMissions, ReadsTheRunDatasetSortedOrListed) {
   EXPECT_EQ(listed.at("missions").as<MissionSet>().missions[0].name, "t1");
 }
 
+TEST(IoMissions, PointsNearTheSensorAreDroppedKeepingFileIndices) {
+  // Scan s holds points (i, s, 0), i = 0..3: 1.2 m drops i = 0, 1 of scan 0
+  // (0 and 1 m away) and i = 0 of scan 1 (1 m).
+  const fs::path root = make_dataset("near");
+  BasicContext ctx("read", 2);
+  ctx.info.dataset = root.string();
+  auto out = io_test::make_stage("io.missions", {{"min_range", 1.2}})->run(Inputs{}, ctx);
+  const auto& m = out.at("missions").as<MissionSet>().missions[0];
+  ASSERT_EQ(m.scans[0].points->size(), 2u);
+  EXPECT_EQ(m.scans[0].points->index[0], 2u);
+  EXPECT_EQ(m.scans[0].points->scan[0], 0u);
+  EXPECT_FLOAT_EQ(m.scans[0].points->xyz[0].x(), 2.f);
+  ASSERT_EQ(m.scans[1].points->size(), 3u);
+  EXPECT_EQ(m.scans[1].points->index[0], 1u);
+  EXPECT_EQ(m.scans[1].points_in_file, 4u);
+  EXPECT_EQ(ctx.info.metrics["read"]["dropped_near"], 6.0);
+  EXPECT_EQ(ctx.info.metrics["read"]["points"], 10.0);
+  // Everything inside the range: the mission is empty, and the error says why.
+  try {
+    io_test::make_stage("io.missions", {{"min_range", 5.0}})->run(Inputs{}, ctx);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("farther than min_range"), std::string::npos) << e.what();
+  }
+}
+
 TEST(IoMissions, ClearErrors) {
   const fs::path root = make_dataset("b");
   BasicContext ctx;
