@@ -64,9 +64,9 @@ CellList cells_of(const std::vector<Eigen::Vector2d>& points, double yaw, double
 
 // Occupied cells of the reference map, grown by `grow` cells so that a query
 // cell within that many of an occupied one counts.
-class OccupancyGrid {
+class PlanGrid {
  public:
-  OccupancyGrid(const std::vector<Eigen::Vector2d>& points, double cell, int grow) {
+  PlanGrid(const std::vector<Eigen::Vector2d>& points, double cell, int grow) {
     const CellList cells = cells_of(points, 0.0, cell);
     if (cells.empty()) return;
     Eigen::Vector2i lo = cells.front(), hi = cells.front();
@@ -95,7 +95,7 @@ class OccupancyGrid {
 };
 
 // Share of `cells`, shifted by `shift`, on occupied reference cells.
-double score(const OccupancyGrid& grid, const CellList& cells, const Eigen::Vector2i& shift) {
+double score(const PlanGrid& grid, const CellList& cells, const Eigen::Vector2i& shift) {
   size_t hits = 0;
   for (const auto& c : cells) hits += grid.at(c.x() + shift.x(), c.y() + shift.y());
   return cells.empty() ? 0.0 : double(hits) / double(cells.size());
@@ -103,7 +103,7 @@ double score(const OccupancyGrid& grid, const CellList& cells, const Eigen::Vect
 
 // Share of the query's plan-view cells that `reference_T_query` puts within
 // one cell of an occupied reference cell (`grid` grown by one).
-double plan_agreement(const OccupancyGrid& grid, const std::vector<Eigen::Vector2d>& query,
+double plan_agreement(const PlanGrid& grid, const std::vector<Eigen::Vector2d>& query,
                       const Eigen::Isometry3d& reference_T_query, double cell) {
   const double yaw = std::atan2(reference_T_query.linear()(1, 0), reference_T_query.linear()(0, 0));
   const Eigen::Vector2d shift = reference_T_query.translation().head<2>();
@@ -124,7 +124,7 @@ double angle_between(double a, double b) { return std::abs(std::remainder(a - b,
 
 // Every shift of `cells` that puts its bounding box on the grid's, scored;
 // the best and the best clearly apart from it.
-std::vector<Hypothesis> best_shifts(const OccupancyGrid& grid, const CellList& cells, double yaw, double cell) {
+std::vector<Hypothesis> best_shifts(const PlanGrid& grid, const CellList& cells, double yaw, double cell) {
   if (cells.empty() || grid.empty()) return {};
   Eigen::Vector2i lo = cells.front(), hi = cells.front();
   for (const auto& c : cells) lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
@@ -150,12 +150,18 @@ std::vector<Hypothesis> best_shifts(const OccupancyGrid& grid, const CellList& c
   return out;
 }
 
-}  // namespace
+// Both missions' plan views and the reference's fine grid (grown by one
+// cell), made once for the search and for scoring registered placements.
+struct PlanSearch {
+  PlanSearch(const std::vector<Keyframe>& keyframes, size_t reference, size_t query, const GlobalSearchOptions& o)
+      : ref(plan_view(keyframes, reference, o)), qry(plan_view(keyframes, query, o)), fine_grid(ref.points, o.cell, 1) {}
+  PlanView ref, qry;
+  PlanGrid fine_grid;
+};
 
-std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& keyframes, size_t reference,
-                                                  size_t query, const GlobalSearchOptions& o, int threads) {
-  const PlanView ref = plan_view(keyframes, reference, o);
-  const PlanView qry = plan_view(keyframes, query, o);
+std::vector<GlobalPlacement> placements_of(const PlanSearch& search, const GlobalSearchOptions& o, int threads) {
+  const PlanView& ref = search.ref;
+  const PlanView& qry = search.qry;
   if (ref.points.empty() || qry.points.empty()) return {};
   // Coarse cells: no finer than a map's extent over max_coarse_cells, which
   // bounds the work on a large site.
@@ -166,7 +172,7 @@ std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& k
     extent = std::max(extent, (hi - lo).maxCoeff());
   }
   const double coarse = std::max(o.coarse_cell, extent / std::max(1, o.max_coarse_cells));
-  const OccupancyGrid coarse_grid(ref.points, coarse, 0);
+  const PlanGrid coarse_grid(ref.points, coarse, 0);
   const int yaws = std::max(1, int(std::lround(2.0 * M_PI / o.yaw_step)));
   std::vector<std::vector<Hypothesis>> per_yaw(size_t(yaws), std::vector<Hypothesis>{});
   parallel_for(size_t(yaws), threads, [&](size_t i) {
@@ -188,7 +194,7 @@ std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& k
   }
   // Fine search around each: yaw in half-degree steps, shifts in fine cells,
   // a query cell counted when within one cell of the reference's.
-  const OccupancyGrid fine_grid(ref.points, o.cell, 1);
+  const PlanGrid& fine_grid = search.fine_grid;
   const double yaw_fine = 0.5 * M_PI / 180.0;
   const int yaw_span = int(std::ceil(o.yaw_step / yaw_fine));
   const int reach = int(std::ceil((coarse + o.cell) / o.cell));
@@ -196,10 +202,10 @@ std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& k
   parallel_for(kept.size(), threads, [&](size_t i) {
     Hypothesis best = kept[i];
     best.score = -1.0;
+    const Eigen::Vector2i centre = (kept[i].shift / o.cell).array().round().cast<int>();
     for (int a = -yaw_span; a <= yaw_span; ++a) {
       const double yaw = kept[i].yaw + a * yaw_fine;
       const CellList cells = cells_of(qry.points, yaw, o.cell);
-      const Eigen::Vector2i centre = (kept[i].shift / o.cell).array().round().cast<int>();
       for (int dy = -reach; dy <= reach; ++dy)
         for (int dx = -reach; dx <= reach; ++dx) {
           const Eigen::Vector2i shift = centre + Eigen::Vector2i(dx, dy);
@@ -216,8 +222,6 @@ std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& k
                    [](const GlobalPlacement& a, const GlobalPlacement& b) { return a.plan_score > b.plan_score; });
   return out;
 }
-
-namespace {
 
 // A mission's keyframe submaps joined in its map frame, downsampled again
 // where neighbouring submaps overlap.
@@ -237,10 +241,16 @@ Eigen::Vector3d centroid(const Cloud& cloud) {
 
 }  // namespace
 
+std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& keyframes, size_t reference,
+                                                  size_t query, const GlobalSearchOptions& o, int threads) {
+  return placements_of(PlanSearch(keyframes, reference, query, o), o, threads);
+}
+
 std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
                                              const GlobalSearchOptions& o, const VerifyOptions& verify, int threads,
                                              const std::optional<Eigen::Isometry3d>& incumbent) {
-  std::vector<GlobalPlacement> placements = plan_view_placements(keyframes, reference, query, o, threads);
+  const PlanSearch search(keyframes, reference, query, o);
+  std::vector<GlobalPlacement> placements = placements_of(search, o, threads);
   if (placements.empty()) return std::nullopt;
   // The incumbent competes as one more placement, registered the same way.
   if (incumbent) {
@@ -260,9 +270,6 @@ std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyfra
   const PreparedCloud prepared_reference(reference_map, registration);
   const PreparedCloud prepared_query(query_map, registration);
   const bool query_smaller = query_map.size() <= reference_map.size();
-  const PlanView reference_view = plan_view(keyframes, reference, o);
-  const PlanView query_view = plan_view(keyframes, query, o);
-  const OccupancyGrid reference_grid(reference_view.points, o.cell, 1);
   std::vector<std::optional<GlobalPlacement>> verified(placements.size());
   parallel_for(placements.size(), threads, [&](size_t i) {
     const RegistrationResult r =
@@ -271,7 +278,7 @@ std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyfra
     if (!r.converged || r.inlier_rmse > o.max_rmse) return;
     GlobalPlacement p = placements[i];
     p.reference_T_query = r.transform;
-    p.plan_score = plan_agreement(reference_grid, query_view.points, r.transform, o.cell);
+    p.plan_score = plan_agreement(search.fine_grid, search.qry.points, r.transform, o.cell);
     p.overlap = overlap;
     p.rmse = r.inlier_rmse;
     p.incumbent = incumbent && i + 1 == placements.size();
@@ -296,7 +303,7 @@ std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyfra
     // As the closures put it, before any registration: a placement the
     // whole-map registration merely polishes (a closure a metre off on a
     // drifting map) is no reason to overrule them.
-    best->incumbent_plan_score = plan_agreement(reference_grid, query_view.points, *incumbent, o.cell);
+    best->incumbent_plan_score = plan_agreement(search.fine_grid, search.qry.points, *incumbent, o.cell);
     if (best->plan_score < (1.0 + o.margin) * best->incumbent_plan_score) return std::nullopt;
   }
   // A rectangular hall fits its own map turned by half a turn nearly as
