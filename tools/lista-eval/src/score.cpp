@@ -195,10 +195,6 @@ void add_scan_pose_ate(const Truth& truth, const std::string& run_dir, std::vect
     if (a.mission == "all") a.scan_ate_rmse_m = rmse(0, est.size());
 }
 
-}  // namespace
-
-namespace {
-
 // AUC of (score, right) pairs as ConfidenceScore defines it.
 double auc_of(const std::vector<std::pair<double, bool>>& scored) {
   std::vector<double> right, wrong;
