@@ -1,0 +1,345 @@
+#include "body_detector.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <lista/parallel.hpp>
+
+#include <Eigen/Eigenvalues>
+
+namespace lista::filter_body {
+
+namespace {
+
+constexpr uint64_t kAxisBits = 21;
+constexpr int64_t kAxisBias = int64_t(1) << (kAxisBits - 1);
+
+uint64_t pack(int64_t x, int64_t y, int64_t z) {
+  const uint64_t mask = (uint64_t(1) << kAxisBits) - 1;
+  return (uint64_t(x + kAxisBias) & mask) << (2 * kAxisBits) | (uint64_t(y + kAxisBias) & mask) << kAxisBits |
+         (uint64_t(z + kAxisBias) & mask);
+}
+
+void unpack(uint64_t key, int64_t& x, int64_t& y, int64_t& z) {
+  const uint64_t mask = (uint64_t(1) << kAxisBits) - 1;
+  x = int64_t((key >> (2 * kAxisBits)) & mask) - kAxisBias;
+  y = int64_t((key >> kAxisBits) & mask) - kAxisBias;
+  z = int64_t(key & mask) - kAxisBias;
+}
+
+// One scan's points binned by direction (azimuth 0.5 deg, elevation 1 deg),
+// in compressed rows: the points of bin b are points[offsets[b] .. offsets[b+1]).
+class RangeImage {
+ public:
+  static constexpr int kAz = 720, kEl = 180;
+
+  explicit RangeImage(const PointSet& cloud) : offsets_(size_t(kAz) * kEl + 1, 0) {
+    std::vector<uint32_t> bin(cloud.size());
+    for (size_t i = 0; i < cloud.size(); ++i) {
+      const Eigen::Vector3d q = cloud.xyz[i].cast<double>();
+      bin[i] = uint32_t(el_bin(q) * kAz + az_bin(q));
+      ++offsets_[bin[i] + 1];
+    }
+    for (size_t b = 1; b < offsets_.size(); ++b) offsets_[b] += offsets_[b - 1];
+    points_.resize(cloud.size());
+    std::vector<uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
+    for (size_t i = 0; i < cloud.size(); ++i) points_[fill[bin[i]]++] = cloud.xyz[i];
+  }
+
+  enum class Vote { none, present, see_through };
+
+  // What this scan saw of a small surface patch (centre c, unit normal n,
+  // radius rho; sensor frame): among its rays that cross the patch's plane
+  // inside the patch, coming from the front, one that ends on the patch
+  // (within `margin` of the plane) sees it present; otherwise one that ends
+  // more than `margin` behind it saw through; rays ending in front of it
+  // (something nearer) or none at all give no vote.
+  Vote look(const Eigen::Vector3d& c, Eigen::Vector3d n, double rho, double margin) const {
+    if (n.dot(c) > 0) n = -n;  // face the sensor
+    const double r = c.norm();
+    if (r < 1e-6) return Vote::none;
+    const double reach = std::atan2(rho, r) * 180.0 / M_PI;
+    const int half_az = std::min(40, int(std::ceil(reach / std::max(0.05, std::cos(std::asin(std::clamp(c.z() / r, -1.0, 1.0))))* 2.0)) + 1);
+    const int half_el = std::min(20, int(std::ceil(reach)) + 1);
+    const int az = az_bin(c), el = el_bin(c);
+    // Bins nearest the patch's direction first: a surface really there is
+    // usually found present within a few bins, ending the search.
+    bool through = false;
+    for (int ring = 0; ring <= std::max(half_az, half_el); ++ring)
+      for (int de = -std::min(ring, half_el); de <= std::min(ring, half_el); ++de) {
+        const int e = el + de;
+        if (e < 0 || e >= kEl) continue;
+        const bool edge_row = std::abs(de) == ring;
+        for (int da = -std::min(ring, half_az); da <= std::min(ring, half_az); ++da) {
+          if (!edge_row && std::abs(da) != ring) continue;  // inner bins were searched in earlier rings
+          const size_t b = size_t(e) * kAz + size_t((az + da + 10 * kAz) % kAz);
+          for (uint32_t k = offsets_[b]; k < offsets_[b + 1]; ++k) {
+            const Eigen::Vector3d p = points_[k].cast<double>();
+            const double range = p.norm();
+            if (range < 1e-6) continue;
+            const Eigen::Vector3d u = p / range;
+            const double nu = n.dot(u);
+            if (nu > -0.2) continue;  // grazing or from behind: where it crosses is ill-defined
+            const double t = n.dot(c) / nu;
+            if ((t * u - c).norm() > rho) continue;
+            const double behind = -n.dot(p - c);
+            if (std::abs(behind) <= margin) return Vote::present;
+            if (behind > margin) through = true;
+          }
+        }
+      }
+    return through ? Vote::see_through : Vote::none;
+  }
+
+ private:
+  static int az_bin(const Eigen::Vector3d& q) {
+    double deg = std::atan2(q.y(), q.x()) * 180.0 / M_PI;
+    if (deg < 0) deg += 360.0;
+    return std::min(kAz - 1, int(deg * 2.0));
+  }
+  static int el_bin(const Eigen::Vector3d& q) {
+    const double r = std::max(q.norm(), 1e-9);
+    const double deg = std::asin(std::clamp(q.z() / r, -1.0, 1.0)) * 180.0 / M_PI;
+    return std::clamp(int(std::floor(deg + 90.0)), 0, kEl - 1);
+  }
+
+  std::vector<uint32_t> offsets_;
+  std::vector<Eigen::Vector3f> points_;
+};
+
+// A patch of surface: centre and normal of a scan's points in a cell and
+// its neighbours; `valid` only where they are flat enough to have a normal.
+struct Patch {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::UnitZ();
+  bool valid = false;
+};
+
+Patch patch_of(const std::vector<std::pair<uint64_t, Eigen::Vector3f>>& keyed, uint64_t key) {
+  int64_t x, y, z;
+  unpack(key, x, y, z);
+  std::vector<Eigen::Vector3d> pts;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  int in_cell = 0;
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        const uint64_t nb = pack(x + dx, y + dy, z + dz);
+        auto it = std::lower_bound(keyed.begin(), keyed.end(), nb,
+                                   [](const auto& e, uint64_t k) { return e.first < k; });
+        for (; it != keyed.end() && it->first == nb; ++it) {
+          pts.push_back(it->second.cast<double>());
+          if (nb == key) {
+            centre += pts.back();
+            ++in_cell;
+          }
+        }
+      }
+  Patch patch;
+  if (in_cell == 0 || pts.size() < 5) return patch;
+  patch.centre = centre / double(in_cell);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : pts) mean += p;
+  mean /= double(pts.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : pts) cov += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  patch.normal = eig.eigenvectors().col(0);
+  patch.valid = eig.eigenvalues()(0) < 0.05 * eig.eigenvalues()(1);
+  return patch;
+}
+
+// Up to `count` scans between witness_min and witness_max from scan i,
+// nearest in scan order, looking both ways in turn.
+std::vector<size_t> witnesses_of(const Mission& m, size_t i, const BodyConfig& c) {
+  std::vector<size_t> out;
+  const Eigen::Vector3d at = m.scans[i].pose.translation();
+  const size_t n = m.scans.size();
+  for (size_t step = 1; step < n && int(out.size()) < c.witnesses; ++step)
+    for (const long j : {long(i) - long(step), long(i + step)}) {
+      if (j < 0 || j >= long(n) || int(out.size()) >= c.witnesses || !m.scans[size_t(j)].points) continue;
+      const double d = (m.scans[size_t(j)].pose.translation() - at).norm();
+      if (d >= c.witness_min && d <= c.witness_max) out.push_back(size_t(j));
+    }
+  return out;
+}
+
+}  // namespace
+
+uint64_t cell_key(const Eigen::Vector3f& p, double cell) {
+  return pack(int64_t(std::floor(p.x() / cell)), int64_t(std::floor(p.y() / cell)), int64_t(std::floor(p.z() / cell)));
+}
+
+BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
+  BodyCells out;
+  const size_t n = m.scans.size();
+  if (int(n) < c.min_scans || c.max_range <= 0) return out;
+  const float r2 = float(c.max_range * c.max_range);
+
+  // How many scans occupy each sensor-frame cell near the sensor.
+  std::vector<std::vector<uint64_t>> per_scan(n);
+  parallel_for(n, threads, [&](size_t s) {
+    if (!m.scans[s].points) return;
+    std::vector<uint64_t>& keys = per_scan[s];
+    for (const auto& p : m.scans[s].points->xyz)
+      if (p.squaredNorm() < r2) keys.push_back(cell_key(p, c.cell));
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  });
+  std::vector<uint64_t> all;
+  for (auto& keys : per_scan) {
+    all.insert(all.end(), keys.begin(), keys.end());
+    std::vector<uint64_t>().swap(keys);
+  }
+  std::sort(all.begin(), all.end());
+  std::vector<std::pair<uint64_t, uint32_t>> counts;  // sorted by key
+  for (size_t a = 0; a < all.size();) {
+    size_t b = a;
+    while (b < all.size() && all[b] == all[a]) ++b;
+    counts.emplace_back(all[a], uint32_t(b - a));
+    a = b;
+  }
+  // Cells occupied in min_share of the scans are candidates; those occupied
+  // in a quarter as many are checked too, and go with a confirmed candidate
+  // they touch (a body surface noisier than a cell spreads over its
+  // neighbours, each occupied less often).
+  const uint32_t need = uint32_t(std::ceil(c.min_share * double(n)));
+  const uint32_t need_fringe = std::max<uint32_t>(1, uint32_t(std::ceil(c.min_share * double(n) / 4.0)));
+  std::vector<uint64_t> candidates;
+  std::vector<char> core;
+  for (const auto& [key, k] : counts)
+    if (k >= need_fringe) {
+      candidates.push_back(key);
+      core.push_back(k >= need);
+      out.candidates += k >= need;
+    }
+
+  // Probe scans spread over the mission; each probe's candidate cells are
+  // placed in the map by their centroid and looked at from its witnesses.
+  const size_t probes = std::min<size_t>(n, size_t(std::max(1, c.probes)));
+  std::vector<size_t> probe_scans;
+  std::vector<std::vector<size_t>> probe_witnesses;
+  for (size_t k = 0; k < probes; ++k) {
+    const size_t i = size_t((double(k) + 0.5) * double(n) / double(probes));
+    if (!m.scans[i].points) continue;
+    std::vector<size_t> witnesses = witnesses_of(m, i, c);
+    if (witnesses.empty()) continue;
+    probe_scans.push_back(i);
+    probe_witnesses.push_back(std::move(witnesses));
+  }
+  out.checked = !probe_scans.empty();
+  std::vector<int> see(candidates.size(), 0), present(candidates.size(), 0);
+  if (candidates.empty() || probe_scans.empty()) return out;
+
+  // Every witness's range image, built once.
+  std::vector<size_t> witness_scans;
+  for (const auto& w : probe_witnesses) witness_scans.insert(witness_scans.end(), w.begin(), w.end());
+  std::sort(witness_scans.begin(), witness_scans.end());
+  witness_scans.erase(std::unique(witness_scans.begin(), witness_scans.end()), witness_scans.end());
+  std::vector<std::unique_ptr<RangeImage>> images(witness_scans.size());
+  parallel_for(witness_scans.size(), threads,
+               [&](size_t w) { images[w] = std::make_unique<RangeImage>(*m.scans[witness_scans[w]].points); });
+  const auto image_of = [&](size_t scan) -> const RangeImage& {
+    return *images[size_t(std::lower_bound(witness_scans.begin(), witness_scans.end(), scan) - witness_scans.begin())];
+  };
+
+  // Votes per probe (then summed in probe order, so threads change nothing).
+  std::vector<std::vector<int8_t>> votes(probe_scans.size());
+  parallel_for(probe_scans.size(), threads, [&](size_t k) {
+    const Scan& scan = m.scans[probe_scans[k]];
+    std::vector<std::pair<uint64_t, Eigen::Vector3f>> keyed;
+    for (const auto& p : scan.points->xyz)
+      if (p.squaredNorm() < r2) keyed.emplace_back(cell_key(p, c.cell), p);
+    std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<Patch> patches(candidates.size());
+    for (size_t ci = 0; ci < candidates.size(); ++ci) patches[ci] = patch_of(keyed, candidates[ci]);
+    std::vector<int8_t>& v = votes[k];
+    v.assign(candidates.size() * probe_witnesses[k].size(), 0);
+    for (size_t w = 0; w < probe_witnesses[k].size(); ++w) {
+      const size_t j = probe_witnesses[k][w];
+      const RangeImage& image = image_of(j);
+      const Eigen::Isometry3d sensor_j_from_i = m.scans[j].pose.inverse() * scan.pose;
+      for (size_t ci = 0; ci < candidates.size(); ++ci) {
+        if (!patches[ci].valid) continue;
+        const Eigen::Vector3d centre = sensor_j_from_i * patches[ci].centre;
+        const Eigen::Vector3d normal = sensor_j_from_i.linear() * patches[ci].normal;
+        const RangeImage::Vote vote = image.look(centre, normal, 1.5 * c.cell, c.margin);
+        v[w * candidates.size() + ci] = vote == RangeImage::Vote::present ? 1 : vote == RangeImage::Vote::see_through ? -1 : 0;
+      }
+    }
+  });
+  for (const auto& v : votes)
+    for (size_t x = 0; x < v.size(); ++x) {
+      const size_t ci = x % candidates.size();
+      present[ci] += v[x] > 0;
+      see[ci] += v[x] < 0;
+    }
+
+  // Confirmed: a candidate most of whose (at least min_votes) votes see
+  // through it. The body is what is connected to a confirmed cell: cells
+  // occupied in min_share of the scans are followed, less often occupied
+  // ones taken where they touch (a surface noisier than a cell spreads over
+  // its neighbours), and a cell whose votes say present stops it. Body
+  // edges and corners have no single normal and so no votes of their own.
+  std::vector<char> blocked(candidates.size(), 0), in_body(candidates.size(), 0);
+  std::vector<size_t> queue;
+  for (size_t ci = 0; ci < candidates.size(); ++ci) {
+    const int votes = see[ci] + present[ci];
+    const bool enough = votes >= c.min_votes;
+    const bool through = double(see[ci]) >= c.see_through_share * double(votes);
+    blocked[ci] = enough && !through;
+    out.voted += core[ci] && enough;
+    if (core[ci] && enough && through) {
+      ++out.confirmed;
+      in_body[ci] = 1;
+      queue.push_back(ci);
+    }
+  }
+  while (!queue.empty()) {
+    const size_t ci = queue.back();
+    queue.pop_back();
+    out.drop.push_back(candidates[ci]);
+    if (!core[ci]) continue;  // less often occupied cells are taken, not followed
+    int64_t x, y, z;
+    unpack(candidates[ci], x, y, z);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = std::lower_bound(candidates.begin(), candidates.end(), pack(x + dx, y + dy, z + dz));
+          if (it == candidates.end() || *it != pack(x + dx, y + dy, z + dz)) continue;
+          const size_t nb = size_t(it - candidates.begin());
+          if (in_body[nb] || blocked[nb]) continue;
+          in_body[nb] = 1;
+          queue.push_back(nb);
+        }
+  }
+  std::sort(out.drop.begin(), out.drop.end());
+  out.drop.erase(std::unique(out.drop.begin(), out.drop.end()), out.drop.end());
+  return out;
+}
+
+size_t drop_body_points(Mission& m, const BodyCells& cells, const BodyConfig& c, int threads) {
+  if (cells.drop.empty()) return 0;
+  const float r2 = float(c.max_range * c.max_range);
+  std::vector<size_t> dropped(m.scans.size(), 0);
+  parallel_for(m.scans.size(), threads, [&](size_t s) {
+    Scan& scan = m.scans[s];
+    if (!scan.points) return;
+    const PointSet& all = *scan.points;
+    std::vector<uint32_t> keep;
+    keep.reserve(all.size());
+    for (size_t i = 0; i < all.size(); ++i) {
+      const auto& p = all.xyz[i];
+      if (p.squaredNorm() >= r2 || !std::binary_search(cells.drop.begin(), cells.drop.end(), cell_key(p, c.cell)))
+        keep.push_back(uint32_t(i));
+    }
+    if (keep.size() == all.size()) return;
+    dropped[s] = all.size() - keep.size();
+    scan.points = std::make_shared<PointSet>(all.select(keep));
+  });
+  size_t total = 0;
+  for (const size_t d : dropped) total += d;
+  return total;
+}
+
+}  // namespace lista::filter_body

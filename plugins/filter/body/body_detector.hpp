@@ -1,0 +1,52 @@
+// Finds the points of a mission that belong to the robot (or the person)
+// carrying the sensor: points that keep their place in the SENSOR frame
+// while the sensor moves, and that other scans of the same mission, taken
+// metres away, see through. The first test alone would also take the floor
+// under a level robot and the walls of a corridor it walks along; those stay
+// where they were seen, so the second test keeps them.
+#pragma once
+
+#include <lista/missions.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace lista::filter_body {
+
+struct BodyConfig {
+  double max_range = 1.5;         // m: body points lie nearer their sensor than this
+  double cell = 0.1;              // m: sensor-frame cell size
+  double min_share = 0.5;         // a body cell is occupied in at least this share of the scans
+  double witness_min = 2.0;       // m: a witness scan is at least this far from the scan it checks
+  double witness_max = 12.0;      // m: ... and at most this far
+  double margin = 0.3;            // m: a witness ray ending this near a patch sees it there; farther behind, through it
+  double see_through_share = 0.5; // share of a cell's votes that must see through it
+  int min_votes = 4;              // fewer votes: the cell is kept (not enough evidence)
+  int min_scans = 4;              // missions with fewer scans are left as they are
+  int probes = 16;                // scans (spread over the mission) whose cells are checked
+  int witnesses = 4;              // witness scans per probe (nearest in scan order)
+};
+
+struct BodyCells {
+  // Sensor-frame cells (packed keys) whose points are dropped, sorted: the
+  // confirmed candidates, then the less often occupied cells that touch
+  // one and were seen through as well.
+  std::vector<uint64_t> drop;
+  size_t candidates = 0;  // cells occupied in at least min_share of the scans
+  size_t confirmed = 0;   // candidates that the witnesses saw through
+  size_t voted = 0;       // candidates with at least min_votes votes
+  bool checked = false;   // false: too few scans or no witnesses; nothing dropped
+};
+
+// Packs the sensor-frame cell of p (cell size `cell`); 21 bits per axis.
+uint64_t cell_key(const Eigen::Vector3f& p, double cell);
+
+// Scans are spread over `threads`; the result does not depend on them.
+BodyCells find_body_cells(const Mission& mission, const BodyConfig& config, int threads = 1);
+
+// Drops from every scan of `mission` the points within max_range whose cell
+// is in `cells.drop`; kept points keep their file index. Scans are spread
+// over `threads`. Returns how many.
+size_t drop_body_points(Mission& mission, const BodyCells& cells, const BodyConfig& config, int threads = 1);
+
+}  // namespace lista::filter_body

@@ -1,0 +1,120 @@
+// filter.body: drops the robot's own body (or the person carrying the
+// scanner) from every scan before alignment, found from the data: points
+// that keep their place near the sensor while it moves, and that the same
+// mission's other scans see through (body_detector.hpp).
+#include "body_detector.hpp"
+
+#include <lista/lista.hpp>
+
+#include <cstdio>
+
+namespace lista::filter_body {
+
+namespace {
+
+class BodyStage : public Stage {
+ public:
+  explicit BodyStage(const Params& p) {
+    config_.max_range = p.get<double>("max_range");
+    config_.cell = p.get<double>("cell");
+    config_.min_share = p.get<double>("min_share");
+    config_.see_through_share = p.get<double>("see_through_share");
+    config_.margin = p.get<double>("margin");
+    config_.witness_min = p.get<double>("witness_min");
+    config_.witness_max = p.get<double>("witness_max");
+    config_.probes = int(p.get<int64_t>("probes"));
+    if (config_.witness_max < config_.witness_min)
+      throw Error("witness_max (" + std::to_string(config_.witness_max) + ") is below witness_min (" +
+                  std::to_string(config_.witness_min) + ")");
+  }
+
+  Outputs run(const Inputs& in, Context& ctx) override {
+    MissionSet set = in.get<MissionSet>("missions");  // shallow: scans' points stay shared
+    size_t dropped = 0, cells = 0;
+    ctx.progress().begin("looking for the robot's body", set.missions.size());
+    for (auto& m : set.missions) {
+      ctx.throw_if_cancelled();
+      const BodyCells found = find_body_cells(m, config_, ctx.threads());
+      const size_t n = drop_body_points(m, found, config_, ctx.threads());
+      dropped += n;
+      cells += found.drop.size();
+      ctx.record(m.name + ".dropped", double(n));
+      if (config_.max_range <= 0) {
+      } else if (!found.checked) {
+        ctx.info("mission '" + m.name + "': no scan has another " + std::to_string(config_.witness_min).substr(0, 4) +
+                 "-" + std::to_string(config_.witness_max).substr(0, 4) +
+                 " m away to look from; nothing taken for a body");
+      } else if (n > 0) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "mission '%s': %zu points in %zu cells near the sensor move with it and are seen through "
+                      "from elsewhere (the robot's body): dropped",
+                      m.name.c_str(), n, found.drop.size());
+        ctx.info(buf);
+      }
+      ctx.progress().advance();
+    }
+    ctx.progress().end();
+    ctx.record("dropped", double(dropped));
+    ctx.record("cells", double(cells));
+    Outputs out;
+    out.put("missions", std::move(set));
+    return out;
+  }
+
+ private:
+  BodyConfig config_;
+};
+
+StageInfo info() {
+  StageInfo s;
+  s.name = "filter.body";
+  s.version = "1.0.0";
+  s.summary = "drops the robot's own body from the scans: points that move with the sensor and are seen through";
+  s.doc =
+      "A LiDAR on a robot's back (or carried by a person) sees the robot in every scan; those points move "
+      "with the sensor and would leave a trail of change along every path. Per mission: every scan's points "
+      "within max_range go into sensor-frame cells; a cell occupied in at least min_share of the scans is a "
+      "candidate (so are the floor under a level robot and the walls of a corridor). In `probes` scans spread "
+      "over the mission each candidate becomes a patch (centre and normal of the scan's points in it and its "
+      "neighbours), looked at from up to 4 other scans of the mission between witness_min and witness_max "
+      "away (nearest in scan order): a witness ray that crosses the patch and ends within `margin` of it votes "
+      "present, one that ends farther behind it votes see-through, rays ending in front of it give no vote. "
+      "A candidate with at least 4 votes, at least see_through_share of them see-through, is body, and so is "
+      "every candidate connected to it unless its own votes say present (edges and corners have no normal to "
+      "vote with); it is dropped from every scan, kept points keeping their file index. A mission of fewer "
+      "than 4 scans, a robot that never moves witness_min, or a mission without witnesses is left as it is. "
+      "max_range 0 turns the stage off. docs/formats.md, \"The robot's body\".";
+  s.inputs = {{"missions", "missions", "missions as read"}};
+  s.outputs = {{"missions", "missions", "the same missions without the body's points"}};
+  s.params = {
+      ParamSpec::real("max_range", 1.5, "body points lie nearer their sensor than this; 0 turns the stage off")
+          .range(0, 10)
+          .unit("m"),
+      ParamSpec::real("cell", 0.1, "sensor-frame cell size").range(0.01, 1).unit("m"),
+      ParamSpec::real("min_share", 0.5, "a candidate cell is occupied in at least this share of the scans")
+          .range(0.05, 1),
+      ParamSpec::real("see_through_share", 0.5, "share of a candidate's votes that must see through it").range(0.05, 1),
+      ParamSpec::real("margin", 0.3, "a witness ray ending this near a patch sees it there; farther behind, through it")
+          .range(0.01, 5)
+          .unit("m"),
+      ParamSpec::real("witness_min", 2.0, "a witness scan is at least this far from the scan it checks")
+          .range(0.1, 100)
+          .unit("m"),
+      ParamSpec::real("witness_max", 12.0, "a witness scan is at most this far from the scan it checks")
+          .range(0.1, 1000)
+          .unit("m"),
+      ParamSpec::integer("probes", 16, "scans, spread over the mission, whose candidate cells are checked")
+          .range(1, 10000)};
+  return s;
+}
+
+void register_stages(Registrar& r) {
+  r.add(info(), [](const Params& p) { return std::make_unique<BodyStage>(p); });
+}
+
+}  // namespace
+
+}  // namespace lista::filter_body
+
+LISTA_PLUGIN(lista::filter_body::register_stages)
