@@ -440,3 +440,23 @@ TEST(TinyAmbiguity, AMissionPlacedOnAnUndecidedFitIsWarnedAbout) {
             std::string::npos)
       << r.output;
 }
+
+// The open yard with ten scans per mission: one closure links A and B, on a
+// fit whose rival comes within the margin, and the whole-map search replaces
+// it. The replaced pair is decided, so no "may be placed wrongly" follows
+// (the warning used to be drawn up before the search, from the closures).
+TEST(FewScanYard, APairTheWholeMapSearchReplacedIsNotCalledUnsure) {
+  e2e::TempDir dir("yard-few-scans");
+  const std::string data = (dir.path() / "data").string();
+  const auto sim =
+      e2e::run(e2e::bin("lista-sim") + " --preset fsc --scans 10 --seed 1 --threads 2 --out " + data + " 2>&1");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  const std::filesystem::path pipeline = dir.path() / "align-only.toml";
+  std::ofstream(pipeline) << "[pipeline]\nname = \"align-only\"\n[stages.load]\nplugin = \"io.missions\"\n"
+                             "[stages.align]\nplugin = \"align.posegraph\"\ninputs = { missions = \"load.missions\" }\n";
+  const auto r = e2e::run(e2e::bin("lista-run") + " " + pipeline.string() + " --dataset " + data + " --out " +
+                          (dir.path() / "out").string() + " --threads 2 -q 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("between 'A' and 'B' were replaced by a whole-map placement"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("may be placed wrongly"), std::string::npos) << r.output;
+}

@@ -89,15 +89,15 @@ std::vector<char> linked_to_first(size_t missions, const std::vector<Keyframe>& 
 // their whole maps: two or three closures can agree on a half-turned fit of
 // a symmetric room. A placement that clearly fits the maps better replaces
 // the pair's closures (in `closures` and `verified`), with a warning.
-// Returns how many pairs were replaced.
-size_t recheck_weak_links(const MissionSet& set, const std::vector<Keyframe>& kf, std::vector<Closure>& closures,
+// Returns the pairs (reference, query mission) replaced.
+std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set, const std::vector<Keyframe>& kf, std::vector<Closure>& closures,
                           std::vector<Closure>& verified, const JointAlignmentOptions& o, Context& ctx) {
   std::map<std::pair<size_t, size_t>, std::vector<size_t>> by_pair;
   for (size_t i = 0; i < closures.size(); ++i) {
     const size_t a = kf[closures[i].reference].mission, b = kf[closures[i].query].mission;
     if (a != b) by_pair[{a, b}].push_back(i);
   }
-  size_t replaced = 0;
+  std::vector<std::pair<size_t, size_t>> replaced;
   for (const auto& [pair, list] : by_pair) {
     if (list.size() >= size_t(std::max(0, o.global.check_below))) continue;
     ctx.throw_if_cancelled();
@@ -114,7 +114,7 @@ size_t recheck_weak_links(const MissionSet& set, const std::vector<Keyframe>& kf
     verified.erase(std::remove_if(verified.begin(), verified.end(), of_pair), verified.end());
     closures.insert(closures.end(), better->closures.begin(), better->closures.end());
     verified.insert(verified.end(), better->closures.begin(), better->closures.end());
-    ++replaced;
+    replaced.push_back(pair);
     char text[480];
     std::snprintf(text, sizeof text,
                   "the %zu loop closure(s) between '%s' and '%s' were replaced by a whole-map placement %.0f deg "
@@ -354,10 +354,16 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   report.verified = verified.size();
   std::vector<AmbiguousPlacement> ambiguous;
   std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency, &ambiguous);
-  for (const std::string& w : unpinned_placements(set, kf, closures, ambiguous)) ctx.warn(w);
   report.consistent = closures.size();
   if (o.global_search) {
-    report.global_replaced = recheck_weak_links(set, kf, closures, verified, o, ctx);
+    const auto replaced = recheck_weak_links(set, kf, closures, verified, o, ctx);
+    report.global_replaced = replaced.size();
+    // A pair the whole maps placed is decided, whatever its closures' rival was.
+    const auto was_replaced = [&](const AmbiguousPlacement& a) {
+      return std::find(replaced.begin(), replaced.end(), std::make_pair(a.reference, a.query)) != replaced.end() ||
+             std::find(replaced.begin(), replaced.end(), std::make_pair(a.query, a.reference)) != replaced.end();
+    };
+    ambiguous.erase(std::remove_if(ambiguous.begin(), ambiguous.end(), was_replaced), ambiguous.end());
     const std::vector<Closure> found = link_unplaced_missions(set, kf, closures, o, ctx);
     report.global = found.size();
     // Among the verified too: after the first solve the closures are drawn
@@ -365,6 +371,9 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
     verified.insert(verified.end(), found.begin(), found.end());
     closures.insert(closures.end(), found.begin(), found.end());
   }
+  // Warned only now, so a pair the whole-map search replaced or a mission it
+  // linked is not called unsure on the closures' word.
+  for (const std::string& w : unpinned_placements(set, kf, closures, ambiguous)) ctx.warn(w);
   for (const auto& c : closures) {
     if (kf[c.reference].mission == kf[c.query].mission) {
       ++report.intra;
