@@ -86,7 +86,7 @@ class MissionsStage : public Stage {
     opt.threads = ctx.threads();
     MissionSet set;
     set.dataset = dataset;
-    size_t near_dropped = 0;
+    size_t near_dropped = 0, zero_dropped = 0;
     ctx.progress().begin("reading missions", names.size());
     for (const auto& name : names) {
       ctx.throw_if_cancelled();
@@ -95,7 +95,9 @@ class MissionsStage : public Stage {
       MissionSet part = read_dataset(dataset, one);
       for (const auto& seen : set.missions)
         if (seen.name == part.missions[0].name) throw Error("mission '" + name + "' listed twice in 'missions'");
-      near_dropped += drop_near_points(part.missions[0]);
+      const auto [near, zero] = drop_near_points(part.missions[0]);
+      near_dropped += near;
+      zero_dropped += zero;
       set.missions.push_back(std::move(part.missions[0]));
       ctx.progress().advance();
     }
@@ -122,7 +124,7 @@ class MissionsStage : public Stage {
       // Nothing to align or compare; later stages would blame the poses.
       if (m.point_count() == 0)
         throw Error("mission '" + m.name + "': none of its " + std::to_string(m.scans.size()) + " scans has a finite " +
-                    (min_range_ > 0 ? "point farther than min_range from the sensor" : std::string("point")) +
+                    (min_range_ > 0 ? "point farther than min_range from the sensor" : std::string("point off the sensor origin")) +
                     "; leave it out with --set " + ctx.stage_id() +
                     ".missions=[...] (listing at least two others: change needs two missions to compare)");
       std::vector<std::string> empty;
@@ -130,7 +132,7 @@ class MissionsStage : public Stage {
         if (scan.points && scan.points->empty()) empty.push_back(std::filesystem::path(scan.file).filename().string());
       if (!empty.empty())
         ctx.warn("mission '" + m.name + "': " + std::to_string(empty.size()) + " scan" + (empty.size() > 1 ? "s" : "") +
-                 " with no finite point (" + empty.front() + (empty.size() > 1 ? ", ..." : "") + ")");
+                 " with no finite point off the sensor origin (" + empty.front() + (empty.size() > 1 ? ", ..." : "") + ")");
       if (const std::string pair = misordered_scan_names(m); !pair.empty())
         ctx.warn("mission '" + m.name + "': " + pair +
                  " by name, and scans take their poses in file-name order: zero-pad the numbers (scan_002.pcd)");
@@ -147,8 +149,12 @@ class MissionsStage : public Stage {
     ctx.record("points", double(points));
     ctx.record("skipped_nonfinite", double(skipped));
     ctx.record("dropped_near", double(near_dropped));
+    ctx.record("dropped_zero", double(zero_dropped));
     if (near_dropped > 0)
       ctx.info(std::to_string(near_dropped) + " points nearer than min_range to their sensor dropped");
+    if (zero_dropped > 0)
+      ctx.info(std::to_string(zero_dropped) + " points at (0, 0, 0), the sensor origin, dropped: a driver's way of "
+               "writing a missing return");
     Outputs out;
     out.put("missions", std::move(set));
     return out;
@@ -157,23 +163,31 @@ class MissionsStage : public Stage {
  private:
   // Drops the points nearer than min_range to their sensor (the robot's own
   // body, the operator carrying the scanner: they move with the sensor and
-  // would leave a trail of change along every path). Kept points keep their
-  // file index, so changes/ still names original points. Returns how many.
-  size_t drop_near_points(Mission& m) const {
-    if (min_range_ <= 0.0) return 0;
+  // would leave a trail of change along every path), and always those at
+  // exactly the sensor origin: many drivers write a missing return as
+  // (0, 0, 0) rather than NaN, and no LiDAR measures a range of 0. Kept
+  // points keep their file index, so changes/ still names original points.
+  // Returns how many were dropped for each reason.
+  std::pair<size_t, size_t> drop_near_points(Mission& m) const {
     const float r2 = float(min_range_ * min_range_);
-    size_t dropped = 0;
+    size_t near = 0, zero = 0;
     for (auto& scan : m.scans) {
       if (!scan.points) continue;
       const PointSet& all = *scan.points;
-      auto kept = std::make_shared<PointSet>();
-      kept->reserve(all.size());
-      for (size_t i = 0; i < all.size(); ++i)
-        if (all.xyz[i].squaredNorm() >= r2) kept->push_back_from(all, i);
-      dropped += all.size() - kept->size();
-      if (kept->size() != all.size()) scan.points = std::move(kept);
+      std::vector<uint32_t> keep;
+      keep.reserve(all.size());
+      for (size_t i = 0; i < all.size(); ++i) {
+        const float d2 = all.xyz[i].squaredNorm();
+        if (d2 == 0.0f)
+          ++zero;
+        else if (d2 < r2)
+          ++near;
+        else
+          keep.push_back(uint32_t(i));
+      }
+      if (keep.size() != all.size()) scan.points = std::make_shared<PointSet>(all.select(keep));
     }
-    return dropped;
+    return {near, zero};
   }
 
   std::string path_;
@@ -184,13 +198,14 @@ class MissionsStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "io.missions";
-  s.version = "1.1.0";
+  s.version = "1.2.0";
   s.summary = "reads a dataset of missions (poses.txt + scans/, or the VIEWPOINT layout)";
   s.doc =
       "Reads the missions of a dataset folder as in the data contract, section 1: per mission poses.txt "
       "(TUM or KITTI layout) and scans/ (.pcd ascii/binary/binary_compressed, .ply, KITTI .bin) sorted by "
       "name, or a folder of map-frame .pcd scans carrying the sensor pose in VIEWPOINT; poses_gt.txt when "
-      "present. Scans are read in parallel. Non-finite points are skipped and counted. Errors: scan count "
+      "present. Scans are read in parallel. Non-finite points are skipped and counted; points at exactly (0, 0, 0) "
+      "in the sensor frame (a driver's missing return) are dropped, metric dropped_zero. Errors: scan count "
       "!= pose count, unreadable or malformed file (with its line), non-orthonormal rotation, empty "
       "mission. With min_range > 0, points nearer their sensor are dropped (a robot's own body), the others "
       "keeping their file index. Poses more than a km from zero (georeferenced) are moved by a whole number of km so float "

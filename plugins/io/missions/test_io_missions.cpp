@@ -22,7 +22,7 @@ fs::path make_dataset(const std::string& tag) {
     std::vector<io::PoseRecord> poses(2);
     for (int s = 0; s < 2; ++s) {
       PointSet p;
-      for (int i = 0; i < 4; ++i) p.xyz.emplace_back(float(i), float(s), 0.f);
+      for (int i = 0; i < 4; ++i) p.xyz.emplace_back(float(i) + 0.5f, float(s), 0.f);
       io::write_scan_pcd((root / m / "scans" / ("00" + std::to_string(s) + ".pcd")).string(), p);
       poses[s].timestamp = s;
     }
@@ -68,22 +68,22 @@ TEST(IoMissions, ReadsTheRunDatasetSortedOrListed) {
 }
 
 TEST(IoMissions, PointsNearTheSensorAreDroppedKeepingFileIndices) {
-  // Scan s holds points (i, s, 0), i = 0..3: 1.2 m drops i = 0, 1 of scan 0
-  // (0 and 1 m away) and i = 0 of scan 1 (1 m).
+  // Scan s holds points (i + 0.5, s, 0), i = 0..3: 1.2 m drops i = 0 of
+  // scan 0 (0.5 m away) and of scan 1 (1.12 m), in both missions.
   const fs::path root = make_dataset("near");
   BasicContext ctx("read", 2);
   ctx.info.dataset = root.string();
   auto out = io_test::make_stage("io.missions", {{"min_range", 1.2}})->run(Inputs{}, ctx);
   const auto& m = out.at("missions").as<MissionSet>().missions[0];
-  ASSERT_EQ(m.scans[0].points->size(), 2u);
-  EXPECT_EQ(m.scans[0].points->index[0], 2u);
+  ASSERT_EQ(m.scans[0].points->size(), 3u);
+  EXPECT_EQ(m.scans[0].points->index[0], 1u);
   EXPECT_EQ(m.scans[0].points->scan[0], 0u);
-  EXPECT_FLOAT_EQ(m.scans[0].points->xyz[0].x(), 2.f);
+  EXPECT_FLOAT_EQ(m.scans[0].points->xyz[0].x(), 1.5f);
   ASSERT_EQ(m.scans[1].points->size(), 3u);
   EXPECT_EQ(m.scans[1].points->index[0], 1u);
   EXPECT_EQ(m.scans[1].points_in_file, 4u);
-  EXPECT_EQ(ctx.info.metrics["read"]["dropped_near"], 6.0);
-  EXPECT_EQ(ctx.info.metrics["read"]["points"], 10.0);
+  EXPECT_EQ(ctx.info.metrics["read"]["dropped_near"], 4.0);
+  EXPECT_EQ(ctx.info.metrics["read"]["points"], 12.0);
   // Everything inside the range: the mission is empty, and the error says why.
   try {
     io_test::make_stage("io.missions", {{"min_range", 5.0}})->run(Inputs{}, ctx);
@@ -91,6 +91,24 @@ TEST(IoMissions, PointsNearTheSensorAreDroppedKeepingFileIndices) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("farther than min_range"), std::string::npos) << e.what();
   }
+}
+
+// Many drivers write a missing return as (0, 0, 0) instead of NaN: such
+// points are dropped, the others keep their file index.
+TEST(IoMissions, PointsAtTheSensorOriginAreMissingReturns) {
+  const fs::path root = make_dataset("zero");
+  PointSet p;
+  for (const float x : {0.f, 2.f, 0.f, 3.f}) p.xyz.emplace_back(x, 0.f, 0.f);
+  io::write_scan_pcd((root / "t0" / "scans" / "001.pcd").string(), p);
+  BasicContext ctx("read", 2);
+  ctx.info.dataset = root.string();
+  auto out = io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  const auto& scan = out.at("missions").as<MissionSet>().missions[0].scans[1];
+  ASSERT_EQ(scan.points->size(), 2u);
+  EXPECT_EQ(scan.points->index, (std::vector<uint32_t>{1, 3}));
+  EXPECT_EQ(scan.points_in_file, 4u);
+  EXPECT_EQ(ctx.info.metrics["read"]["dropped_zero"], 2.0);
+  EXPECT_EQ(ctx.info.metrics["read"]["dropped_near"], 0.0);
 }
 
 TEST(IoMissions, ClearErrors) {
@@ -187,7 +205,7 @@ TEST(IoMissions, AMissionWithNoPointsIsAnError) {
     io_test::make_stage("io.missions")->run(Inputs{}, ctx);
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("mission 't1': none of its 2 scans has a finite point; leave it out with "
+    EXPECT_NE(std::string(e.what()).find("mission 't1': none of its 2 scans has a finite point off the sensor origin; leave it out with "
                                          "--set load.missions=[...]"),
               std::string::npos)
         << e.what();
@@ -215,7 +233,8 @@ TEST(IoMissions, ScansWithoutPointsAreWarnedAbout) {
   const fs::path root = make_dataset("empty_scan");
   io::write_scan_pcd((root / "t0" / "scans" / "001.pcd").string(), PointSet{});
   const std::string all = messages_reading(root);
-  EXPECT_NE(all.find("mission 't0': 1 scan with no finite point (001.pcd)"), std::string::npos) << all;
+  EXPECT_NE(all.find("mission 't0': 1 scan with no finite point off the sensor origin (001.pcd)"), std::string::npos)
+      << all;
   EXPECT_EQ(all.find("mission 't1': 1 scan"), std::string::npos) << all;
 }
 
