@@ -8,7 +8,10 @@
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -98,6 +101,20 @@ std::vector<std::string> list_missions(const std::string& dataset_dir) {
   return names;
 }
 
+std::vector<char> scans_to_read(const std::vector<Eigen::Isometry3d>& poses, double spacing, double turn_deg) {
+  std::vector<char> keep(poses.size(), 1);
+  if (spacing <= 0.0 || poses.size() < 3) return keep;
+  const double turn = turn_deg * M_PI / 180.0;
+  size_t last = 0;
+  for (size_t i = 1; i + 1 < poses.size(); ++i) {
+    const Eigen::Isometry3d d = poses[last].inverse() * poses[i];
+    const double angle = Eigen::AngleAxisd(d.linear()).angle();
+    keep[i] = d.translation().norm() >= spacing || angle >= turn;
+    if (keep[i]) last = i;
+  }
+  return keep;
+}
+
 Mission read_mission(const std::string& mission_dir, const DatasetOptions& options) {
   const fs::path dir(mission_dir);
   if (!fs::is_directory(dir)) throw Error(mission_dir + ": mission folder does not exist");
@@ -123,6 +140,13 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
   m.scans.resize(files.size());
   std::vector<size_t> skipped(files.size(), 0);
   const bool need_read = options.load_points || viewpoint_layout;
+  // The VIEWPOINT layout's poses are in the files: thinned after reading.
+  std::vector<char> keep(files.size(), 1);
+  if (!viewpoint_layout) {
+    std::vector<Eigen::Isometry3d> sensor_poses;
+    for (const auto& r : poses) sensor_poses.push_back(r.pose);
+    keep = scans_to_read(sensor_poses, options.scan_spacing, options.scan_turn_deg);
+  }
   parallel_for(files.size(), options.threads, [&](size_t i) {
     Scan& s = m.scans[i];
     s.file = files[i];
@@ -132,7 +156,7 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
     } else {
       s.timestamp = double(i);
     }
-    if (!need_read) {
+    if (!need_read || !keep[i]) {
       s.points = std::make_shared<const PointSet>();
       return;
     }
@@ -146,6 +170,16 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
     s.points = std::make_shared<const PointSet>(std::move(f.points));
   });
   for (size_t k : skipped) m.skipped_nonfinite += k;
+  if (viewpoint_layout && options.scan_spacing > 0.0) {
+    std::vector<Eigen::Isometry3d> sensor_poses;
+    for (const auto& s : m.scans) sensor_poses.push_back(s.pose);
+    keep = scans_to_read(sensor_poses, options.scan_spacing, options.scan_turn_deg);
+    for (size_t i = 0; i < m.scans.size(); ++i)
+      if (!keep[i]) {
+        m.scans[i].points = std::make_shared<const PointSet>();
+        m.scans[i].points_in_file = 0;
+      }
+  }
   if (fs::is_regular_file(dir / "poses_gt.txt")) {
     const auto gt = read_poses((dir / "poses_gt.txt").string());
     if (gt.size() != m.scans.size())

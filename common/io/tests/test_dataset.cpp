@@ -89,6 +89,31 @@ TEST(Dataset, ReadsMissionsSortedWithProvenanceInParallel) {
   EXPECT_EQ(one.missions[0].scans[0].points->size(), 0u);
 }
 
+// A dense log thinned on reading: scans 1 m apart, one read every 2 m (and
+// the last); the others keep their pose, hold no points and count none.
+TEST(Dataset, ScanSpacingReadsAScanEverySoManyMetres) {
+  const auto root = temp_dir("ds");
+  make_mission(root / "m", 6, 4);
+  DatasetOptions opt;
+  opt.scan_spacing = 2.0;
+  opt.threads = 2;
+  const Mission m = read_dataset(root.string(), opt).missions.at(0);
+  ASSERT_EQ(m.scans.size(), 6u);
+  for (size_t s = 0; s < 6; ++s) {
+    const bool read = s == 0 || s == 2 || s == 4 || s == 5;
+    EXPECT_EQ(m.scans[s].points->empty(), !read) << s;
+    EXPECT_EQ(m.scans[s].points_in_file, read ? 4u : 0u) << s;
+    EXPECT_EQ(m.scans[s].pose.translation().x(), double(s));
+  }
+  // A turn on the spot is read too; a spacing of 0 reads everything.
+  std::vector<Eigen::Isometry3d> poses(4, Eigen::Isometry3d::Identity());
+  poses[1].linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  poses[2].linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  poses[3].linear() = Eigen::AngleAxisd(0.8, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  EXPECT_EQ(scans_to_read(poses, 1.0, 30.0), (std::vector<char>{1, 0, 1, 1}));
+  EXPECT_EQ(scans_to_read(poses, 0.0, 30.0), (std::vector<char>{1, 1, 1, 1}));
+}
+
 TEST(Dataset, ErrorsAreClear) {
   const auto root = temp_dir("ds");
   make_mission(root / "m", 3, 4);

@@ -62,23 +62,30 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   std::vector<size_t> mission_end(set.missions.size());  // end of each mission's edges
   for (size_t m = 0; m < set.missions.size(); ++m) {
     const auto& scans = set.missions[m].scans;
-    for (size_t first = 0; first < scans.size(); first += kBlock) {
+    // Neighbours are the next scans that hold points: an empty scan (a
+    // sensor dropout, a scan io.missions did not read) is stepped over.
+    std::vector<size_t> held;
+    for (size_t s = 0; s < scans.size(); ++s)
+      if (scans[s].points && !scans[s].points->empty()) held.push_back(s);
+    for (size_t first = 0; first < held.size(); first += kBlock) {
       if (stop() && on_cancel) on_cancel();
-      const size_t last = std::min(scans.size(), first + kBlock + size_t(o.neighbours));  // exclusive
+      const size_t last = std::min(held.size(), first + kBlock + size_t(o.neighbours));  // exclusive
       std::vector<PreparedCloud> clouds(last - first);
       // Prepared once: each scan is registered up to 2 x neighbours times.
       parallel_for(clouds.size(), threads,
-                   [&](size_t i) { clouds[i] = PreparedCloud(scan_cloud(scans[first + i], o), o.registration); });
-      std::vector<std::pair<size_t, size_t>> pairs;  // (from, to) scan indices
-      for (size_t s = first; s < std::min(scans.size(), first + kBlock); ++s)
-        for (size_t k = 1; k <= size_t(o.neighbours) && s + k < scans.size(); ++k) pairs.push_back({s, s + k});
+                   [&](size_t i) { clouds[i] = PreparedCloud(scan_cloud(scans[held[first + i]], o), o.registration); });
+      std::vector<std::pair<size_t, size_t>> pairs;  // (from, to) positions in `held`
+      for (size_t p = first; p < std::min(held.size(), first + kBlock); ++p)
+        for (size_t k = 1; k <= size_t(o.neighbours) && p + k < held.size(); ++k) pairs.push_back({p, p + k});
       const size_t offset = edges.size();
       edges.resize(offset + pairs.size());
       parallel_for(pairs.size(), threads, [&](size_t i) {
         if (stop()) return;
-        const auto [from, to] = pairs[i];
+        const auto [from_at, to_at] = pairs[i];
+        const size_t from = held[from_at], to = held[to_at];
         const Eigen::Isometry3d odometry = scans[from].pose.inverse() * scans[to].pose;
-        const RegistrationResult r = register_prepared(clouds[to - first], clouds[from - first], odometry, o.registration);
+        const RegistrationResult r =
+            register_prepared(clouds[to_at - first], clouds[from_at - first], odometry, o.registration);
         if (!r.converged || std::min(r.overlap, r.reverse_overlap) < o.min_overlap || r.inlier_rmse > o.max_rmse) return;
         const Eigen::Isometry3d change = odometry.inverse() * r.transform;
         if (change.translation().norm() > o.max_translation_change ||

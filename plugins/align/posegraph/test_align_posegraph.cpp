@@ -523,6 +523,26 @@ TEST(ScanEdges, GroundLeftOutTheStepIsStillMeasured) {
   }
 }
 
+// An empty scan (a sensor dropout, a scan io.missions did not read) is
+// stepped over: its neighbours register onto each other, and nothing is
+// tried with it.
+TEST(ScanEdges, AnEmptyScanIsSteppedOver) {
+  const Scene hall = make_hall(kHallX, kHallY, 10, 7);
+  const std::vector<Eigen::Isometry3d> route = {offset(4, 4, 1, 0), offset(5, 4, 1, 0), offset(6, 4, 1, 0)};
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, route, route, 5));
+  set.missions[0].scans[1].points = std::make_shared<const PointSet>();
+  ScanEdgeOptions o;
+  o.neighbours = 1;
+  o.registration.voxel = 0.1;
+  ScanEdgeReport report;
+  const auto edges = scan_registration_edges(set, {0}, o, 1, report);
+  EXPECT_EQ(report.tried, 1u);
+  ASSERT_EQ(edges.size(), 1u);
+  EXPECT_EQ(edges[0].from, 0u);
+  EXPECT_EQ(edges[0].to, 2u);
+}
+
 // Ctrl-C during the scan-to-scan registrations (seconds per mission) stops
 // them at once rather than after the whole loop.
 TEST(ScanEdges, StopWhenCancelled) {

@@ -69,7 +69,9 @@ class MissionsStage : public Stage {
   explicit MissionsStage(const Params& p)
       : path_(p.get<std::string>("path")),
         missions_(p.get<std::vector<std::string>>("missions")),
-        min_range_(p.get<double>("min_range")) {}
+        min_range_(p.get<double>("min_range")),
+        scan_spacing_(p.get<double>("scan_spacing")),
+        scan_turn_(p.get<double>("scan_turn")) {}
 
   Outputs run(const Inputs&, Context& ctx) override {
     const std::string dataset = path_.empty() ? ctx.run_info().dataset : path_;
@@ -84,6 +86,8 @@ class MissionsStage : public Stage {
                "the order they were recorded (--set " + ctx.stage_id() + ".missions=[...]) or zero-pad the numbers");
     DatasetOptions opt;
     opt.threads = ctx.threads();
+    opt.scan_spacing = scan_spacing_;
+    opt.scan_turn_deg = scan_turn_;
     MissionSet set;
     set.dataset = dataset;
     size_t near_dropped = 0, zero_dropped = 0;
@@ -113,8 +117,13 @@ class MissionsStage : public Stage {
                     set.origin.x(), set.origin.y(), set.origin.z());
       ctx.info(text);
     }
-    size_t points = 0, skipped = 0, scans = 0;
+    size_t points = 0, skipped = 0, scans = 0, read = 0;
     for (const auto& m : set.missions) {
+      std::vector<Eigen::Isometry3d> poses;
+      for (const auto& s : m.scans) poses.push_back(s.pose);
+      const std::vector<char> kept = scans_to_read(poses, scan_spacing_, scan_turn_);
+      const size_t m_read = size_t(std::count(kept.begin(), kept.end(), 1));
+      read += m_read;
       // Map-frame .pcd scans carry their pose in VIEWPOINT; PCL writes an
       // identity there by default, so identity everywhere means no poses.
       if (m.scans.size() > 1 && !std::filesystem::exists(std::filesystem::path(m.dir) / "poses.txt") &&
@@ -128,16 +137,20 @@ class MissionsStage : public Stage {
                     "; leave it out with --set " + ctx.stage_id() +
                     ".missions=[...] (listing at least two others: change needs two missions to compare)");
       std::vector<std::string> empty;
-      for (const auto& scan : m.scans)
-        if (scan.points && scan.points->empty()) empty.push_back(std::filesystem::path(scan.file).filename().string());
+      for (size_t i = 0; i < m.scans.size(); ++i)
+        if (kept[i] && m.scans[i].points && m.scans[i].points->empty())
+          empty.push_back(std::filesystem::path(m.scans[i].file).filename().string());
       if (!empty.empty())
         ctx.warn("mission '" + m.name + "': " + std::to_string(empty.size()) + " scan" + (empty.size() > 1 ? "s" : "") +
                  " with no finite point off the sensor origin (" + empty.front() + (empty.size() > 1 ? ", ..." : "") + ")");
       if (const std::string pair = misordered_scan_names(m); !pair.empty())
         ctx.warn("mission '" + m.name + "': " + pair +
                  " by name, and scans take their poses in file-name order: zero-pad the numbers (scan_002.pcd)");
+      if (scan_spacing_ <= 0.0) warn_if_dense(m, ctx);
       const size_t n = m.point_count();
-      ctx.info("mission '" + m.name + "': " + std::to_string(m.scans.size()) + " scans, " + std::to_string(n) +
+      ctx.info("mission '" + m.name + "': " + std::to_string(m.scans.size()) + " scans" +
+               (m_read < m.scans.size() ? " (" + std::to_string(m_read) + " read, scan_spacing)" : std::string()) +
+               ", " + std::to_string(n) +
                " points" + (m.skipped_nonfinite ? ", " + std::to_string(m.skipped_nonfinite) + " non-finite skipped" : "") +
                (m.poses_gt.empty() ? "" : ", poses_gt.txt"));
       points += n;
@@ -146,6 +159,7 @@ class MissionsStage : public Stage {
     }
     ctx.record("missions", double(set.missions.size()));
     ctx.record("scans", double(scans));
+    ctx.record("scans_read", double(read));
     ctx.record("points", double(points));
     ctx.record("skipped_nonfinite", double(skipped));
     ctx.record("dropped_near", double(near_dropped));
@@ -190,9 +204,28 @@ class MissionsStage : public Stage {
     return {near, zero};
   }
 
+  // A log of many scans taken close together (a 10 Hz LiDAR) costs time and
+  // memory in every later stage for little new evidence: said once per
+  // mission, with the parameter that thins it.
+  void warn_if_dense(const Mission& m, Context& ctx) const {
+    if (m.scans.size() < 1000) return;
+    std::vector<double> steps;
+    for (size_t i = 1; i < m.scans.size(); ++i)
+      steps.push_back((m.scans[i].pose.translation() - m.scans[i - 1].pose.translation()).norm());
+    std::nth_element(steps.begin(), steps.begin() + long(steps.size() / 2), steps.end());
+    const double median = steps[steps.size() / 2];
+    if (median >= 0.1) return;
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "mission '%s': %zu scans, %.2f m apart (median): a dense log; --set %s.scan_spacing=0.5 reads a "
+                  "scan every 0.5 m (or %.0f deg of turn) and keeps runs short",
+                  m.name.c_str(), m.scans.size(), median, ctx.stage_id().c_str(), scan_turn_);
+    ctx.info(text);
+  }
+
   std::string path_;
   std::vector<std::string> missions_;
-  double min_range_;
+  double min_range_, scan_spacing_, scan_turn_;
 };
 
 StageInfo info() {
@@ -207,7 +240,9 @@ StageInfo info() {
       "present. Scans are read in parallel. Non-finite points are skipped and counted; points at exactly (0, 0, 0) "
       "in the sensor frame (a driver's missing return) are dropped, metric dropped_zero. Errors: scan count "
       "!= pose count, unreadable or malformed file (with its line), non-orthonormal rotation, empty "
-      "mission. With min_range > 0, points nearer their sensor are dropped (a robot's own body), the others "
+      "mission. With scan_spacing > 0, only scans that far apart (or turned scan_turn) are read, the others "
+      "keeping their pose and no points (metric scans_read; a log of 1000+ scans under 0.1 m apart is pointed "
+      "to it). With min_range > 0, points nearer their sensor are dropped (a robot's own body), the others "
       "keeping their file index. Poses more than a km from zero (georeferenced) are moved by a whole number of km so float "
       "points keep millimetres; io.report adds the offset back. See docs/formats.md.";
   s.outputs = {{"missions", "missions", "the missions, each in its own map frame (to_common = identity)"}};
@@ -218,7 +253,16 @@ StageInfo info() {
                       "points nearer their sensor than this are dropped: the robot's own body or the operator, which "
                       "move with the sensor and would leave a trail of change along every path (a legged robot with "
                       "a LiDAR on its back: about 1 m); dropped points keep no place in changes/; 0 keeps all")
-          .range(0, 100).unit("m")};
+          .range(0, 100).unit("m"),
+      ParamSpec::real("scan_spacing", 0.0,
+                      "dense logs (a 10 Hz LiDAR): read a scan only where its sensor lies this far from the last "
+                      "scan read, or has turned scan_turn from it (first and last always read); the others keep "
+                      "their pose and no points, so their points are never reported changed; 0 reads every scan")
+          .range(0, 100)
+          .unit("m"),
+      ParamSpec::real("scan_turn", 30.0, "with scan_spacing > 0, a scan turned this far from the last one read is read too")
+          .range(0.1, 180)
+          .unit("deg")};
   return s;
 }
 

@@ -111,6 +111,58 @@ TEST(IoMissions, PointsAtTheSensorOriginAreMissingReturns) {
   EXPECT_EQ(ctx.info.metrics["read"]["dropped_near"], 0.0);
 }
 
+// A dense log read thinned: scans 0.5 m apart, one read per metre; the
+// others are not called empty scans.
+TEST(IoMissions, ScanSpacingThinsADenseLogWithoutCallingTheRestEmpty) {
+  const fs::path root = io::testing::scratch_path("io_missions_dense");
+  for (const char* m : {"A", "B"}) {
+    fs::create_directories(root / m / "scans");
+    std::vector<io::PoseRecord> poses(5);
+    for (int s = 0; s < 5; ++s) {
+      PointSet p;
+      p.xyz.emplace_back(2.f, 0.f, 0.f);
+      io::write_scan_pcd((root / m / "scans" / ("00" + std::to_string(s) + ".pcd")).string(), p);
+      poses[s].timestamp = s;
+      poses[s].pose.translation() = Eigen::Vector3d(0.5 * s, 0, 0);
+    }
+    io::write_poses((root / m / "poses.txt").string(), poses);
+  }
+  BasicContext ctx("read", 2);
+  ctx.info.dataset = root.string();
+  auto out = io_test::make_stage("io.missions", {{"scan_spacing", 1.0}})->run(Inputs{}, ctx);
+  const auto& a = out.at("missions").as<MissionSet>().missions[0];
+  ASSERT_EQ(a.scans.size(), 5u);
+  EXPECT_EQ(a.point_count(), 3u);  // scans 0, 2 and 4
+  EXPECT_TRUE(a.scans[1].points->empty());
+  EXPECT_EQ(ctx.info.metrics["read"]["scans_read"], 6.0);
+  EXPECT_EQ(ctx.info.metrics["read"]["scans"], 10.0);
+  std::string all;
+  for (const auto& msg : ctx.messages) all += msg + "\n";
+  EXPECT_EQ(all.find("with no finite point"), std::string::npos) << all;
+  EXPECT_NE(all.find("mission 'A': 5 scans (3 read, scan_spacing)"), std::string::npos) << all;
+}
+
+// A 10 Hz log (1000 scans 5 cm apart) is pointed to scan_spacing.
+TEST(IoMissions, ADenseLogIsPointedToScanSpacing) {
+  const fs::path root = io::testing::scratch_path("io_missions_log");
+  fs::create_directories(root / "A" / "scans");
+  std::vector<io::PoseRecord> poses(1000);
+  for (int s = 0; s < 1000; ++s) {
+    PointSet p;
+    p.xyz.emplace_back(2.f, 0.f, 0.f);
+    char name[32];
+    std::snprintf(name, sizeof name, "%04d.pcd", s);
+    io::write_scan_pcd((root / "A" / "scans" / name).string(), p);
+    poses[s].timestamp = s;
+    poses[s].pose.translation() = Eigen::Vector3d(0.05 * s, 0, 0);
+  }
+  io::write_poses((root / "A" / "poses.txt").string(), poses);
+  const std::string all = messages_reading(root);
+  EXPECT_NE(all.find("mission 'A': 1000 scans, 0.05 m apart (median): a dense log; --set test.scan_spacing=0.5"),
+            std::string::npos)
+      << all;
+}
+
 TEST(IoMissions, ClearErrors) {
   const fs::path root = make_dataset("b");
   BasicContext ctx;

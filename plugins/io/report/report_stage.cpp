@@ -2,6 +2,7 @@
 // sect. 2) with provenance, atomically, and logs a short summary.
 #include "report_build.hpp"
 #include "report_output.hpp"
+#include "unread_scans.hpp"
 
 #include <lista/lista.hpp>
 
@@ -15,7 +16,8 @@ namespace {
 
 class ReportStage : public Stage {
  public:
-  explicit ReportStage(const Params& p) : path_(p.get<std::string>("path")) {}
+  explicit ReportStage(const Params& p)
+      : path_(p.get<std::string>("path")), unread_cell_(p.get<double>("unread_cell")) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const RunInfo run = ctx.run_info();
@@ -30,6 +32,13 @@ class ReportStage : public Stage {
     const Matches* matches = in.has("matches") ? &in.get<Matches>("matches") : nullptr;
     const MissionPoints* changes = in.has("changes") ? &in.get<MissionPoints>("changes") : nullptr;
     Built built = build_report(missions, objects, groups, matches, changes);
+    const UnreadScans unread = add_unread_scans(missions, built, unread_cell_, ctx.threads());
+    ctx.record("unread_scans", double(unread.scans));
+    ctx.record("unread_points_changed", double(unread.points));
+    if (unread.scans > 0)
+      ctx.info(std::to_string(unread.points) + " points of the " + std::to_string(unread.scans) +
+               " scans io.missions did not read lie in changed cells (" + std::to_string(unread_cell_).substr(0, 4) +
+               " m) and are reported with them");
     for (const auto& s : run.finished) built.report.timings_s.emplace_back(s.id, s.seconds);
     built.report.extra_json = provenance_json(run, missions.origin);
     for (const auto& w : built.warnings) ctx.warn(w);
@@ -76,12 +85,13 @@ class ReportStage : public Stage {
   }
 
   std::string path_;
+  double unread_cell_;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "io.report";
-  s.version = "1.1.0";
+  s.version = "1.2.0";
   s.summary = "writes report.json and changes/<mission>.pcd (data contract, section 2)";
   s.doc =
       "Writes the change report: report.json (format, missions, alignment = each mission's to_common, "
@@ -93,14 +103,21 @@ StageInfo info() {
       "common frame, scan uint32, index uint32, object int32) holds every object point with its object id "
       "and, when 'changes' is connected, every change point in no object with -1. Without 'matches' the "
       "status follows mission order: objects of the first mission are 'removed', of later ones 'added' "
-      "(confidence 0.5, or the group confidence). Atomic: files are written into a temp folder inside the "
+      "(confidence 0.5, or the group confidence). Scans io.missions did not read (scan_spacing) are read here: "
+      "each of their points in an unread_cell cube holding a change row of its mission joins changes/ with "
+      "that row's object (metrics unread_scans, unread_points_changed). Atomic: files are written into a temp folder inside the "
       "output folder and renamed into place, report.json last; a failure leaves no report.json.";
   s.inputs = {{"missions", "missions", "the aligned missions (names, order, alignment)"},
               {"objects", "objects", "the change objects (common frame)"},
               {"groups", "groups", "descriptor groups of the objects", true},
               {"matches", "matches", "status, partner and transform of each object", true},
               {"changes", "points", "all change points; those in no object are written with object -1", true}};
-  s.params = {ParamSpec::text("path", "", "output folder; empty = the run's output folder (lista-run --out)")};
+  s.params = {ParamSpec::text("path", "", "output folder; empty = the run's output folder (lista-run --out)"),
+              ParamSpec::real("unread_cell", 0.1,
+                              "cube edge for placing the points of scans io.missions did not read (scan_spacing) "
+                              "into the change: a point in a cube holding a change point is reported with it")
+                  .range(0.01, 1)
+                  .unit("m")};
   return s;
 }
 

@@ -243,3 +243,31 @@ TEST(IoReport, FailuresLeaveNoReport) {
   for (auto& e : fs::directory_iterator(out)) (void)e, ++entries;
   EXPECT_EQ(entries, 1u);  // only the "changes" file: the temp folder is gone
 }
+
+// A scan io.missions did not read (scan_spacing) is read here: its points
+// that fall in a change cell join changes/ with that cell's object, under
+// their own scan and file index; the rest, and missing returns, do not.
+TEST(IoReport, PointsOfUnreadScansInChangedCellsAreReported) {
+  Fixture f;
+  const fs::path out = out_dir("unread");
+  fs::create_directories(out);
+  // B's scan 0 sits at (1, 0, 0) in B's map, which lies at (1, 2, 3): its
+  // sensor sees object 1's first points (5..5.3, 1, 2) at (3..3.3, -1, -1).
+  PointSet scan;
+  scan.xyz = {{3.02f, -1.f, -1.f}, {8.f, 8.f, 8.f}, {0.f, 0.f, 0.f}, {3.15f, -1.f, -1.f}};
+  const fs::path file = out / "unread-scan.pcd";
+  io::write_scan_pcd(file.string(), scan);
+  f.missions.missions[1].scans[0].file = file.string();
+  f.missions.missions[1].scans[0].points = std::make_shared<const PointSet>();
+  BasicContext ctx("report");
+  ctx.info.output_dir = (out / "run").string();
+  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  const io::PcdTable b = io::read_pcd_table((out / "run" / "changes" / "B.pcd").string());
+  ASSERT_EQ(b.size, 8u);  // the 6 of the fixture and 2 of the unread scan
+  std::vector<std::pair<double, double>> from_unread;  // (index, object) of rows of scan 0
+  for (size_t i = 0; i < b.size; ++i)
+    if (b.values[3][i] == 0.0) from_unread.emplace_back(b.values[4][i], b.values[5][i]);
+  EXPECT_EQ(from_unread, (std::vector<std::pair<double, double>>{{0.0, 1.0}, {3.0, 1.0}}));
+  EXPECT_EQ(ctx.info.metrics["report"]["unread_scans"], 1.0);
+  EXPECT_EQ(ctx.info.metrics["report"]["unread_points_changed"], 2.0);
+}

@@ -12,7 +12,17 @@ struct DatasetOptions {
   std::vector<std::string> missions;  // names to read, in this order; empty = all, sorted
   bool load_points = true;            // false: poses and file lists only
   int threads = 1;
+  // Dense logs (a 10 Hz LiDAR): with scan_spacing > 0 a scan's points are
+  // read only where scans_to_read keeps it; the others stay in the mission
+  // with their pose and no points (points_in_file 0).
+  double scan_spacing = 0.0;   // m
+  double scan_turn_deg = 30.0;
 };
+
+// Which scans of a trajectory to read: the first, the last, and each whose
+// sensor lies at least `spacing` from the last one kept or has turned at
+// least `turn_deg` from it. All of them when spacing <= 0.
+std::vector<char> scans_to_read(const std::vector<Eigen::Isometry3d>& poses, double spacing, double turn_deg);
 
 // The mission folders of a dataset (sorted names), or the dataset itself when
 // it is a single VIEWPOINT-layout folder. Throws lista::Error if none.
