@@ -149,6 +149,10 @@ Patch patch_of(const std::vector<std::pair<uint64_t, Eigen::Vector3f>>& keyed, u
   return patch;
 }
 
+// Empty scans (a dropout, a scan io.missions did not read) neither count
+// nor witness.
+bool holds_points(const Scan& s) { return s.points && !s.points->empty(); }
+
 // Up to `count` scans between witness_min and witness_max from scan i,
 // nearest in scan order, looking both ways in turn.
 std::vector<size_t> witnesses_of(const Mission& m, size_t i, const BodyConfig& c) {
@@ -157,7 +161,7 @@ std::vector<size_t> witnesses_of(const Mission& m, size_t i, const BodyConfig& c
   const size_t n = m.scans.size();
   for (size_t step = 1; step < n && int(out.size()) < c.witnesses; ++step)
     for (const long j : {long(i) - long(step), long(i + step)}) {
-      if (j < 0 || j >= long(n) || int(out.size()) >= c.witnesses || !m.scans[size_t(j)].points) continue;
+      if (j < 0 || j >= long(n) || int(out.size()) >= c.witnesses || !holds_points(m.scans[size_t(j)])) continue;
       const double d = (m.scans[size_t(j)].pose.translation() - at).norm();
       if (d >= c.witness_min && d <= c.witness_max) out.push_back(size_t(j));
     }
@@ -172,16 +176,18 @@ uint64_t cell_key(const Eigen::Vector3f& p, double cell) {
 
 BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
   BodyCells out;
-  const size_t n = m.scans.size();
+  std::vector<size_t> held;
+  for (size_t s = 0; s < m.scans.size(); ++s)
+    if (holds_points(m.scans[s])) held.push_back(s);
+  const size_t n = held.size();
   if (int(n) < c.min_scans || c.max_range <= 0) return out;
   const float r2 = float(c.max_range * c.max_range);
 
   // How many scans occupy each sensor-frame cell near the sensor.
   std::vector<std::vector<uint64_t>> per_scan(n);
-  parallel_for(n, threads, [&](size_t s) {
-    if (!m.scans[s].points) return;
-    std::vector<uint64_t>& keys = per_scan[s];
-    for (const auto& p : m.scans[s].points->xyz)
+  parallel_for(n, threads, [&](size_t h) {
+    std::vector<uint64_t>& keys = per_scan[h];
+    for (const auto& p : m.scans[held[h]].points->xyz)
       if (p.squaredNorm() < r2) keys.push_back(cell_key(p, c.cell));
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
@@ -220,8 +226,7 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
   std::vector<size_t> probe_scans;
   std::vector<std::vector<size_t>> probe_witnesses;
   for (size_t k = 0; k < probes; ++k) {
-    const size_t i = size_t((double(k) + 0.5) * double(n) / double(probes));
-    if (!m.scans[i].points) continue;
+    const size_t i = held[size_t((double(k) + 0.5) * double(n) / double(probes))];
     std::vector<size_t> witnesses = witnesses_of(m, i, c);
     if (witnesses.empty()) continue;
     probe_scans.push_back(i);

@@ -96,6 +96,26 @@ TEST(FilterBody, DropsTheBodyOfAWalkingRobotAndKeepsTheHall) {
   EXPECT_EQ(kept.scan.front(), 3u);
 }
 
+// With scans left unread (io.missions scan_spacing) or empty, only the
+// scans holding points count and witness.
+TEST(FilterBody, EmptyScansNeitherCountNorWitness) {
+  lista::Mission m = hall_mission(lista::align::testing::loop_route(20, 14, 4, 0.75, 0.0));
+  const std::vector<uint32_t> first = scene_point_counts(m);
+  add_body(m, 300, 6);
+  size_t body = 0;
+  for (size_t s = 0; s < m.scans.size(); ++s)
+    if (s % 3 != 0) {
+      m.scans[s].points = std::make_shared<const lista::PointSet>();
+    } else {
+      body += 300;
+    }
+  const lista::Mission before = m;
+  const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(one_mission(m)));
+  const Dropped d = count_dropped(before, only(out), first);
+  EXPECT_GE(double(d.body), 0.97 * double(body));
+  EXPECT_EQ(d.scene, 0u);
+}
+
 TEST(FilterBody, DropsARayCastBodySeenByAFewRings) {
   // The body as a 16-ring sensor sees it: a box in the scene that moves with
   // the sensor and hides what lies behind it, hit by a few rings in arcs.
