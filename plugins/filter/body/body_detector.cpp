@@ -49,23 +49,27 @@ class RangeImage {
 
   enum class Vote { none, present, see_through };
 
-  // What this scan saw of a small surface patch (centre c, unit normal n,
-  // radius rho; sensor frame): among its rays that cross the patch's plane
-  // inside the patch, coming from the front, one that ends on the patch
-  // (within `margin` of the plane) sees it present; otherwise one that ends
-  // more than `margin` behind it saw through; rays ending in front of it
-  // (something nearer) or none at all give no vote.
-  Vote look(const Eigen::Vector3d& c, Eigen::Vector3d n, double rho, double margin) const {
-    if (n.dot(c) > 0) n = -n;  // face the sensor
-    const double r = c.norm();
+  // What this scan saw of a small surface patch (centre c, unit normal n
+  // pointing to the side the patch was seen from; sensor frame). A real
+  // surface is opaque: no ray passes behind it. So one of this scan's rays
+  // that passes within `rho` of the point `depth` behind the patch and ends
+  // more than `margin` beyond that point saw through where the patch was;
+  // one that ends within `rho` of the patch's centre sees it present (that
+  // wins). Rays that end short of both, or none at all, give no vote. Edge-on
+  // views (the top of a robot's back from another scan at the same height)
+  // work as well as head-on ones.
+  Vote look(const Eigen::Vector3d& c, const Eigen::Vector3d& n, double depth, double rho, double margin) const {
+    const Eigen::Vector3d q = c - depth * n;
+    const double r = q.norm();
     if (r < 1e-6) return Vote::none;
-    const double reach = std::atan2(rho, r) * 180.0 / M_PI;
-    const int half_az = std::min(40, int(std::ceil(reach / std::max(0.05, std::cos(std::asin(std::clamp(c.z() / r, -1.0, 1.0))))* 2.0)) + 1);
-    const int half_el = std::min(20, int(std::ceil(reach)) + 1);
-    const int az = az_bin(c), el = el_bin(c);
-    // Bins nearest the patch's direction first: a surface really there is
-    // usually found present within a few bins, ending the search.
+    const double reach = std::atan2(rho + depth, r) * 180.0 / M_PI;
+    const double cos_el = std::max(0.05, std::sqrt(std::max(0.0, 1.0 - (q.z() / r) * (q.z() / r))));
+    const int half_az = std::min(60, int(std::ceil(reach / cos_el * 2.0)) + 1);
+    const int half_el = std::min(30, int(std::ceil(reach)) + 1);
+    const int az = az_bin(q), el = el_bin(q);
     bool through = false;
+    // Bins nearest the point's direction first: a surface really there is
+    // usually found present within a few bins, ending the search.
     for (int ring = 0; ring <= std::max(half_az, half_el); ++ring)
       for (int de = -std::min(ring, half_el); de <= std::min(ring, half_el); ++de) {
         const int e = el + de;
@@ -76,16 +80,13 @@ class RangeImage {
           const size_t b = size_t(e) * kAz + size_t((az + da + 10 * kAz) % kAz);
           for (uint32_t k = offsets_[b]; k < offsets_[b + 1]; ++k) {
             const Eigen::Vector3d p = points_[k].cast<double>();
+            if ((p - c).squaredNorm() <= rho * rho) return Vote::present;
             const double range = p.norm();
             if (range < 1e-6) continue;
             const Eigen::Vector3d u = p / range;
-            const double nu = n.dot(u);
-            if (nu > -0.2) continue;  // grazing or from behind: where it crosses is ill-defined
-            const double t = n.dot(c) / nu;
-            if ((t * u - c).norm() > rho) continue;
-            const double behind = -n.dot(p - c);
-            if (std::abs(behind) <= margin) return Vote::present;
-            if (behind > margin) through = true;
+            const double t = u.dot(q);
+            if (t <= 0 || range <= t + margin) continue;
+            if ((q - t * u).squaredNorm() <= rho * rho) through = true;
           }
         }
       }
@@ -143,9 +144,16 @@ Patch patch_of(const std::vector<std::pair<uint64_t, Eigen::Vector3f>>& keyed, u
   mean /= double(pts.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (const auto& p : pts) cov += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / double(pts.size()));
   patch.normal = eig.eigenvectors().col(0);
-  patch.valid = eig.eigenvalues()(0) < 0.05 * eig.eigenvalues()(1);
+  if (patch.normal.dot(patch.centre) > 0) patch.normal = -patch.normal;  // toward the sensor that saw it
+  // Flat, and spread both ways: the points of one ring on the floor form a
+  // line whose noise runs along the rays, and a plane through it would be
+  // tilted towards the sensor. Seen edge-on, which side it was seen from is
+  // not clear either.
+  const Eigen::Vector3d view = patch.centre.normalized();
+  patch.valid = eig.eigenvalues()(0) < 0.05 * eig.eigenvalues()(1) && eig.eigenvalues()(1) > 0.03 * 0.03 &&
+                std::abs(view.dot(patch.normal)) > 0.1;
   return patch;
 }
 
@@ -268,7 +276,7 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
         if (!patches[ci].valid) continue;
         const Eigen::Vector3d centre = sensor_j_from_i * patches[ci].centre;
         const Eigen::Vector3d normal = sensor_j_from_i.linear() * patches[ci].normal;
-        const RangeImage::Vote vote = image.look(centre, normal, 1.5 * c.cell, c.margin);
+        const RangeImage::Vote vote = image.look(centre, normal, c.depth, c.cell, c.margin);
         v[w * candidates.size() + ci] = vote == RangeImage::Vote::present ? 1 : vote == RangeImage::Vote::see_through ? -1 : 0;
       }
     }

@@ -19,7 +19,8 @@ struct BodyConfig {
   double min_share = 0.5;         // a body cell is occupied in at least this share of the scans
   double witness_min = 2.0;       // m: a witness scan is at least this far from the scan it checks
   double witness_max = 12.0;      // m: ... and at most this far
-  double margin = 0.3;            // m: a witness ray ending this near a patch sees it there; farther behind, through it
+  double depth = 0.2;             // m: how far behind a patch a witness ray must pass to see through it
+  double margin = 0.3;            // m: ... and how far beyond that point it must end
   double see_through_share = 0.5; // share of a cell's votes that must see through it
   int min_votes = 4;              // fewer votes: the cell is kept (not enough evidence)
   int min_scans = 4;              // missions with fewer scans are left as they are

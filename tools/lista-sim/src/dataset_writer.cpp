@@ -99,6 +99,7 @@ WriteStats write_dataset(const Scenario& sc, const SensorModel& sensor, const Wr
       so.key = hash_combine(hash_combine(opt.seed, mi + 1), i + 1);
       so.threads = opt.threads;
       so.scan_id = uint32_t(i);
+      so.body = opt.body;
       const PointSet cloud = sweep(scene, people.empty() ? nullptr : &people, sensor, m.poses_true[i], so);
       char name[32];
       std::snprintf(name, sizeof(name), "%06zu.pcd", i);

@@ -17,6 +17,7 @@ struct WriteOptions {
   int threads = 1;
   bool overwrite = false; // replace the mission folders and ground truth already there
   bool progress = false;  // progress lines on stderr
+  bool body = false;      // a robot's back in every scan (SweepOptions::body)
 };
 
 struct WriteStats {

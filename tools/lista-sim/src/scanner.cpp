@@ -7,6 +7,39 @@
 
 namespace lista::sim {
 
+namespace {
+
+// Where a ray from the sensor (sensor frame) enters the body box, and the
+// face's normal; t < 0 when it misses.
+Hit body_hit(const Eigen::Vector3f& dir_s) {
+  float t0 = 0.0f, t1 = 1e9f;
+  int axis = -1;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(dir_s[k]) < 1e-9f) {
+      if (0.0f < body_box_min[k] || 0.0f > body_box_max[k]) return {};
+      continue;
+    }
+    float a = body_box_min[k] / dir_s[k], b = body_box_max[k] / dir_s[k];
+    if (a > b) std::swap(a, b);
+    if (a > t0) {
+      t0 = a;
+      axis = k;
+    }
+    t1 = std::min(t1, b);
+    if (t0 > t1) return {};
+  }
+  if (axis < 0) return {};  // the sensor inside the box: not a body it can see
+  Hit h;
+  h.t = t0;
+  h.label = 0;
+  h.reflectivity = 0.25f;  // dark painted metal
+  h.normal = Eigen::Vector3f::Zero();
+  h.normal[axis] = dir_s[axis] > 0 ? -1.0f : 1.0f;
+  return h;
+}
+
+}  // namespace
+
 PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const SensorModel& sensor,
                const Eigen::Isometry3d& T_world_sensor, const SweepOptions& options) {
   const int beams = int(sensor.elevations.size());
@@ -39,6 +72,13 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
         const float tmax = hit.t > 0 ? hit.t : float(sensor.max_range);
         const Hit h2 = dynamic_scene->intersect(origin, dir, float(sensor.min_range), tmax);
         if (h2.t > 0) hit = h2;
+      }
+      if (options.body) {
+        Hit b = body_hit(dir_s);
+        if (b.t >= float(sensor.min_range) && (hit.t < 0 || b.t < hit.t)) {
+          b.normal = R * b.normal;
+          hit = b;
+        }
       }
       if (hit.t < 0) continue;
       const uint64_t h = hash_combine(options.key, r);

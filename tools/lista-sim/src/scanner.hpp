@@ -15,7 +15,15 @@ struct SweepOptions {
   uint64_t key = 0;  // seeds the per-ray noise (hash of seed, mission, scan)
   int threads = 1;
   uint32_t scan_id = 0;  // provenance written into PointSet::scan
+  // A legged robot's back under the sensor, moving with it (body_box_min /
+  // body_box_max, sensor frame): hit like any surface, label 0.
+  bool body = false;
 };
+
+// The robot's back of SweepOptions::body: 1.1 x 0.5 m, its top 0.15 m and its
+// bottom 0.45 m below the sensor, reaching 0.9 m behind it and 0.2 m ahead.
+inline const Eigen::Vector3f body_box_min{-0.9f, -0.25f, -0.45f};
+inline const Eigen::Vector3f body_box_max{0.2f, 0.25f, -0.15f};
 
 // Points in the SENSOR frame with intensity (0..255) and label (object id).
 PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const SensorModel& sensor,
