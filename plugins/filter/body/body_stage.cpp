@@ -20,9 +20,13 @@ class BodyStage : public Stage {
     config_.min_share = p.get<double>("min_share");
     config_.see_through_share = p.get<double>("see_through_share");
     config_.margin = p.get<double>("margin");
+    config_.depth = p.get<double>("depth");
     config_.witness_min = p.get<double>("witness_min");
     config_.witness_max = p.get<double>("witness_max");
     config_.probes = int(p.get<int64_t>("probes"));
+    if (config_.depth <= config_.cell)
+      throw Error("depth (" + std::to_string(config_.depth) + ") must exceed cell (" + std::to_string(config_.cell) +
+                  "): a ray passing within a cell of a point so near behind a floor would graze the floor itself");
     if (config_.witness_max < config_.witness_min)
       throw Error("witness_max (" + std::to_string(config_.witness_max) + ") is below witness_min (" +
                   std::to_string(config_.witness_min) + ")");
@@ -74,17 +78,20 @@ StageInfo info() {
   s.doc =
       "A LiDAR on a robot's back (or carried by a person) sees the robot in every scan; those points move "
       "with the sensor and would leave a trail of change along every path. Per mission: every scan's points "
-      "within max_range go into sensor-frame cells; a cell occupied in at least min_share of the scans is a "
-      "candidate (so are the floor under a level robot and the walls of a corridor). In `probes` scans spread "
-      "over the mission each candidate becomes a patch (centre and normal of the scan's points in it and its "
-      "neighbours), looked at from up to 4 other scans of the mission between witness_min and witness_max "
-      "away (nearest in scan order): a witness ray that crosses the patch and ends within `margin` of it votes "
-      "present, one that ends farther behind it votes see-through, rays ending in front of it give no vote. "
-      "A candidate with at least 4 votes, at least see_through_share of them see-through, is body, and so is "
-      "every candidate connected to it unless its own votes say present (edges and corners have no normal to "
-      "vote with); it is dropped from every scan, kept points keeping their file index. A mission of fewer "
-      "than 4 scans, a robot that never moves witness_min, or a mission without witnesses is left as it is. "
-      "max_range 0 turns the stage off. docs/formats.md, \"The robot's body\".";
+      "within max_range go into sensor-frame cells; a cell occupied in at least min_share of the scans holding "
+      "points is a candidate (so are the floor under a level robot and the walls of a corridor). In `probes` "
+      "scans spread over the mission each candidate becomes a patch (centre and normal of the scan's points in "
+      "it and its neighbours, facing the sensor; flat and spread both ways, or it is not looked at), looked at "
+      "from up to 4 other scans of the mission between witness_min and witness_max away (nearest in scan "
+      "order): a witness ray ending within `cell` of the patch centre votes present; otherwise one passing "
+      "within `cell` of the point `depth` behind the patch and ending more than `margin` beyond it votes "
+      "see-through (a real surface is opaque; this works edge-on too, as the top of a robot's back is seen "
+      "from the mission's other scans); other rays give no vote. A candidate with at least 4 votes, at least "
+      "see_through_share of them see-through, is body, and so is every candidate connected to it unless its "
+      "own votes say present (edges and corners have no normal to vote with); it is dropped from every scan, "
+      "kept points keeping their file index. A mission of fewer than 4 scans holding points, a robot that "
+      "never moves witness_min, or a mission without witnesses is left as it is. max_range 0 turns the stage "
+      "off. docs/formats.md, \"The robot's body\".";
   s.inputs = {{"missions", "missions", "missions as read"}};
   s.outputs = {{"missions", "missions", "the same missions without the body's points"}};
   s.params = {
@@ -95,9 +102,11 @@ StageInfo info() {
       ParamSpec::real("min_share", 0.5, "a candidate cell is occupied in at least this share of the scans")
           .range(0.05, 1),
       ParamSpec::real("see_through_share", 0.5, "share of a candidate's votes that must see through it").range(0.05, 1),
-      ParamSpec::real("margin", 0.3, "a witness ray ending this near a patch sees it there; farther behind, through it")
-          .range(0.01, 5)
+      ParamSpec::real("depth", 0.2, "how far behind a patch a witness ray must pass to see through it (under a "
+                      "robot's thinnest part; more than `cell`)")
+          .range(0.02, 2)
           .unit("m"),
+      ParamSpec::real("margin", 0.3, "how far beyond that point the ray must end").range(0.01, 5).unit("m"),
       ParamSpec::real("witness_min", 2.0, "a witness scan is at least this far from the scan it checks")
           .range(0.1, 100)
           .unit("m"),

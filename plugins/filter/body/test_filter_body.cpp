@@ -205,9 +205,13 @@ TEST(FilterBody, MaxRangeZeroTurnsItOff) {
   EXPECT_EQ(only(out).point_count(), n);
 }
 
-TEST(FilterBody, RejectsAWitnessBandTheWrongWayRound) {
-  lista::Mission m = hall_mission(lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0));
-  EXPECT_THROW(test_support::run_stage("filter.body", "missions", lista::Data::make(one_mission(std::move(m))),
+TEST(FilterBody, RejectsSettingsThatCannotWork) {
+  const lista::MissionSet set = one_mission(hall_mission(lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0)));
+  EXPECT_THROW(test_support::run_stage("filter.body", "missions", lista::Data::make(set),
                                        {{"witness_min", 5.0}, {"witness_max", 3.0}}),
+               lista::Error);
+  // A ray passing within a cell of a point a cell under the floor grazes the floor.
+  EXPECT_THROW(test_support::run_stage("filter.body", "missions", lista::Data::make(set),
+                                       {{"depth", 0.1}, {"cell", 0.1}}),
                lista::Error);
 }
