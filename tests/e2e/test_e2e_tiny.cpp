@@ -460,3 +460,29 @@ TEST(FewScanYard, APairTheWholeMapSearchReplacedIsNotCalledUnsure) {
   EXPECT_NE(r.output.find("between 'A' and 'B' were replaced by a whole-map placement"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("may be placed wrongly"), std::string::npos) << r.output;
 }
+
+// A robot's back the simulator casts into every scan of a VLP-16 office
+// (lista-sim --body): left in, its trail along both paths is reported as
+// objects; the default pipeline's body stage finds it from the data.
+TEST(RobotBody, TheDefaultPipelineDropsTheBodyItsScansHold) {
+  e2e::TempDir dir("robot-body");
+  const std::string data = (dir.path() / "data").string();
+  const auto sim = e2e::run(e2e::bin("lista-sim") + " --preset demo --seed 2 --sensor vlp16 --body --threads 2 --out " +
+                            data + " 2>&1");
+  ASSERT_EQ(sim.status, 0) << sim.output;
+  auto run_with = [&](const std::string& name, const std::string& extra) {
+    const std::string out = (dir.path() / name).string();
+    const auto r = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " + data +
+                            " --out " + out + " --threads 2 -q " + extra + " 2>&1");
+    EXPECT_EQ(r.status, 0) << r.output;
+    const auto ev = e2e::run(e2e::bin("lista-eval") + " --dataset " + data + " --run " + out + " --json 2>/dev/null");
+    EXPECT_EQ(ev.status, 0) << ev.output;
+    return std::make_pair(json::parse(e2e::read_file(out + "/report.json")).at("objects").size(),
+                          json::parse(ev.output).at("points").at("precision").get<double>());
+  };
+  const auto [objects_off, precision_off] = run_with("off", "--set body.max_range=0");
+  const auto [objects_on, precision_on] = run_with("on", "");
+  EXPECT_GE(objects_off, objects_on + 5) << "the body left in makes objects";
+  EXPECT_LT(precision_off, 0.8);
+  EXPECT_GT(precision_on, 0.9);
+}
