@@ -271,3 +271,31 @@ TEST(IoReport, PointsOfUnreadScansInChangedCellsAreReported) {
   EXPECT_EQ(ctx.info.metrics["report"]["unread_scans"], 1.0);
   EXPECT_EQ(ctx.info.metrics["report"]["unread_points_changed"], 2.0);
 }
+
+// The same in the VIEWPOINT layout (a mission folder without poses.txt):
+// the unread scan's points are in the map frame, its pose in VIEWPOINT.
+TEST(IoReport, UnreadScansOfTheViewpointLayoutAreReadInTheMapFrame) {
+  Fixture f;
+  const fs::path out = out_dir("unread_viewpoint");
+  fs::create_directories(out / "B");
+  // B's map lies at (1, 2, 3) in the common frame: object 1's first point
+  // (5, 1, 2) is at (4, -1, -1) in B's map; the scan's sensor at (1, 0, 0).
+  std::vector<float> x = {4.02f, 9.f}, y = {-1.f, 9.f}, z = {-1.f, 9.f};
+  Eigen::Isometry3d viewpoint = Eigen::Isometry3d::Identity();
+  viewpoint.translation() = Eigen::Vector3d(1, 0, 0);
+  const fs::path file = out / "B" / "000.pcd";
+  io::write_pcd(file.string(), 2, {{"x", 'F', x.data()}, {"y", 'F', y.data()}, {"z", 'F', z.data()}},
+                io::PcdEncoding::binary, viewpoint);
+  f.missions.missions[1].dir = (out / "B").string();
+  f.missions.missions[1].scans[0].file = file.string();
+  f.missions.missions[1].scans[0].points = std::make_shared<const PointSet>();
+  BasicContext ctx("report");
+  ctx.info.output_dir = (out / "run").string();
+  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  const io::PcdTable b = io::read_pcd_table((out / "run" / "changes" / "B.pcd").string());
+  ASSERT_EQ(b.size, 7u);  // the 6 of the fixture and the one point on object 1
+  EXPECT_EQ(b.values[3][6], 0.0);
+  EXPECT_EQ(b.values[4][6], 0.0);
+  EXPECT_EQ(b.values[5][6], 1.0);
+  EXPECT_NEAR(b.values[0][6], 5.02, 1e-4);
+}

@@ -36,10 +36,12 @@ UnreadScans add_unread_scans(const MissionSet& missions, Built& b, double cell, 
       const Eigen::Vector3d p = Eigen::Vector3d(cloud.x[i], cloud.y[i], cloud.z[i]) - missions.origin;
       object_of.emplace(cell_key(p, cell), cloud.object[i]);
     }
+    // The VIEWPOINT layout (no poses.txt) stores map-frame points.
+    const bool map_frame = !mission.dir.empty() && !std::filesystem::exists(std::filesystem::path(mission.dir) / "poses.txt");
     std::vector<ChangeCloud> found(unread.size());
     parallel_for(unread.size(), threads, [&](size_t k) {
       const size_t s = unread[k];
-      const io::ScanFile file = io::read_scan(mission.scans[s].file, uint32_t(s));
+      const io::ScanFile file = io::read_scan(mission.scans[s].file, uint32_t(s), map_frame);
       const Eigen::Isometry3d to_common = mission.sensor_to_common(s);
       for (size_t i = 0; i < file.points.size(); ++i) {
         const Eigen::Vector3f& q = file.points.xyz[i];
