@@ -196,6 +196,24 @@ TEST(FilterBody, LeavesARobotStandingStillAlone) {
   EXPECT_EQ(only(out).point_count(), n);
 }
 
+// A robot that stands for half its mission 1 m from a wall (a dock) and
+// then walks: the wall stays put in the sensor frame for half the scans,
+// but the scans taken while walking see it where it is.
+TEST(FilterBody, KeepsAWallBesideARobotThatStoodStillHalfTheMission) {
+  const Scene hall = lista::align::testing::make_hall(20, 14, 12, 3);
+  std::vector<Eigen::Isometry3d> route(30, Eigen::Isometry3d::Identity());
+  for (auto& pose : route) pose.translation() = Eigen::Vector3d(1.0, 7.0, 1.0);  // 1 m from the wall at x = 0
+  for (const auto& walk : lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0)) route.push_back(walk);
+  lista::Mission m = lista::align::testing::make_mission("A", hall, route, route, 8);
+  const size_t n = m.point_count();
+  const lista::MissionSet in = one_mission(std::move(m));
+  const lista::filter_body::BodyCells cells = lista::filter_body::find_body_cells(in.missions[0], {});
+  EXPECT_GT(cells.candidates, 10u);  // the wall, in 30 of 54 scans
+  EXPECT_EQ(cells.confirmed, 0u);
+  const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));
+  EXPECT_EQ(only(out).point_count(), n);
+}
+
 TEST(FilterBody, MaxRangeZeroTurnsItOff) {
   lista::Mission m = hall_mission(lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0));
   add_body(m, 300, 3);
