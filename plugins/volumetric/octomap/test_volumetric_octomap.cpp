@@ -83,3 +83,20 @@ TEST(VolumetricOctomap, GrazeHeightReachesTheRayCasting) {
     return ctx.info.metrics.at("diff").at("A.free_voxels");
   });
 }
+
+// Three or more missions are built in mission order, two trees at a time:
+// the same change as two missions give where the neighbours are the same
+// (a third mission that repeats the first).
+TEST(VolumetricOctomap, ThreeMissionsTwoTreesAtATimeGiveTheSameChange) {
+  const MissionPoints two = run_stage(defaults(), scene(), 2);
+  MissionSet three = scene();
+  three.missions.push_back(three.missions[0]);
+  three.missions.back().name = "C";
+  const MissionPoints got = run_stage(defaults(), three, 2);
+  ASSERT_EQ(got.sets.size(), 3u);
+  EXPECT_EQ(got.sets[0].index, two.sets[0].index);
+  EXPECT_EQ(got.sets[0].scan, two.sets[0].scan);
+  EXPECT_EQ(got.sets[1].index, two.sets[1].index);
+  EXPECT_EQ(got.sets[2].index, two.sets[0].index);
+  EXPECT_GT(got.sets[1].size(), 0u);
+}
