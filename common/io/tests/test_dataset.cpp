@@ -114,6 +114,31 @@ TEST(Dataset, ScanSpacingReadsAScanEverySoManyMetres) {
   EXPECT_EQ(scans_to_read(poses, 0.0, 30.0), (std::vector<char>{1, 1, 1, 1}));
 }
 
+// The VIEWPOINT layout's poses are in the files: read first, then thinned.
+TEST(Dataset, ScanSpacingThinsTheViewpointLayoutToo) {
+  const auto root = temp_dir("vp_thin");
+  std::vector<float> x = {1.f}, y = {0.f}, z = {0.f};
+  for (int s = 0; s < 4; ++s) {
+    Eigen::Isometry3d vp = Eigen::Isometry3d::Identity();
+    vp.translation() = Eigen::Vector3d(0.6 * s, 0, 0);
+    char name[32];
+    std::snprintf(name, sizeof name, "%03d.pcd", s);
+    write_pcd((root / name).string(), 1, {{"x", 'F', x.data()}, {"y", 'F', y.data()}, {"z", 'F', z.data()}},
+              PcdEncoding::binary, vp);
+  }
+  DatasetOptions opt;
+  opt.scan_spacing = 1.0;
+  const Mission m = read_dataset(root.string(), opt).missions.at(0);
+  ASSERT_EQ(m.scans.size(), 4u);
+  // 0 m, 0.6 m (skipped), 1.2 m, 1.8 m (the last, always read).
+  EXPECT_EQ(m.scans[0].points->size(), 1u);
+  EXPECT_TRUE(m.scans[1].points->empty());
+  EXPECT_EQ(m.scans[1].points_in_file, 0u);
+  EXPECT_NEAR(m.scans[1].pose.translation().x(), 0.6, 1e-9);
+  EXPECT_EQ(m.scans[2].points->size(), 1u);
+  EXPECT_EQ(m.scans[3].points->size(), 1u);
+}
+
 TEST(Dataset, ErrorsAreClear) {
   const auto root = temp_dir("ds");
   make_mission(root / "m", 3, 4);
