@@ -244,6 +244,16 @@ TEST(IoReport, FailuresLeaveNoReport) {
   EXPECT_EQ(entries, 1u);  // only the "changes" file: the temp folder is gone
 }
 
+// Runs the report with B's scan 0 left unread (no points, points_in_file
+// 0) and stored in `file`; returns changes/B.pcd.
+static io::PcdTable changes_of_b_with_scan_0_unread(Fixture& f, const fs::path& file, const fs::path& run, BasicContext& ctx) {
+  f.missions.missions[1].scans[0].file = file.string();
+  f.missions.missions[1].scans[0].points = std::make_shared<const PointSet>();
+  ctx.info.output_dir = run.string();
+  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  return io::read_pcd_table((run / "changes" / "B.pcd").string());
+}
+
 // A scan io.missions did not read (scan_spacing) is read here: its points
 // that fall in a change cell join changes/ with that cell's object, under
 // their own scan and file index; the rest, and missing returns, do not.
@@ -257,12 +267,8 @@ TEST(IoReport, PointsOfUnreadScansInChangedCellsAreReported) {
   scan.xyz = {{3.02f, -1.f, -1.f}, {8.f, 8.f, 8.f}, {0.f, 0.f, 0.f}, {3.15f, -1.f, -1.f}};
   const fs::path file = out / "unread-scan.pcd";
   io::write_scan_pcd(file.string(), scan);
-  f.missions.missions[1].scans[0].file = file.string();
-  f.missions.missions[1].scans[0].points = std::make_shared<const PointSet>();
   BasicContext ctx("report");
-  ctx.info.output_dir = (out / "run").string();
-  io_test::make_stage("io.report")->run(f.inputs(), ctx);
-  const io::PcdTable b = io::read_pcd_table((out / "run" / "changes" / "B.pcd").string());
+  const io::PcdTable b = changes_of_b_with_scan_0_unread(f, file, out / "run", ctx);
   ASSERT_EQ(b.size, 8u);  // the 6 of the fixture and 2 of the unread scan
   std::vector<std::pair<double, double>> from_unread;  // (index, object) of rows of scan 0
   for (size_t i = 0; i < b.size; ++i)
@@ -287,12 +293,8 @@ TEST(IoReport, UnreadScansOfTheViewpointLayoutAreReadInTheMapFrame) {
   io::write_pcd(file.string(), 2, {{"x", 'F', x.data()}, {"y", 'F', y.data()}, {"z", 'F', z.data()}},
                 io::PcdEncoding::binary, viewpoint);
   f.missions.missions[1].dir = (out / "B").string();
-  f.missions.missions[1].scans[0].file = file.string();
-  f.missions.missions[1].scans[0].points = std::make_shared<const PointSet>();
   BasicContext ctx("report");
-  ctx.info.output_dir = (out / "run").string();
-  io_test::make_stage("io.report")->run(f.inputs(), ctx);
-  const io::PcdTable b = io::read_pcd_table((out / "run" / "changes" / "B.pcd").string());
+  const io::PcdTable b = changes_of_b_with_scan_0_unread(f, file, out / "run", ctx);
   ASSERT_EQ(b.size, 7u);  // the 6 of the fixture and the one point on object 1
   EXPECT_EQ(b.values[3][6], 0.0);
   EXPECT_EQ(b.values[4][6], 0.0);
