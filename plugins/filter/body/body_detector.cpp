@@ -188,6 +188,7 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
   for (size_t s = 0; s < m.scans.size(); ++s)
     if (holds_points(m.scans[s])) held.push_back(s);
   const size_t n = held.size();
+  out.scans = n;
   if (int(n) < c.min_scans || c.max_range <= 0) return out;
   const float r2 = float(c.max_range * c.max_range);
 

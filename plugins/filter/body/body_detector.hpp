@@ -37,6 +37,7 @@ struct BodyCells {
   size_t confirmed = 0;   // candidates that the witnesses saw through
   size_t voted = 0;       // candidates with at least min_votes votes
   bool checked = false;   // false: too few scans or no witnesses; nothing dropped
+  size_t scans = 0;       // scans holding points
 };
 
 // Packs the sensor-frame cell of p (cell size `cell`); 21 bits per axis.

@@ -12,6 +12,12 @@ namespace lista::filter_body {
 
 namespace {
 
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 class BodyStage : public Stage {
  public:
   explicit BodyStage(const Params& p) {
@@ -25,11 +31,11 @@ class BodyStage : public Stage {
     config_.witness_max = p.get<double>("witness_max");
     config_.probes = int(p.get<int64_t>("probes"));
     if (config_.depth <= config_.cell)
-      throw Error("depth (" + std::to_string(config_.depth) + ") must exceed cell (" + std::to_string(config_.cell) +
-                  "): a ray passing within a cell of a point so near behind a floor would graze the floor itself");
+      throw Error("depth (" + number(config_.depth) + " m) must exceed cell (" + number(config_.cell) +
+                  " m): a ray passing within a cell of a point so near behind a floor would graze the floor itself");
     if (config_.witness_max < config_.witness_min)
-      throw Error("witness_max (" + std::to_string(config_.witness_max) + ") is below witness_min (" +
-                  std::to_string(config_.witness_min) + ")");
+      throw Error("witness_max (" + number(config_.witness_max) + " m) is below witness_min (" +
+                  number(config_.witness_min) + " m)");
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
@@ -44,10 +50,12 @@ class BodyStage : public Stage {
       cells += found.drop.size();
       ctx.record(m.name + ".dropped", double(n));
       if (config_.max_range <= 0) {
+      } else if (!found.checked && found.scans < size_t(config_.min_scans)) {
+        ctx.info("mission '" + m.name + "': " + std::to_string(found.scans) +
+                 " scans hold points, too few to tell the robot's body from the scene; nothing dropped");
       } else if (!found.checked) {
-        ctx.info("mission '" + m.name + "': no scan has another " + std::to_string(config_.witness_min).substr(0, 4) +
-                 "-" + std::to_string(config_.witness_max).substr(0, 4) +
-                 " m away to look from; nothing taken for a body");
+        ctx.info("mission '" + m.name + "': no scan has another one " + number(config_.witness_min) + "-" +
+                 number(config_.witness_max) + " m away to look from; nothing taken for a body");
       } else if (n > 0) {
         char buf[256];
         std::snprintf(buf, sizeof buf,
