@@ -1,5 +1,6 @@
 // lista::geometry: box gaps and the yaw-invariant footprint.
 #include <lista_geometry/object_geometry.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -49,3 +50,14 @@ TEST(BoxGap, ZeroWhenTouchingElseTheDistanceBetweenBoxes) {
 }
 
 }  // namespace
+
+TEST(VoxelKey, UnpacksToTheVoxelItWasPackedFromAndSortsByXThenYThenZ) {
+  for (const Eigen::Vector3i v : {Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(-3, 7, -1),
+                                  Eigen::Vector3i(1000000, -1000000, 12)})
+    EXPECT_EQ(lista::geometry::voxel_of_key(lista::geometry::voxel_key(v)), v);
+  EXPECT_LT(lista::geometry::voxel_key({-1, 5, 5}), lista::geometry::voxel_key({0, -5, -5}));
+  EXPECT_LT(lista::geometry::voxel_key({0, -1, 5}), lista::geometry::voxel_key({0, 0, -5}));
+  // A point just below a cell boundary and one just above it.
+  EXPECT_EQ(lista::geometry::voxel_of_key(lista::geometry::voxel_key_of({-0.01, 0.19, 0.21}, 0.1)),
+            Eigen::Vector3i(-1, 1, 2));
+}

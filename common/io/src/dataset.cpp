@@ -101,6 +101,10 @@ std::vector<std::string> list_missions(const std::string& dataset_dir) {
   return names;
 }
 
+bool is_viewpoint_layout(const std::string& mission_dir) {
+  return !fs::exists(fs::path(mission_dir) / "poses.txt");
+}
+
 std::vector<char> scans_to_read(const std::vector<Eigen::Isometry3d>& poses, double spacing, double turn_deg) {
   std::vector<char> keep(poses.size(), 1);
   if (spacing <= 0.0 || poses.size() < 3) return keep;
@@ -121,7 +125,7 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
   Mission m;
   m.dir = mission_dir;
   m.name = fs::weakly_canonical(dir).filename().string();
-  const bool viewpoint_layout = !fs::exists(dir / "poses.txt");
+  const bool viewpoint_layout = is_viewpoint_layout(mission_dir);
   std::vector<std::string> files;
   std::vector<PoseRecord> poses;
   if (viewpoint_layout) {

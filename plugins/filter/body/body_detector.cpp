@@ -5,28 +5,13 @@
 #include <memory>
 
 #include <lista/parallel.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <Eigen/Eigenvalues>
 
 namespace lista::filter_body {
 
 namespace {
-
-constexpr uint64_t kAxisBits = 21;
-constexpr int64_t kAxisBias = int64_t(1) << (kAxisBits - 1);
-
-uint64_t pack(int64_t x, int64_t y, int64_t z) {
-  const uint64_t mask = (uint64_t(1) << kAxisBits) - 1;
-  return (uint64_t(x + kAxisBias) & mask) << (2 * kAxisBits) | (uint64_t(y + kAxisBias) & mask) << kAxisBits |
-         (uint64_t(z + kAxisBias) & mask);
-}
-
-void unpack(uint64_t key, int64_t& x, int64_t& y, int64_t& z) {
-  const uint64_t mask = (uint64_t(1) << kAxisBits) - 1;
-  x = int64_t((key >> (2 * kAxisBits)) & mask) - kAxisBias;
-  y = int64_t((key >> kAxisBits) & mask) - kAxisBias;
-  z = int64_t(key & mask) - kAxisBias;
-}
 
 // One scan's points binned by direction (azimuth 0.5 deg, elevation 1 deg),
 // in compressed rows: the points of bin b are points[offsets[b] .. offsets[b+1]).
@@ -117,15 +102,14 @@ struct Patch {
 };
 
 Patch patch_of(const std::vector<std::pair<uint64_t, Eigen::Vector3f>>& keyed, uint64_t key) {
-  int64_t x, y, z;
-  unpack(key, x, y, z);
+  const Eigen::Vector3i at = geometry::voxel_of_key(key);
   std::vector<Eigen::Vector3d> pts;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   int in_cell = 0;
   for (int dx = -1; dx <= 1; ++dx)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dz = -1; dz <= 1; ++dz) {
-        const uint64_t nb = pack(x + dx, y + dy, z + dz);
+        const uint64_t nb = geometry::voxel_key(at + Eigen::Vector3i(dx, dy, dz));
         auto it = std::lower_bound(keyed.begin(), keyed.end(), nb,
                                    [](const auto& e, uint64_t k) { return e.first < k; });
         for (; it != keyed.end() && it->first == nb; ++it) {
@@ -178,9 +162,7 @@ std::vector<size_t> witnesses_of(const Mission& m, size_t i, const BodyConfig& c
 
 }  // namespace
 
-uint64_t cell_key(const Eigen::Vector3f& p, double cell) {
-  return pack(int64_t(std::floor(p.x() / cell)), int64_t(std::floor(p.y() / cell)), int64_t(std::floor(p.z() / cell)));
-}
+uint64_t cell_key(const Eigen::Vector3f& p, double cell) { return geometry::voxel_key_of(p.cast<double>(), cell); }
 
 BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
   BodyCells out;
@@ -314,21 +296,20 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
     queue.pop_back();
     out.drop.push_back(candidates[ci]);
     if (!core[ci]) continue;  // less often occupied cells are taken, not followed
-    int64_t x, y, z;
-    unpack(candidates[ci], x, y, z);
+    const Eigen::Vector3i at = geometry::voxel_of_key(candidates[ci]);
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = std::lower_bound(candidates.begin(), candidates.end(), pack(x + dx, y + dy, z + dz));
-          if (it == candidates.end() || *it != pack(x + dx, y + dy, z + dz)) continue;
+          const uint64_t key = geometry::voxel_key(at + Eigen::Vector3i(dx, dy, dz));
+          const auto it = std::lower_bound(candidates.begin(), candidates.end(), key);
+          if (it == candidates.end() || *it != key) continue;
           const size_t nb = size_t(it - candidates.begin());
           if (in_body[nb] || blocked[nb]) continue;
           in_body[nb] = 1;
           queue.push_back(nb);
         }
   }
-  std::sort(out.drop.begin(), out.drop.end());
-  out.drop.erase(std::unique(out.drop.begin(), out.drop.end()), out.drop.end());
+  std::sort(out.drop.begin(), out.drop.end());  // each cell went in once (in_body)
   return out;
 }
 

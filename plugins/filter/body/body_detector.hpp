@@ -29,9 +29,9 @@ struct BodyConfig {
 };
 
 struct BodyCells {
-  // Sensor-frame cells (packed keys) whose points are dropped, sorted: the
-  // confirmed candidates, then the less often occupied cells that touch
-  // one and were seen through as well.
+  // Sensor-frame cells (geometry::voxel_key) whose points are dropped,
+  // sorted: the confirmed candidates and every candidate connected to one
+  // whose own votes do not say present.
   std::vector<uint64_t> drop;
   size_t candidates = 0;  // cells occupied in at least min_share of the scans
   size_t confirmed = 0;   // candidates that the witnesses saw through
@@ -40,7 +40,7 @@ struct BodyCells {
   size_t scans = 0;       // scans holding points
 };
 
-// Packs the sensor-frame cell of p (cell size `cell`); 21 bits per axis.
+// The sensor-frame cell of p (cell size `cell`) as a geometry::voxel_key.
 uint64_t cell_key(const Eigen::Vector3f& p, double cell);
 
 // Scans are spread over `threads`; the result does not depend on them.

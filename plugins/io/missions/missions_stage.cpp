@@ -126,7 +126,7 @@ class MissionsStage : public Stage {
       read += m_read;
       // Map-frame .pcd scans carry their pose in VIEWPOINT; PCL writes an
       // identity there by default, so identity everywhere means no poses.
-      if (m.scans.size() > 1 && !std::filesystem::exists(std::filesystem::path(m.dir) / "poses.txt") &&
+      if (m.scans.size() > 1 && is_viewpoint_layout(m.dir) &&
           std::all_of(m.scans.begin(), m.scans.end(), [](const Scan& s) { return s.pose.isApprox(Eigen::Isometry3d::Identity()); }))
         ctx.warn("mission '" + m.name + "': every scan's VIEWPOINT is the identity; if the scans are in the sensor "
                  "frame, give their poses in poses.txt and put them in scans/ (docs/formats.md)");
@@ -257,7 +257,8 @@ StageInfo info() {
       ParamSpec::real("scan_spacing", 0.0,
                       "dense logs (a 10 Hz LiDAR): read a scan only where its sensor lies this far from the last "
                       "scan read, or has turned scan_turn from it (first and last always read); the others keep "
-                      "their pose and no points, so their points are never reported changed; 0 reads every scan")
+                      "their pose and no points (io.report puts those of their points that fall in the change back into "
+                      "changes/); 0 reads every scan")
           .range(0, 100)
           .unit("m"),
       ParamSpec::real("scan_turn", 30.0, "with scan_spacing > 0, a scan turned this far from the last one read is read too")

@@ -13,16 +13,25 @@ namespace {
 
 uint64_t key(uint32_t scan, uint32_t index) { return (uint64_t(scan) << 32) | index; }
 
-void push(ChangeCloud& c, const Eigen::Vector3f& p, uint32_t scan, uint32_t index, int32_t object) {
-  c.x.push_back(p.x());
-  c.y.push_back(p.y());
-  c.z.push_back(p.z());
-  c.scan.push_back(scan);
-  c.index.push_back(index);
-  c.object.push_back(object);
+}  // namespace
+
+void ChangeCloud::push_back(const Eigen::Vector3f& p, uint32_t s, uint32_t i, int32_t o) {
+  x.push_back(p.x());
+  y.push_back(p.y());
+  z.push_back(p.z());
+  scan.push_back(s);
+  index.push_back(i);
+  object.push_back(o);
 }
 
-}  // namespace
+void ChangeCloud::append(const ChangeCloud& o) {
+  x.insert(x.end(), o.x.begin(), o.x.end());
+  y.insert(y.end(), o.y.begin(), o.y.end());
+  z.insert(z.end(), o.z.begin(), o.z.end());
+  scan.insert(scan.end(), o.scan.begin(), o.scan.end());
+  index.insert(index.end(), o.index.begin(), o.index.end());
+  object.insert(object.end(), o.object.begin(), o.object.end());
+}
 
 Built build_report(const MissionSet& missions, const ObjectSet& objects, const Groups* groups,
                    const Matches* matches, const MissionPoints* changes) {
@@ -38,7 +47,7 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
     return Eigen::Matrix4d(shift * local * back);
   };
   auto push_point = [&](ChangeCloud& c, const Eigen::Vector3f& p, uint32_t scan, uint32_t index, int32_t object) {
-    push(c, (p.cast<double>() + origin).cast<float>(), scan, index, object);
+    c.push_back((p.cast<double>() + origin).cast<float>(), scan, index, object);
   };
   std::map<std::string, size_t> mission_index;
   for (const auto& m : missions.missions) {

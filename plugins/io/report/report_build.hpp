@@ -18,6 +18,8 @@ struct ChangeCloud {
   std::vector<uint32_t> scan, index;
   std::vector<int32_t> object;
   size_t size() const { return x.size(); }
+  void push_back(const Eigen::Vector3f& p, uint32_t scan, uint32_t index, int32_t object);
+  void append(const ChangeCloud& other);  // other's rows after these
 };
 
 // poses/<mission>.txt: every scan's sensor pose in the common frame, as the

@@ -24,6 +24,10 @@ struct DatasetOptions {
 // least `turn_deg` from it. All of them when spacing <= 0.
 std::vector<char> scans_to_read(const std::vector<Eigen::Isometry3d>& poses, double spacing, double turn_deg);
 
+// A mission folder without poses.txt holds map-frame .pcd scans carrying
+// their sensor pose in VIEWPOINT (the KTH layout).
+bool is_viewpoint_layout(const std::string& mission_dir);
+
 // The mission folders of a dataset (sorted names), or the dataset itself when
 // it is a single VIEWPOINT-layout folder. Throws lista::Error if none.
 std::vector<std::string> list_missions(const std::string& dataset_dir);
