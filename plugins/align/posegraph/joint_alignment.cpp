@@ -413,6 +413,17 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   if (scan_report.tried > 0)
     ctx.info(std::to_string(scan_report.accepted) + " of " + std::to_string(scan_report.tried) +
              " scan-to-scan registrations accepted after " + elapsed());
+  for (size_t m = 0; m < scan_report.scan_to_map.size(); ++m) {
+    if (!scan_report.scan_to_map[m]) continue;
+    ++report.scan_map_missions;
+    if (scan_report.pairs_tried[m] > 0)
+      ctx.info("mission '" + set.missions[m].name + "': " + std::to_string(scan_report.pairs_accepted[m]) + " of " +
+               std::to_string(scan_report.pairs_tried[m]) +
+               " scan-to-scan registrations accepted, so each scan is registered onto a local map of the " +
+               std::to_string(o.scan_edges.map_scans) + " scans before it instead (scan_map): " +
+               std::to_string(scan_report.accepted_per_mission[m]) + " of " +
+               std::to_string(scan_report.tried_per_mission[m]) + " accepted");
+  }
   // Per mission: one mission whose poses are not its scans' hides among
   // well-registered ones in the total.
   for (size_t m = 0; m < scan_report.tried_per_mission.size(); ++m)

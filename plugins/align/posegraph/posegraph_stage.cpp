@@ -62,6 +62,11 @@ JointAlignmentOptions options_from(const Params& p) {
   o.scan_edges.registration = o.verify.registration;
   o.scan_edges.registration.voxel = p.get<double>("scan_voxel");
   o.scan_edges.max_points = static_cast<size_t>(p.get<int>("scan_points"));
+  o.scan_edges.map_scans = p.get<int>("scan_map");
+  const std::string map_use = p.get<std::string>("scan_map_use");
+  o.scan_edges.map_use = map_use == "always" ? MapUse::always
+                         : map_use == "never" ? MapUse::never
+                                              : MapUse::when_pairs_fail;
   o.scan_edges.registration.coarse_distance = p.get<double>("scan_coarse_distance");
   o.scan_edges.registration.fine_distance = p.get<double>("scan_fine_distance");
   o.scan_edges.registration.inlier_distance = p.get<double>("scan_inlier_distance");
@@ -93,6 +98,7 @@ class PoseGraphStage : public Stage {
     ctx.record("pairs_replaced_by_global", static_cast<double>(report.global_replaced));
     ctx.record("scan_edges", static_cast<double>(report.scan_edges));
     ctx.record("scan_edges_left_out", static_cast<double>(report.scan_edges_left_out));
+    ctx.record("scan_map_missions", static_cast<double>(report.scan_map_missions));
     if (report.scan_edges > 0) {
       ctx.record("closure_residual_with_scan_edges_m", report.closure_residual_with_scan_edges);
       ctx.record("closure_residual_without_scan_edges_m", report.closure_residual_without_scan_edges);
@@ -121,7 +127,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.3.1";
+  s.version = "1.4.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
@@ -140,7 +146,9 @@ StageInfo posegraph_stage_info() {
       "mission, with a warning naming it. Missions are placed by a spanning tree over closures from the first (reference) "
       "mission; a mission without closures is an error naming it. The pose graph holds every mission's "
       "odometry chain (relative poses of consecutive scans from poses.txt), scan-to-scan edges (each scan "
-      "registered by GICP onto the next scan_edges scans, from the odometry guess (the ground left out "
+      "registered by GICP, from the odometry guess, onto each of the next scan_edges scans; in a mission where fewer "
+      "than half of those pass (scan_map_use), onto a local map of the scan_map scans before it instead, placed by the "
+      "registrations before (the ground left out "
       "with scan_ground_clearance > 0); they constrain horizontal position and yaw: metric steps that remove an odometry scale or heading bias which closures cannot see "
       "when every mission shares it) and the closures under a robust loss; it is solved with Ceres (quaternion "
       "manifold), with the reference mission's first pose (or the whole mission, fix_reference) held. After the first "
@@ -150,7 +158,7 @@ StageInfo posegraph_stage_info() {
       "are left out, with a warning naming whose: with three or more missions only those of a mission whose removal "
       "alone brings the residual down as far (a sparse scanner's mission among dense ones), else all. "
       "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
-      "keyframes, candidates, closures, closures_global, pairs_replaced_by_global, scan_edges, scan_edges_left_out, closure residuals with and without "
+      "keyframes, candidates, closures, closures_global, pairs_replaced_by_global, scan_edges, scan_edges_left_out, scan_map_missions, closure residuals with and without "
       "them, costs, and ATE before/after when every mission has poses_gt.txt.";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with corrected poses and to_common"}};
@@ -198,7 +206,9 @@ StageInfo posegraph_stage_info() {
                       "first mission held as it is (the paper's choice)")
           .one_of({"mission", "first_pose"}),
       ParamSpec::integer("refine_rounds", 1, "rounds of proximity closures after the first solve").range(0, 10),
-      ParamSpec::integer("scan_edges", 2, "scan-to-scan registrations per scan (onto the next N scans; 0: odometry alone)")
+      ParamSpec::integer("scan_edges", 2,
+                         "scan-to-scan registrations per scan (onto the next N scans; scan to map gives one per scan); "
+                         "0: odometry alone")
           .range(0, 10),
       ParamSpec::real("scan_range", 40.0, "scan-to-scan: points farther from the sensor are left out").range(1, 1000).unit("m"),
       ParamSpec::real("scan_ground_clearance", 0.0,
@@ -208,6 +218,14 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("scan_voxel", 0.1, "scan-to-scan: finest downsampling").range(0.01, 5).unit("m"),
       ParamSpec::integer("scan_points", 15000, "scan-to-scan: denser scans are downsampled coarser to about this many points")
           .range(100, 1e7),
+      ParamSpec::integer("scan_map", 3,
+                         "scan-to-map: each scan registered, in order, onto a local map of this many scans before it "
+                         "(placed by the registrations before; one edge per scan); 1 = never")
+          .range(1, 10),
+      ParamSpec::text("scan_map_use", "when_pairs_fail",
+                      "scan-to-map per mission: when fewer than half its scan-to-scan registrations pass (sparse scans, "
+                      "a 16-beam scanner outdoors), always, or never")
+          .one_of({"when_pairs_fail", "always", "never"}),
       ParamSpec::real("scan_coarse_distance", 1.0, "scan-to-scan: max correspondence distance, coarse stage").range(0.01, 50).unit("m"),
       ParamSpec::real("scan_fine_distance", 0.5, "scan-to-scan: max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::real("scan_inlier_distance", 0.3, "scan-to-scan: distance counted as overlap").range(0.01, 10).unit("m"),

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <optional>
 
 namespace lista::align {
@@ -30,20 +31,125 @@ Cloud above_ground(const Cloud& near, const Eigen::Isometry3d& pose, double clea
 
 namespace {
 
-Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) {
+// The points a registration uses: near the sensor, the ground left out if asked.
+Cloud near_points(const Scan& scan, const ScanEdgeOptions& o) {
   Cloud near;
   if (!scan.points) return near;
   const float r2 = static_cast<float>(o.max_range * o.max_range);
   for (const auto& p : scan.points->xyz)
     if (p.squaredNorm() <= r2) near.push_back(p);
-  near = above_ground(near, scan.pose, o.ground_clearance);
+  return above_ground(near, scan.pose, o.ground_clearance);
+}
+
+Cloud downsampled(const Cloud& near, const ScanEdgeOptions& o, size_t max_points) {
   double voxel = o.registration.voxel;
   Cloud out = voxel_downsample(near, voxel);
-  while (out.size() > o.max_points) {
+  while (out.size() > max_points) {
     voxel *= 1.25;
     out = voxel_downsample(near, voxel);
   }
   return out;
+}
+
+Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) { return downsampled(near_points(scan, o), o, o.max_points); }
+
+// The registration, if it passes the gates; `both_ways`: the target's
+// overlap with the source counts too (not for a local map, which reaches
+// beyond what one scan sees).
+std::optional<Eigen::Isometry3d> gated_registration(const PreparedCloud& source, const PreparedCloud& target,
+                                                    const Eigen::Isometry3d& odometry, const ScanEdgeOptions& o,
+                                                    bool both_ways) {
+  const RegistrationResult r = register_prepared(source, target, odometry, o.registration);
+  const double overlap = both_ways ? std::min(r.overlap, r.reverse_overlap) : r.overlap;
+  if (!r.converged || overlap < o.min_overlap || r.inlier_rmse > o.max_rmse) return std::nullopt;
+  const Eigen::Isometry3d change = odometry.inverse() * r.transform;
+  if (change.translation().norm() > o.max_translation_change || rotation_angle(change.linear()) > o.max_rotation_change)
+    return std::nullopt;
+  return r.transform;
+}
+
+PoseGraphEdge scan_edge(size_t from, size_t to, const Eigen::Isometry3d& measurement, const ScanEdgeOptions& o) {
+  PoseGraphEdge e;
+  e.from = from;
+  e.to = to;
+  e.measurement = measurement;
+  e.sigma_translation = o.sigma_translation;
+  e.sigma_rotation = o.sigma_rotation;
+  e.planar = true;
+  e.robust = true;
+  return e;
+}
+
+// Scan-to-map (o.map_scans > 1): the mission's scans in order, each
+// registered onto a local map of the map_scans scans before it, placed where
+// the registrations before put them; the odometry would blur the map by its
+// per-step error, which is what the edges are to measure. One edge per
+// scan (`held`: the scans that hold points), from the scan before.
+std::vector<std::optional<PoseGraphEdge>> scan_to_map_edges(const std::vector<Scan>& scans,
+                                                            const std::vector<size_t>& held, size_t node_offset,
+                                                            const ScanEdgeOptions& o,
+                                                            const std::function<bool()>& stop) {
+  std::vector<std::optional<PoseGraphEdge>> edges;
+  if (held.empty()) return edges;
+  const size_t span = static_cast<size_t>(o.map_scans);
+  std::deque<std::pair<Eigen::Isometry3d, Cloud>> window;  // placed pose, points in the scan's frame
+  window.emplace_back(scans[held[0]].pose, scan_cloud(scans[held[0]], o));
+  for (size_t k = 1; k < held.size(); ++k) {
+    if (stop()) break;
+    const size_t before = held[k - 1], scan = held[k];
+    const Eigen::Isometry3d odometry = scans[before].pose.inverse() * scans[scan].pose;
+    const Eigen::Isometry3d to_before = window.back().first.inverse();
+    Cloud map;
+    for (const auto& [pose, cloud] : window) {
+      const Eigen::Isometry3f t = (to_before * pose).cast<float>();
+      for (const auto& x : cloud) map.push_back(t * x);
+    }
+    Cloud points = scan_cloud(scans[scan], o);
+    const std::optional<Eigen::Isometry3d> step =
+        gated_registration(PreparedCloud(points, o.registration),
+                           PreparedCloud(downsampled(map, o, o.max_points * span), o.registration), odometry, o, false);
+    edges.emplace_back();
+    if (step) edges.back() = scan_edge(node_offset + before, node_offset + scan, *step, o);
+    window.emplace_back(window.back().first * (step ? *step : odometry), std::move(points));
+    if (window.size() > span) window.pop_front();
+  }
+  return edges;
+}
+
+// Scan to scan: each scan onto each of the next o.neighbours scans. Scans
+// are prepared (k-d trees, GICP covariances: ~100 bytes a point) block by
+// block, so memory stays bounded however long a mission is.
+std::vector<std::optional<PoseGraphEdge>> scan_to_scan_edges(const std::vector<Scan>& scans,
+                                                             const std::vector<size_t>& held, size_t node_offset,
+                                                             const ScanEdgeOptions& o, int threads,
+                                                             const std::function<bool()>& stop) {
+  constexpr size_t kBlock = 64;
+  std::vector<std::optional<PoseGraphEdge>> edges;
+  for (size_t first = 0; first < held.size() && !stop(); first += kBlock) {
+    const size_t last = std::min(held.size(), first + kBlock + size_t(o.neighbours));  // exclusive
+    std::vector<PreparedCloud> clouds(last - first);
+    // Prepared once: each scan is registered up to 2 x neighbours times.
+    parallel_for(clouds.size(), threads,
+                 [&](size_t i) { clouds[i] = PreparedCloud(scan_cloud(scans[held[first + i]], o), o.registration); });
+    std::vector<std::pair<size_t, size_t>> pairs;  // (from, to) positions in `held`
+    for (size_t p = first; p < std::min(held.size(), first + kBlock); ++p)
+      for (size_t k = 1; k <= size_t(o.neighbours) && p + k < held.size(); ++k) pairs.push_back({p, p + k});
+    const size_t offset = edges.size();
+    edges.resize(offset + pairs.size());
+    parallel_for(pairs.size(), threads, [&](size_t i) {
+      if (stop()) return;
+      const auto [from_at, to_at] = pairs[i];
+      const size_t from = held[from_at], to = held[to_at];
+      const Eigen::Isometry3d odometry = scans[from].pose.inverse() * scans[to].pose;
+      const auto step = gated_registration(clouds[to_at - first], clouds[from_at - first], odometry, o, true);
+      if (step) edges[offset + i] = scan_edge(node_offset + from, node_offset + to, *step, o);
+    });
+  }
+  return edges;
+}
+
+size_t accepted(const std::vector<std::optional<PoseGraphEdge>>& edges) {
+  return size_t(std::count_if(edges.begin(), edges.end(), [](const auto& e) { return e.has_value(); }));
 }
 
 }  // namespace
@@ -55,66 +161,41 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   auto stop = [&] { return cancelled && cancelled(); };
   report = {};
   if (o.neighbours <= 0) return {};
-  // Scans are prepared (k-d trees, GICP covariances: ~100 bytes a point)
-  // block by block, so memory stays bounded however long a mission is.
-  constexpr size_t kBlock = 64;
-  std::vector<std::optional<PoseGraphEdge>> edges;
-  std::vector<size_t> mission_end(set.missions.size());  // end of each mission's edges
-  for (size_t m = 0; m < set.missions.size(); ++m) {
-    const auto& scans = set.missions[m].scans;
+  const size_t missions = set.missions.size();
+  std::vector<std::vector<std::optional<PoseGraphEdge>>> edges(missions);
+  std::vector<std::vector<size_t>> held(missions);
+  report.scan_to_map.assign(missions, o.map_scans > 1 && o.map_use == MapUse::always);
+  report.pairs_tried.assign(missions, 0);
+  report.pairs_accepted.assign(missions, 0);
+  for (size_t m = 0; m < missions; ++m) {
     // Neighbours are the next scans that hold points: an empty scan (a
     // sensor dropout, a scan io.missions did not read) is stepped over.
-    std::vector<size_t> held;
-    for (size_t s = 0; s < scans.size(); ++s)
-      if (scans[s].points && !scans[s].points->empty()) held.push_back(s);
-    for (size_t first = 0; first < held.size(); first += kBlock) {
-      if (stop() && on_cancel) on_cancel();
-      const size_t last = std::min(held.size(), first + kBlock + size_t(o.neighbours));  // exclusive
-      std::vector<PreparedCloud> clouds(last - first);
-      // Prepared once: each scan is registered up to 2 x neighbours times.
-      parallel_for(clouds.size(), threads,
-                   [&](size_t i) { clouds[i] = PreparedCloud(scan_cloud(scans[held[first + i]], o), o.registration); });
-      std::vector<std::pair<size_t, size_t>> pairs;  // (from, to) positions in `held`
-      for (size_t p = first; p < std::min(held.size(), first + kBlock); ++p)
-        for (size_t k = 1; k <= size_t(o.neighbours) && p + k < held.size(); ++k) pairs.push_back({p, p + k});
-      const size_t offset = edges.size();
-      edges.resize(offset + pairs.size());
-      parallel_for(pairs.size(), threads, [&](size_t i) {
-        if (stop()) return;
-        const auto [from_at, to_at] = pairs[i];
-        const size_t from = held[from_at], to = held[to_at];
-        const Eigen::Isometry3d odometry = scans[from].pose.inverse() * scans[to].pose;
-        const RegistrationResult r =
-            register_prepared(clouds[to_at - first], clouds[from_at - first], odometry, o.registration);
-        if (!r.converged || std::min(r.overlap, r.reverse_overlap) < o.min_overlap || r.inlier_rmse > o.max_rmse) return;
-        const Eigen::Isometry3d change = odometry.inverse() * r.transform;
-        if (change.translation().norm() > o.max_translation_change ||
-            rotation_angle(change.linear()) > o.max_rotation_change)
-          return;
-        PoseGraphEdge e;
-        e.from = offsets[m] + from;
-        e.to = offsets[m] + to;
-        e.measurement = r.transform;
-        e.sigma_translation = o.sigma_translation;
-        e.sigma_rotation = o.sigma_rotation;
-        e.planar = true;
-        e.robust = true;
-        edges[offset + i] = e;
-      });
-    }
-    mission_end[m] = edges.size();
+    for (size_t s = 0; s < set.missions[m].scans.size(); ++s)
+      if (set.missions[m].scans[s].points && !set.missions[m].scans[s].points->empty()) held[m].push_back(s);
+    if (report.scan_to_map[m]) continue;
+    edges[m] = scan_to_scan_edges(set.missions[m].scans, held[m], offsets[m], o, threads, stop);
+    if (stop() && on_cancel) on_cancel();
+    report.pairs_tried[m] = edges[m].size();
+    report.pairs_accepted[m] = accepted(edges[m]);
+    // Fewer than half the pairs register: the scans are too sparse for one
+    // another (a 16-beam scanner outdoors); local maps fill the gaps.
+    report.scan_to_map[m] = o.map_scans > 1 && o.map_use == MapUse::when_pairs_fail &&
+                            2 * report.pairs_accepted[m] < report.pairs_tried[m];
   }
+  // Scan-to-map is sequential within a mission: the missions side by side.
+  parallel_for(missions, threads, [&](size_t m) {
+    if (report.scan_to_map[m]) edges[m] = scan_to_map_edges(set.missions[m].scans, held[m], offsets[m], o, stop);
+  });
   if (stop() && on_cancel) on_cancel();
   std::vector<PoseGraphEdge> out;
-  for (auto& e : edges)
-    if (e) out.push_back(*e);
-  report.tried = edges.size();
-  report.accepted = out.size();
-  for (size_t m = 0, begin = 0; m < mission_end.size(); begin = mission_end[m++]) {
-    report.tried_per_mission.push_back(mission_end[m] - begin);
-    const auto from = edges.begin() + long(begin), to = edges.begin() + long(mission_end[m]);
-    report.accepted_per_mission.push_back(size_t(std::count_if(from, to, [](const auto& e) { return e.has_value(); })));
+  for (size_t m = 0; m < missions; ++m) {
+    report.tried_per_mission.push_back(edges[m].size());
+    report.accepted_per_mission.push_back(accepted(edges[m]));
+    report.tried += edges[m].size();
+    for (auto& e : edges[m])
+      if (e) out.push_back(*e);
   }
+  report.accepted = out.size();
   return out;
 }
 

@@ -15,6 +15,8 @@
 
 namespace lista::align {
 
+enum class MapUse { never, when_pairs_fail, always };
+
 struct ScanEdgeOptions {
   int neighbours = 0;           // each scan registered onto this many following scans (0: off)
   double max_range = 40.0;      // m; points farther from the sensor are dropped (sparse, noisy)
@@ -26,6 +28,14 @@ struct ScanEdgeOptions {
   // Dense scans are downsampled coarser (x1.25 steps) until at most this many
   // points are left: registration time grows with points, accuracy hardly.
   size_t max_points = 15000;
+  // Scan-to-map: each scan registered, in order, onto a local map of the
+  // map_scans scans before it, placed by the registrations before (one edge
+  // per scan). A sparse sensor's single scan puts its nearest points a ring
+  // gap away whatever the pose; several scans fill the gaps. Used per
+  // mission (map_use): when fewer than half its scan-to-scan pairs register,
+  // always, or never; map_scans 1 is never too.
+  int map_scans = 3;
+  MapUse map_use = MapUse::when_pairs_fail;
   double min_overlap = 0.5;     // both ways, as for loop closures
   double max_rmse = 0.15;       // m
   // A result this far from the odometry is a wrong minimum, not a correction.
@@ -43,8 +53,10 @@ struct ScanEdgeOptions {
 Cloud above_ground(const Cloud& scan, const Eigen::Isometry3d& pose, double clearance);
 
 struct ScanEdgeReport {
-  size_t tried = 0, accepted = 0;
+  size_t tried = 0, accepted = 0;  // the edges used: scan to scan, or scan to map where switched
   std::vector<size_t> tried_per_mission, accepted_per_mission;  // by mission index
+  std::vector<bool> scan_to_map;                          // by mission: registered onto local maps
+  std::vector<size_t> pairs_tried, pairs_accepted;        // by mission: scan-to-scan, before any switch
 };
 
 // Edges between graph nodes: node of scan s of mission m is offsets[m] + s.

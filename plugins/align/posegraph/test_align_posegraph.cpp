@@ -523,6 +523,67 @@ TEST(ScanEdges, GroundLeftOutTheStepIsStillMeasured) {
   }
 }
 
+// Scan to map: a 16-ring sensor walks 8 scans down an open site with posts
+// and crates, its odometry 4 % too long and turning 0.5 degree a step. Each
+// scan is registered onto the three before it as the registrations placed
+// them: every step is measured within 1.5 cm and 0.15 degree of the truth,
+// one edge per scan from the scan before (held scans only). Were the map
+// placed by the odometry, each map would carry its 10 cm and 0.5 degree
+// errors a step into the steps.
+TEST(ScanEdges, ScanToMapMeasuresEveryStep) {
+  Scene scene;
+  scene.boxes.push_back({{-60, -60, -0.1}, {60, 60, 0}});
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> x_of(-10, 30), y_of(-12, 12), size(0.2, 1.0), height(0.5, 2.5);
+  for (int i = 0; i < 60; ++i) {
+    const double x = x_of(rng), y = y_of(rng), w = size(rng);
+    if (std::abs(y) < 2.0) continue;  // not on the route
+    scene.boxes.push_back({{x, y, 0}, {x + w, y + size(rng), height(rng)}});
+  }
+  std::vector<Eigen::Isometry3d> truth, odometry;
+  for (int i = 0; i < 8; ++i) {
+    truth.push_back(offset(2.5 * i, 0, 0.7, 0));
+    odometry.push_back(offset(2.6 * i, 0, 0.7, 0.5 * i));
+  }
+  MissionSet set;
+  set.missions.push_back(make_mission("a", scene, truth, odometry, 5));
+  set.missions[0].scans[4].points = std::make_shared<const PointSet>();  // a dropout: stepped over
+  ScanEdgeOptions o;
+  o.neighbours = 2;
+  o.map_scans = 3;
+  o.registration.voxel = 0.1;  // the stage's scan-to-scan settings
+  o.registration.coarse_distance = 1.0;
+  ScanEdgeOptions ungated = o;
+  ungated.map_use = MapUse::always;
+  ungated.min_overlap = 0.0;  // judged here by the steps' errors, not by the gates
+  ungated.max_rmse = 1.0;
+  ScanEdgeReport report;
+  const auto edges = scan_registration_edges(set, {0}, ungated, 1, report);
+  EXPECT_EQ(report.tried, 6u);  // 7 held scans, one edge each after the first
+  EXPECT_EQ(report.pairs_tried[0], 0u);  // always: no scan-to-scan pairs first
+  ASSERT_EQ(edges.size(), 6u);
+  for (const auto& e : edges) {
+    EXPECT_EQ(e.to, e.from == 3 ? 5u : e.from + 1);
+    const Eigen::Isometry3d true_step = truth[e.from].inverse() * truth[e.to];
+    const Eigen::Isometry3d error = true_step.inverse() * e.measurement;
+    EXPECT_LT(error.translation().head<2>().norm(), 0.015) << e.from << " -> " << e.to;
+    EXPECT_LT(rotation_angle(error.linear()), 0.15 * M_PI / 180) << e.from << " -> " << e.to;
+  }
+  // With the gates, these sparse scans (1 degree between points of a ring)
+  // fail most pairs: the mission switches to local maps by itself...
+  scan_registration_edges(set, {0}, o, 1, report);
+  EXPECT_EQ(report.pairs_tried[0], 11u);  // 6 + 5 pairs
+  EXPECT_LT(2 * report.pairs_accepted[0], report.pairs_tried[0]);
+  EXPECT_TRUE(report.scan_to_map[0]);
+  EXPECT_EQ(report.tried_per_mission[0], 6u);
+  // ...unless told never to.
+  o.map_use = MapUse::never;
+  scan_registration_edges(set, {0}, o, 1, report);
+  EXPECT_FALSE(report.scan_to_map[0]);
+  EXPECT_EQ(report.tried_per_mission[0], 11u);
+  EXPECT_EQ(report.accepted_per_mission[0], report.pairs_accepted[0]);
+}
+
 // An empty scan (a sensor dropout, a scan io.missions did not read) is
 // stepped over: its neighbours register onto each other, and nothing is
 // tried with it.
