@@ -302,3 +302,27 @@ TEST(RayScene, HitsAWallAtTheRightRangeWithItsLabel) {
     EXPECT_EQ(pts.label[i], 42u);
   }
 }
+
+// lista-sim --drift scales the odometry drift (RouteParams): the same seed
+// gives the same random walk, so heading error grows exactly with the
+// factor, position error nearly so; 0 gives the true poses.
+TEST(Scenario, OdometryDriftScalesWithTheRouteParams) {
+  const Preset p = make_preset("hall");
+  auto end_error = [&](double factor) {
+    RouteParams route = p.route;
+    route.drift_per_m *= factor;
+    route.yaw_drift_deg_per_m *= factor;
+    const Scenario sc = plan_scenario(build_layout(p.layout, 3), p.changes, route, 3);
+    const MissionPlan& m = sc.missions.back();
+    const Eigen::Isometry3d est = m.map_to_world * m.poses_estimated.back(), truth = m.poses_true.back();
+    const Eigen::Isometry3d error = truth.inverse() * est;
+    return std::make_pair(error.translation().norm(), Eigen::AngleAxisd(error.linear()).angle());
+  };
+  const auto none = end_error(0.0), once = end_error(1.0), five = end_error(5.0);
+  EXPECT_LT(none.first, 1e-9);
+  EXPECT_LT(none.second, 1e-9);
+  ASSERT_GT(once.first, 1e-3);
+  EXPECT_NEAR(five.second, 5.0 * once.second, 1e-9);
+  EXPECT_GT(five.first, 4.5 * once.first);
+  EXPECT_LT(five.first, 5.5 * once.first);
+}

@@ -33,7 +33,7 @@ std::vector<lista::sim::Shape> furniture_from(const std::string& folder, const c
 
 int run_dataset(const std::string& preset_name, const std::string& out, uint64_t seed, int missions,
                 int scans, const std::string& sensor_name, int threads, bool overwrite, const std::string& furniture,
-                bool body) {
+                bool body, double drift) {
   using namespace lista::sim;
   Preset preset = make_preset(preset_name);
   // Real furniture beside the procedural classes: about a third of the
@@ -41,6 +41,8 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
   if (!furniture.empty()) preset.changes.extra_shapes = furniture_from(furniture, "lista-sim");
   if (missions > 0) preset.route.missions = missions;
   if (scans > 0) preset.route.scans = scans;
+  preset.route.drift_per_m *= drift;
+  preset.route.yaw_drift_deg_per_m *= drift;
   int columns = preset.columns;
   if (!sensor_name.empty() && sensor_name != preset.sensor) {
     preset.sensor = sensor_name;
@@ -96,6 +98,11 @@ int main(int argc, char** argv) {
   app.add_flag("--body", body,
                "a legged robot's back in every scan: 1.1 x 0.5 m, 0.15-0.45 m under the sensor, moving with it "
                "(label 0; what filter.body finds)");
+  double drift = 1.0;
+  app.add_option("--drift", drift,
+                 "odometry drift, times the presets' (0.2 % of distance and 0.01 deg/m of heading, biased; "
+                 "a legged robot's is several times that)")
+      ->check(CLI::Range(0.0, 100.0));
   std::string scene_furniture;
   app.add_option("--furniture", scene_furniture,
                  "also place Sweet Home 3D furniture from this folder, about a third of the objects "
@@ -144,7 +151,7 @@ int main(int argc, char** argv) {
       std::cerr << "lista-sim: --preset and --out are required (or use the 'views' subcommand); see --help\n";
       return 2;
     }
-    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body);
+    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, drift);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;
