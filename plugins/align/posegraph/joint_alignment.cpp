@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <deque>
 #include <optional>
 #include <set>
@@ -295,6 +297,14 @@ double closure_rms(const MissionSet& set, const Graph& g, const std::vector<Keyf
 
 }  // namespace
 
+std::vector<size_t> missions_to_retry_on_maps(const std::vector<char>& had_edges, const std::vector<char>& blamed,
+                                              bool all_left_out, const std::vector<bool>& on_maps, bool maps_allowed) {
+  std::vector<size_t> retry;
+  for (size_t m = 0; maps_allowed && m < had_edges.size(); ++m)
+    if (had_edges[m] && (all_left_out || blamed[m]) && !on_maps[m]) retry.push_back(m);
+  return retry;
+}
+
 std::string scan_edges_warning(const std::string& mission, size_t accepted, size_t tried) {
   if (tried < 8 || 2 * accepted >= tried) return "";
   // Measured on correct poses: a VLP-16 on an open site registers about a
@@ -534,6 +544,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
         without_each[m] = closure_rms(set, solved_with(all_but(m), unused), kf, closures);
       }
       const std::vector<char> culprit = missions_to_blame(with_all, without_each, o.scan_disagreement);
+      const std::vector<std::vector<PoseGraphEdge>> by_edges_of = by_mission;  // before any is cleared
       std::string left;
       size_t with_edges = 0;
       for (size_t m = 0; m < n; ++m) {
@@ -558,9 +569,50 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
       char residuals[160];
       std::snprintf(residuals, sizeof residuals, "(closure residual %.3f m with them, %.3f m without)", with_all,
                     with_none);
-      ctx.warn("scan-to-scan registrations disagree with the loop closures " + std::string(residuals) +
-               ": those of " + left + " left out, whose poses rest on odometry and closures; a sparse scanner's "
-               "rings can bias such registrations (docs/alignment.md)");
+      // The missions left out that registered scan to scan try local maps
+      // instead: a pair of single sparse scans registers ring onto ring,
+      // several scans fill the gaps. Kept if they agree with the closures.
+      std::vector<char> had_edges(n);
+      for (size_t m = 0; m < n; ++m) had_edges[m] = !by_edges_of[m].empty();
+      const std::vector<size_t> retry =
+          missions_to_retry_on_maps(had_edges, culprit, kept.empty(), scan_report.scan_to_map,
+                                    o.scan_edges.map_scans > 1 && o.scan_edges.map_use != MapUse::never);
+      bool replaced = false;
+      if (!retry.empty()) {
+        MissionSet some;
+        std::vector<size_t> offsets;
+        for (size_t m : retry) {
+          some.missions.push_back(set.missions[m]);
+          offsets.push_back(g.offset[m]);
+        }
+        ScanEdgeOptions maps = o.scan_edges;
+        maps.map_use = MapUse::always;
+        ScanEdgeReport unused_report;
+        std::vector<PoseGraphEdge> trial = kept;
+        for (const auto& e : scan_registration_edges(some, offsets, maps, threads, unused_report,
+                                                     [&] { return ctx.cancelled(); }, [&] { ctx.throw_if_cancelled(); }))
+          trial.push_back(e);
+        double cost_trial = 0.0;
+        Graph with_maps = solved_with(trial, cost_trial);
+        const double with_maps_rms = closure_rms(set, with_maps, kf, closures);
+        if (trial.size() > kept.size() && !scan_edges_disagree(with_maps_rms, with_none, o.scan_disagreement)) {
+          replaced = true;
+          g = std::move(with_maps);
+          report.final_cost = cost_trial;
+          report.scan_edges_left_out -= retry.size();
+          report.scan_map_missions += retry.size();
+          std::snprintf(residuals + std::strlen(residuals), sizeof residuals - std::strlen(residuals) - 1,
+                        "; %.3f m onto local maps", with_maps_rms);
+        }
+      }
+      if (replaced)
+        ctx.info("scan-to-scan registrations disagree with the loop closures " + std::string(residuals) + ": those of " +
+                 left + " registered onto local maps of " + std::to_string(o.scan_edges.map_scans) +
+                 " scans instead (scan_map), which agree");
+      else
+        ctx.warn("scan-to-scan registrations disagree with the loop closures " + std::string(residuals) +
+                 ": those of " + left + " left out, whose poses rest on odometry and closures; a sparse scanner's "
+                 "rings can bias such registrations (docs/alignment.md)");
     }
   }
 

@@ -69,6 +69,14 @@ bool scan_edges_disagree(double residual_with, double residual_without, double r
 // outdoors, on correct poses), and poses that do not belong to the scans.
 std::string scan_edges_warning(const std::string& mission, size_t accepted, size_t tried);
 
+// The missions whose scan-to-scan edges, left out for disagreeing with the
+// closures, are tried again onto local maps (ScanEdgeOptions::map_scans):
+// those that had edges and were left out (every one when `all_left_out`,
+// else the blamed), registered scan to scan so far (not `on_maps`
+// already), when local maps are allowed. Kept only if they agree.
+std::vector<size_t> missions_to_retry_on_maps(const std::vector<char>& had_edges, const std::vector<char>& blamed,
+                                              bool all_left_out, const std::vector<bool>& on_maps, bool maps_allowed);
+
 // With three or more missions, those whose scan-to-scan edges are to blame:
 // taking out their edges alone (residual_without_each[m], NaN for a
 // mission without edges) brings the closures' residual down from
