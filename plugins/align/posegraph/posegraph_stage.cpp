@@ -156,7 +156,8 @@ StageInfo posegraph_stage_info() {
       "Last, the graph is solved again without the scan-to-scan edges: if with them the closures' RMS residual is "
       "more than scan_disagreement times (and 1 cm more than) without, they disagree with the verified closures and "
       "are left out, with a warning naming whose: with three or more missions only those of a mission whose removal "
-      "alone brings the residual down as far (a sparse scanner's mission among dense ones), else all. "
+      "alone brings the residual down as far (a sparse scanner's mission among dense ones), else all. Those left "
+      "out that registered scan to scan are tried again onto local maps (scan_map), kept if they agree. "
       "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
       "keyframes, candidates, closures, closures_global, pairs_replaced_by_global, scan_edges, scan_edges_left_out, scan_map_missions, closure residuals with and without "
       "them, costs, and ATE before/after when every mission has poses_gt.txt.";
