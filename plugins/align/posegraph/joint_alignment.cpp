@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <deque>
 #include <optional>
 #include <set>
@@ -544,11 +543,12 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
         without_each[m] = closure_rms(set, solved_with(all_but(m), unused), kf, closures);
       }
       const std::vector<char> culprit = missions_to_blame(with_all, without_each, o.scan_disagreement);
-      const std::vector<std::vector<PoseGraphEdge>> by_edges_of = by_mission;  // before any is cleared
       std::string left;
       size_t with_edges = 0;
+      std::vector<char> had_edges(n);
       for (size_t m = 0; m < n; ++m) {
-        with_edges += !by_mission[m].empty();
+        had_edges[m] = !by_mission[m].empty();
+        with_edges += had_edges[m];
         if (!culprit[m]) continue;
         left += (left.empty() ? "'" : ", '") + set.missions[m].name + "'";
         ++report.scan_edges_left_out;
@@ -566,14 +566,12 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
       }
       report.final_cost = kept.empty() ? cost_without : cost_kept;
       g = kept.empty() ? std::move(without) : std::move(with_kept);
-      char residuals[160];
-      std::snprintf(residuals, sizeof residuals, "(closure residual %.3f m with them, %.3f m without)", with_all,
-                    with_none);
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "(closure residual %.3f m with them, %.3f m without", with_all, with_none);
+      std::string residuals = buf;
       // The missions left out that registered scan to scan try local maps
       // instead: a pair of single sparse scans registers ring onto ring,
       // several scans fill the gaps. Kept if they agree with the closures.
-      std::vector<char> had_edges(n);
-      for (size_t m = 0; m < n; ++m) had_edges[m] = !by_edges_of[m].empty();
       const std::vector<size_t> retry =
           missions_to_retry_on_maps(had_edges, culprit, kept.empty(), scan_report.scan_to_map,
                                     o.scan_edges.map_scans > 1 && o.scan_edges.map_use != MapUse::never);
@@ -601,16 +599,17 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
           report.final_cost = cost_trial;
           report.scan_edges_left_out -= retry.size();
           report.scan_map_missions += retry.size();
-          std::snprintf(residuals + std::strlen(residuals), sizeof residuals - std::strlen(residuals) - 1,
-                        "; %.3f m onto local maps", with_maps_rms);
+          std::snprintf(buf, sizeof buf, "; %.3f m onto local maps", with_maps_rms);
+          residuals += buf;
         }
       }
+      residuals += ")";
       if (replaced)
-        ctx.info("scan-to-scan registrations disagree with the loop closures " + std::string(residuals) + ": those of " +
+        ctx.info("scan-to-scan registrations disagree with the loop closures " + residuals + ": those of " +
                  left + " registered onto local maps of " + std::to_string(o.scan_edges.map_scans) +
                  " scans instead (scan_map), which agree");
       else
-        ctx.warn("scan-to-scan registrations disagree with the loop closures " + std::string(residuals) +
+        ctx.warn("scan-to-scan registrations disagree with the loop closures " + residuals +
                  ": those of " + left + " left out, whose poses rest on odometry and closures; a sparse scanner's "
                  "rings can bias such registrations (docs/alignment.md)");
     }
