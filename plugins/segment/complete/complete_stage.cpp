@@ -20,6 +20,8 @@ class CompleteStage : public Stage {
     c_.shape_slack = p.get<double>("shape_slack");
     c_.max_leak = p.get<double>("max_leak");
     c_.pair_retry = p.get<bool>("pair_retry");
+    c_.centroid_order = p.get<std::string>("pair_order") == "centroid";
+    c_.join_fragments = p.get<bool>("join_fragments");
     c_.self_complete = p.get<bool>("self_complete");
     c_.leak_own_box = p.get<std::string>("leak_growth") == "own_box";
     c_.static_check = p.get<bool>("static_check");
@@ -33,7 +35,7 @@ class CompleteStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.complete";
-    i.version = "1.3.0";
+    i.version = "1.4.0";
     i.summary = "Grows partial change clusters of short moves into whole objects";
     i.doc =
         "First, an object with at least floor_share of its points within the floor clearance of its local floor "
@@ -47,7 +49,7 @@ class CompleteStage : public Stage {
         "on one side only (the sliver of a table top moved a little). An object moved by less than its own size keeps occupying the overlap of its two poses, so "
         "the volumetric difference finds only slivers of it. For consecutive missions, clusters whose "
         "boxes are at most pair_gap apart are paired (nearest first, each in at most one completed pair; with "
-        "pair_retry a refused pair frees both for their next candidates); each grows "
+        "pair_retry a refused pair frees both for their next candidates; among touching boxes the nearer centroids first); each grows "
         "through its own mission's full cloud (breadth-first over occupied voxels of edge `voxel`, "
         "inside the pair's union box grown by box_margin, above the local floor clearance, "
         "never into another object's points). Where a growth finds more "
@@ -55,7 +57,10 @@ class CompleteStage : public Stage {
         "furniture), both grow again inside the union of the two boxes without margin (leak_growth = own_box; "
         "base: the pair is left alone). The growth is kept only if both grown objects have the "
         "shape of one rigid object (height above the floor and footprint-rectangle sides agree "
-        "within max(shape_tolerance x the larger, shape_slack)). Then, with self_complete, every object "
+        "within max(shape_tolerance x the larger, shape_slack)). With join_fragments, other objects of a pair "
+        "member's mission that its growth reaches are tried in the pair too (a turned short move leaves slivers "
+        "at both ends) and joined into it if the shapes then agree within half that allowance. Then, with "
+        "self_complete, every object "
         "grows the same way inside its own box grown by box_margin, down to the floor if it stands "
         "on it (the difference cannot confirm change next to the floor, so objects lose their base); "
         "if that growth wants out of the box (it touches a wall or furniture), it is cut to the object's own box "
@@ -116,6 +121,15 @@ class CompleteStage : public Stage {
         ParamSpec::boolean("pair_retry", true,
                            "a pair whose growth is refused (leak or shapes) frees both objects for their next-nearest "
                            "candidates; false = each object is offered its nearest candidate only"),
+        ParamSpec::text("pair_order", "centroid",
+                        "order in which candidate pairs are tried: by box gap in whole voxels (a gap under one "
+                        "voxel touches the growth as an overlap does), then by the horizontal distance of their "
+                        "centroids (centroid); or by gap, then object id (gap)")
+            .one_of({"centroid", "gap"}),
+        ParamSpec::boolean("join_fragments", true,
+                           "a pair's growth that reaches other objects of its own mission (within one voxel) that no "
+                           "completed pair holds grows again with them joined; kept, and they are joined into the "
+                           "pair's object, if the shapes then agree (a turned short move leaves slivers at both ends)"),
         ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
     };
     return i;
@@ -136,6 +150,7 @@ class CompleteStage : public Stage {
     context.record("points_added", double(st.points_added));
     context.record("floors", double(st.floors));
     context.record("absorbed", double(st.absorbed));
+    context.record("joined", double(st.joined));
     context.record("floor_only", double(st.floor_only));
     context.record("thin_static", double(st.thin_static));
     context.record("thin_surface", double(st.thin_surface));
@@ -144,6 +159,7 @@ class CompleteStage : public Stage {
                  (st.floor_only ? ", " + std::to_string(st.floor_only) + " clusters of floor dropped" : "") +
                  (st.thin_static ? ", " + std::to_string(st.thin_static) + " unchanged thin surfaces dropped" : "") +
                  (st.thin_surface ? ", " + std::to_string(st.thin_surface) + " thin patches of a larger surface dropped" : "") +
+                 (st.joined ? ", " + std::to_string(st.joined) + " fragments joined into completed pairs" : "") +
                  (st.absorbed ? ", " + std::to_string(st.absorbed) + " fragments joined to the object around them" : ""));
     Outputs out;
     out.put("objects", std::move(objects));

@@ -11,8 +11,10 @@
 #include <deque>
 #include <iterator>
 #include <limits>
+#include <map>
 #include <thread>
 #include <tuple>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace lista::seg {
@@ -37,6 +39,14 @@ struct Box {
 };
 
 using geometry::box_gap;
+
+// Rounds of joining: a joined fragment's growth may reach one more.
+constexpr int kJoinRounds = 3;
+// Joined shapes must agree within this share of the pair check's allowance:
+// joining claims more than pairing, and the pair check's allowance is wide
+// enough for a desk in one mission to pass for a barrel and a cart touching
+// in the other (measured on tiny seed 3).
+constexpr double kJoinStrictness = 0.5;
 
 uint64_t point_key(uint32_t scan, uint32_t index) { return (uint64_t(scan) << 32) | index; }
 
@@ -177,15 +187,23 @@ struct Growth {
   std::vector<uint32_t> added;  // new points, ascending
   size_t voxels = 0;            // voxels it added points from
   size_t leaks = 0;             // voxels it would have entered outside the region
+  std::vector<uint32_t> touched;  // objects (indices) owning points the walk reached, ascending
   // A growth that wants out of its region is part of something bigger (a
   // wall, the desk the object touches): not one object.
   bool contained(double max_leak) const { return double(leaks) <= max_leak * double(std::max<size_t>(voxels, 1)); }
 };
 
-Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, float min_z,
-            const std::unordered_set<uint64_t>& owned) {
+// Point key -> index of the object that holds the point, per mission.
+using Owners = std::unordered_map<uint64_t, uint32_t>;
+
+Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, float min_z, const Owners& owned) {
+  std::vector<uint32_t> touched;
   auto free_point = [&](uint32_t i) {
-    return cloud.points.xyz[i].z() >= min_z && !owned.count(point_key(cloud.points.scan[i], cloud.points.index[i]));
+    if (cloud.points.xyz[i].z() < min_z) return false;
+    const auto it = owned.find(point_key(cloud.points.scan[i], cloud.points.index[i]));
+    if (it == owned.end()) return true;
+    touched.push_back(it->second);
+    return false;
   };
   auto eligible = [&](uint32_t i) { return free_point(i) && region.contains(cloud.points.xyz[i]); };
   std::unordered_set<uint64_t> visited;
@@ -229,7 +247,9 @@ Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, fl
           if (dx || dy || dz) visit(v + Eigen::Vector3i(dx, dy, dz));
   }
   std::sort(added.begin(), added.end());
-  return {std::move(added), walked, leaks};
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  return {std::move(added), walked, leaks, std::move(touched)};
 }
 
 // Height above the floor and the footprint-rectangle sides
@@ -263,9 +283,9 @@ std::string leak_note(const Growth& g) {
   return format_number(double(g.leaks) / double(std::max<size_t>(g.voxels, 1)));
 }
 
-bool same_shape(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const CompletionConfig& c) {
+bool same_shape(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const CompletionConfig& c, double strictness = 1.0) {
   for (int k = 0; k < 3; ++k) {
-    const double allowed = std::max(c.shape_slack, c.shape_tolerance * std::max(a[k], b[k]));
+    const double allowed = strictness * std::max(c.shape_slack, c.shape_tolerance * std::max(a[k], b[k]));
     if (std::abs(a[k] - b[k]) > allowed) return false;
   }
   return true;
@@ -277,7 +297,7 @@ bool same_shape(const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Comple
 // confirm change that close to the floor (the floor voxel is occupied in both
 // missions), so this is where a detected object most often lacks points.
 std::vector<uint32_t> base_points(const Object& o, const LocalCloud& cloud, const Floor& floor,
-                                  const std::unordered_set<uint64_t>& owned) {
+                                  const Owners& owned) {
   std::unordered_set<uint64_t> columns;
   auto column = [](float x, float y) {
     return voxel_key(Eigen::Vector3i(int(std::floor(x * 20.f)), int(std::floor(y * 20.f)), 0));
@@ -433,6 +453,12 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
                            CompletionStats* stats) {
   if (c.voxel <= 0) throw Error("segment.complete: voxel must be > 0");
   ObjectSet out = input;
+  // What each object came with (by mission and first point): an object this
+  // pass leaves as it came keeps its floor (rule 7).
+  std::map<std::pair<uint32_t, uint64_t>, std::pair<size_t, float>> came_with;
+  for (const auto& o : out.objects)
+    if (!o.points.empty() && std::isfinite(o.floor_z))
+      came_with[{o.mission, point_key(o.points.scan[0], o.points.index[0])}] = {o.points.size(), o.floor_z};
   for (auto& o : out.objects) o.update_geometry();
   std::vector<const Mission*> mission_of(out.missions.size(), nullptr);
   for (size_t m = 0; m < out.missions.size(); ++m) {
@@ -455,15 +481,23 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     for (const Object* o : {&a, &b}) r.extend(Box{o->bbox_min, o->bbox_max});
     return r;
   };
-  // Candidate pairs across consecutive missions, nearest first.
+  // Candidate pairs across consecutive missions, nearest first. Boxes that
+  // overlap are all 0 m apart, and gaps under one growth voxel are all
+  // "touching" to the growth; among those the nearer centroids (horizontal)
+  // come first, so a short move's two slivers go before a neighbour whose
+  // box merely reaches into theirs.
   auto candidate_pairs = [&] {
-    std::vector<std::tuple<float, size_t, size_t>> candidates;
+    std::vector<std::tuple<float, float, float, size_t, size_t>> candidates;
     for (size_t i = 0; i < out.objects.size(); ++i)
       for (size_t j = 0; j < out.objects.size(); ++j) {
         const Object &a = out.objects[i], &b = out.objects[j];
         if (b.mission != a.mission + 1 || a.points.empty() || b.points.empty()) continue;
         const float gap = box_gap(a, b);
-        if (gap <= c.pair_gap) candidates.emplace_back(gap, i, j);
+        if (gap > c.pair_gap) continue;
+        if (c.centroid_order)
+          candidates.emplace_back(std::floor(gap / float(c.voxel)), (a.centroid - b.centroid).head<2>().norm(), gap, i, j);
+        else
+          candidates.emplace_back(gap, 0.f, 0.f, i, j);
       }
     std::sort(candidates.begin(), candidates.end());
     return candidates;
@@ -490,7 +524,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     }
   };
   std::vector<std::vector<Box>> first_regions(nm);
-  for (const auto& [gap, i, j] : candidate_pairs()) {
+  for (const auto& [order, apart, gap, i, j] : candidate_pairs()) {
     const Box r = pair_region(out.objects[i], out.objects[j]).grown(margin + 0.75f, 1.5f, margin);
     first_regions[out.objects[i].mission].push_back(r);
     first_regions[out.objects[j].mission].push_back(r);
@@ -565,7 +599,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   std::vector<Pair> pairs;
   {
     std::vector<char> used(out.objects.size(), 0);
-    for (const auto& [gap, i, j] : candidate_pairs()) {
+    for (const auto& [order, apart, gap, i, j] : candidate_pairs()) {
       if (!c.pair_retry) {
         if (used[i] || used[j]) continue;
         used[i] = used[j] = 1;
@@ -584,14 +618,27 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     for (size_t k : {p.a, p.b}) regions[out.objects[k].mission].push_back(p.floor_region);
   add_own_regions(regions, c.self_complete && c.static_check);
   for (size_t m = 0; m < nm; ++m) clouds[m] = restrict_to(clouds[m], regions[m]);
-  std::vector<std::unordered_set<uint64_t>> owned(nm);
-  for (const auto& o : out.objects)
-    for (size_t i = 0; i < o.points.size(); ++i) owned[o.mission].insert(point_key(o.points.scan[i], o.points.index[i]));
+  std::vector<Owners> owned(nm);
+  for (size_t k = 0; k < out.objects.size(); ++k) {
+    const Object& o = out.objects[k];
+    for (size_t i = 0; i < o.points.size(); ++i) owned[o.mission][point_key(o.points.scan[i], o.points.index[i])] = uint32_t(k);
+  }
 
   // 3-4. Grow both objects of each pair; keep the growth if the shapes agree.
-  std::vector<char> completed(out.objects.size(), 0);
+  // With join_fragments, a growth that reaches points of other free objects
+  // of its own mission (a short move with a turn leaves slivers at both ends
+  // of a desk) is tried again with them in the seed and their boxes in the
+  // region; if those shapes agree, they are joined into the pair's object.
+  std::vector<char> completed(out.objects.size(), 0), gone(out.objects.size(), 0);
+  struct Attempt {
+    Growth ga, gb;
+    Eigen::Vector3f sa, sb;
+    bool contained = false, same = false;
+    std::string kept_to;
+    std::vector<uint32_t> touched_a, touched_b;  // free objects the growths reached
+  };
   for (const auto& p : pairs) {
-    if (completed[p.a] || completed[p.b]) continue;
+    if (completed[p.a] || completed[p.b] || gone[p.a] || gone[p.b]) continue;
     ++st.pairs;
     Object &a = out.objects[p.a], &b = out.objects[p.b];
     const LocalCloud &ca = clouds[a.mission], &cb = clouds[b.mission];
@@ -604,48 +651,137 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       continue;
     }
     const float floor_a = fa.z, floor_b = fb.z, min_a = fa.clear_z, min_b = fb.clear_z;
-    Growth ga, gb;
-    Eigen::Vector3f sa, sb;
-    auto grow_both = [&](const Box& region) {
-      Box ra = region, rb = region;
-      ra.lo.z() = std::min(ra.lo.z(), min_a);
-      rb.lo.z() = std::min(rb.lo.z(), min_b);
-      ga = grow(a.points, ca, ra, min_a, owned[a.mission]);
-      gb = grow(b.points, cb, rb, min_b, owned[b.mission]);
-      sa = shape_of(a.points, ga.added, ca.points, floor_a, min_a);
-      sb = shape_of(b.points, gb.added, cb.points, floor_b, min_b);
+    std::vector<uint32_t> self{uint32_t(p.a), uint32_t(p.b)};
+    auto free_touched = [&](const std::vector<uint32_t>& touched) {
+      std::vector<uint32_t> f;
+      for (uint32_t k : touched)
+        if (std::find(self.begin(), self.end(), k) == self.end() && !completed[k] && !gone[k] &&
+            !out.objects[k].points.empty())
+          f.push_back(k);
+      return f;
     };
-    grow_both(p.region);
-    bool contained = ga.contained(c.max_leak) && gb.contained(c.max_leak);
-    std::string kept_to;
-    if (!contained && c.leak_own_box) {
-      // As in step 5: what leaks is the thing they touch; the pair's own
-      // box (the two clusters' union, no margin) holds the object. The
-      // shapes must still agree.
-      kept_to = " inside the pair's own box (a growth leaked: " + leak_note(ga) + " / " + leak_note(gb) + ")";
-      grow_both(p.own);
-      contained = true;
+    // `own`: the union of the seeds' boxes, no margin.
+    auto attempt = [&](const PointSet& seed_a, const PointSet& seed_b, const Box& own, double strictness) {
+      Attempt t;
+      auto grow_both = [&](const Box& region) {
+        Box ra = region, rb = region;
+        ra.lo.z() = std::min(ra.lo.z(), min_a);
+        rb.lo.z() = std::min(rb.lo.z(), min_b);
+        t.ga = grow(seed_a, ca, ra, min_a, owned[a.mission]);
+        t.gb = grow(seed_b, cb, rb, min_b, owned[b.mission]);
+        t.sa = shape_of(seed_a, t.ga.added, ca.points, floor_a, min_a);
+        t.sb = shape_of(seed_b, t.gb.added, cb.points, floor_b, min_b);
+      };
+      grow_both(own.grown(margin, 0.f, margin));
+      t.touched_a = free_touched(t.ga.touched);
+      t.touched_b = free_touched(t.gb.touched);
+      t.contained = t.ga.contained(c.max_leak) && t.gb.contained(c.max_leak);
+      if (!t.contained && c.leak_own_box) {
+        // As in step 5: what leaks is the thing they touch; the pair's own
+        // box (the two clusters' union, no margin) holds the object. The
+        // shapes must still agree.
+        t.kept_to = " inside the pair's own box (a growth leaked: " + leak_note(t.ga) + " / " + leak_note(t.gb) + ")";
+        grow_both(own);
+        t.contained = true;
+      }
+      t.same = t.contained && same_shape(t.sa, t.sb, c, strictness);
+      return t;
+    };
+    Attempt t = attempt(a.points, b.points, p.own, 1.0);
+    std::vector<uint32_t> join_a, join_b;
+    if (c.join_fragments && (!t.touched_a.empty() || !t.touched_b.empty())) {
+      // Both sides' fragments, else one side's only (the other side's growth
+      // may reach a different object touching it, as a desk touches a
+      // cabinet added beside it).
+      const size_t self_size = self.size();
+      auto try_join = [&](bool side_a, bool side_b, std::vector<uint32_t>& ja, std::vector<uint32_t>& jb) {
+        self.resize(self_size);
+        PointSet seed_a = a.points, seed_b = b.points;
+        Box own = p.own;
+        Attempt joined = t;
+        auto pending = [&] { return (side_a && !joined.touched_a.empty()) || (side_b && !joined.touched_b.empty()); };
+        for (int round = 0; round < kJoinRounds && pending(); ++round) {
+          for (auto [use, touched, seed, into] : {std::tuple{side_a, &joined.touched_a, &seed_a, &ja},
+                                                  std::tuple{side_b, &joined.touched_b, &seed_b, &jb}})
+            if (use)
+              for (uint32_t k : *touched) {
+                const Object& f = out.objects[k];
+                seed->append(f.points);
+                own.extend(Box{f.bbox_min, f.bbox_max});
+                into->push_back(k);
+                self.push_back(k);
+              }
+          joined = attempt(seed_a, seed_b, own, kJoinStrictness);
+        }
+        return joined;
+      };
+      const bool both = !t.touched_a.empty() && !t.touched_b.empty();
+      std::vector<std::pair<bool, bool>> tries;
+      if (both) tries = {{true, true}, {true, false}, {false, true}};
+      else tries = {{!t.touched_a.empty(), !t.touched_b.empty()}};
+      for (auto [side_a, side_b] : tries) {
+        std::vector<uint32_t> ja, jb;
+        Attempt joined = try_join(side_a, side_b, ja, jb);
+        if (joined.same) {
+          t = std::move(joined);
+          join_a = std::move(ja);
+          join_b = std::move(jb);
+          break;
+        }
+        std::string tried;
+        for (uint32_t k : ja) tried += (tried.empty() ? "" : ", ") + std::to_string(out.objects[k].id);
+        for (uint32_t k : jb) tried += (tried.empty() ? "" : ", ") + std::to_string(out.objects[k].id);
+        st.pair_notes.push_back(which + "not joined with " + tried + ", " +
+                                (!joined.contained ? "a growth leaks out of the region"
+                                                   : "joined shapes differ" + joined.kept_to + " (" +
+                                                         shape_note(joined.sa) + " / " + shape_note(joined.sb) + ")"));
+      }
+      self.resize(self_size);
+      for (uint32_t k : join_a) self.push_back(k);
+      for (uint32_t k : join_b) self.push_back(k);
     }
-    if (!contained || !same_shape(sa, sb, c)) {
+    if (!t.same) {
       ++st.rejected;
       st.pair_notes.push_back(which + "not completed, " +
-                              (!contained ? "a growth leaks out of the pair's region (" + leak_note(ga) + " / " +
-                                                leak_note(gb) + ", max_leak " + format_number(c.max_leak) + ")"
-                                          : "grown shapes differ" + kept_to + " (" + shape_note(sa) + " / " +
-                                                shape_note(sb) + ")"));
+                              (!t.contained ? "a growth leaks out of the pair's region (" + leak_note(t.ga) + " / " +
+                                                  leak_note(t.gb) + ", max_leak " + format_number(c.max_leak) + ")"
+                                            : "grown shapes differ" + t.kept_to + " (" + shape_note(t.sa) + " / " +
+                                                  shape_note(t.sb) + ")"));
       continue;
     }
     ++st.completed;
     completed[p.a] = completed[p.b] = 1;
-    st.pair_notes.push_back(which + "completed" + kept_to + ", " + std::to_string(ga.added.size()) + " + " +
-                            std::to_string(gb.added.size()) + " points added (" + shape_note(sa) + " / " +
-                            shape_note(sb) + ")");
-    for (auto [o, add, cloud] : {std::tuple{&a, &ga.added, &ca}, std::tuple{&b, &gb.added, &cb}}) {
+    std::string joined_note;
+    for (auto [join, into] : {std::pair{&join_a, &a}, std::pair{&join_b, &b}})
+      for (uint32_t k : *join) {
+        Object& f = out.objects[k];
+        joined_note += (joined_note.empty() ? " (joined: " : ", ") + std::to_string(f.id) + " to " + std::to_string(into->id);
+        into->points.append(f.points);
+        const uint32_t to = uint32_t(into == &a ? p.a : p.b);
+        for (size_t i = 0; i < f.points.size(); ++i) owned[f.mission][point_key(f.points.scan[i], f.points.index[i])] = to;
+        f.points = PointSet();
+        gone[k] = 1;
+        ++st.joined;
+      }
+    if (!joined_note.empty()) joined_note += ")";
+    st.pair_notes.push_back(which + "completed" + joined_note + t.kept_to + ", " + std::to_string(t.ga.added.size()) +
+                            " + " + std::to_string(t.gb.added.size()) + " points added (" + shape_note(t.sa) + " / " +
+                            shape_note(t.sb) + ")");
+    for (auto [o, add, cloud, index] :
+         {std::tuple{&a, &t.ga.added, &ca, uint32_t(p.a)}, std::tuple{&b, &t.gb.added, &cb, uint32_t(p.b)}}) {
       add_points(*o, cloud->points, *add);
-      for (uint32_t i : *add) owned[o->mission].insert(point_key(cloud->points.scan[i], cloud->points.index[i]));
+      for (uint32_t i : *add) owned[o->mission][point_key(cloud->points.scan[i], cloud->points.index[i])] = index;
       st.points_added += add->size();
       o->update_geometry();
     }
+  }
+  if (st.joined) {
+    std::vector<Object> kept;
+    for (size_t k = 0; k < out.objects.size(); ++k)
+      if (!gone[k]) kept.push_back(std::move(out.objects[k]));
+    out.objects = std::move(kept);
+    out.renumber();
+    // owned's object indices are stale from here; later rules only test membership.
   }
 
   // 5. Every object: its own missing points inside its box grown by
@@ -703,7 +839,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       if (add.empty()) continue;
       ++st.self_completed;
       add_points(o, cloud.points, add);
-      for (uint32_t i : add) owned[o.mission].insert(point_key(cloud.points.scan[i], cloud.points.index[i]));
+      for (uint32_t i : add) owned[o.mission][point_key(cloud.points.scan[i], cloud.points.index[i])] = 0;  // membership only
       st.points_added += add.size();
       o.update_geometry();
     }
@@ -714,8 +850,18 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   // that measure heights from it. An object whose lowest point is more than
   // on_floor_gap above the local floor stands on something else (a table, a
   // shelf): its floor stays unknown and its lowest point is its base.
+  // An object that came with a floor and left unchanged (segment.complete
+  // again after segment.carve) keeps it: the floor is measured on points
+  // gathered around this pass's pairs, and a floor remeasured a few microns
+  // off was enough to turn a table's registration by 80 degrees (exp3 seed 24).
   for (auto& o : out.objects) {
     if (o.points.empty()) continue;
+    const auto kept = came_with.find({o.mission, point_key(o.points.scan[0], o.points.index[0])});
+    if (kept != came_with.end() && kept->second.first == o.points.size()) {
+      o.floor_z = kept->second.second;
+      ++st.floors;
+      continue;
+    }
     Floor f;
     if (!local_floor(clouds[o.mission].points, own_floor_region(o), c.floor_percentile, c.floor_clearance, f)) continue;
     if (o.bbox_min.z() - f.z > kOnFloorGap) continue;

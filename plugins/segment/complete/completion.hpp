@@ -25,10 +25,22 @@
 //     most `pair_gap` apart are a candidate pair (both slivers of one object
 //     seen at two poses). Pairs are tried greedily by increasing gap, each
 //     object in at most one completed pair, so the result does not depend
-//     on order; with `pair_retry` a pair refused by step 4 leaves both
+//     on order; at equal gaps (overlapping boxes are all 0 m apart) the
+//     pair with the nearer centroids (horizontal) goes first
+//     (`centroid_order`); with `pair_retry` a pair refused by step 4 leaves both
 //     objects free for their next candidates (the nearest box may be a third
 //     object's, touching the first as closely as its true partner does),
 //     without it each object is offered its nearest candidate only.
+//     With `join_fragments`, other objects of a pair member's mission that
+//     its growth reaches (within one voxel) and that no completed pair
+//     holds are fragments of the same object when the pair's shapes agree
+//     with them in the seed: a short move with a turn leaves slivers at
+//     both ends of a desk, and one of them alone does not reach the
+//     other's end. The pair is grown again with them (their boxes join
+//     the region, up to three rounds; both sides' fragments, else one
+//     side's); if those shapes agree within half the allowance of step 4,
+//     they are joined into the pair's object and the ids renumbered, else
+//     the pair is judged alone.
 //  2. Region. The growth region R is the union box of a and b grown by
 //     `box_margin`, reaching down to the local floor. For a rigid object moved
 //     by less than its size, the part that did not change (the overlap of its
@@ -109,6 +121,13 @@ struct CompletionConfig {
   // A pair whose growth is refused frees its two objects for their next
   // candidates (true); or each object is offered its nearest candidate only.
   bool pair_retry = true;
+  // Candidates at the same gap (boxes that overlap are all 0 m apart) are
+  // tried by the horizontal distance of their centroids (true), or in id
+  // order (false).
+  bool centroid_order = true;
+  // A pair's growth that reaches other free objects of its own mission
+  // tries again with them joined (true): kept if the joined shapes agree.
+  bool join_fragments = true;
   bool self_complete = true;      // also complete every object inside its own box (rule 5)
   // When a growth leaks out of its region (the object touches a wall or
   // furniture): rule 5 also adds what the growth reaches inside the
@@ -133,6 +152,7 @@ struct CompletionStats {
   size_t points_static = 0;   // rule 5 candidates left out as static (static_check)
   size_t floors = 0;          // objects given their floor_z (rule 7)
   size_t absorbed = 0;        // fragments joined to a larger object (rule 6)
+  size_t joined = 0;          // fragments joined into a completed pair's object (rule 1)
   size_t floor_only = 0;      // objects dropped as the floor itself (rule 0)
   size_t thin_static = 0;     // thin objects every neighbouring mission also holds (rule 0b)
   size_t thin_surface = 0;    // thin patches of a larger surface of their own mission (rule 0b)
@@ -145,7 +165,7 @@ struct CompletionStats {
 
 // `missions` must be the aligned missions the objects were detected in (same
 // names, same order as objects.missions). Objects keep their ids and order
-// unless rule 0 drops floor or rule 6 joins fragments (then ids are
+// unless rule 0 drops floor or rule 1 or 6 joins fragments (then ids are
 // renumbered 0..n-1 in order).
 ObjectSet complete_objects(const ObjectSet& objects, const MissionSet& missions,
                            const CompletionConfig& config, CompletionStats* stats = nullptr);

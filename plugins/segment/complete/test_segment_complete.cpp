@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 using namespace lista;
@@ -33,7 +34,10 @@ struct Scene {
 // Floor z = 0 over [-1, 4] x [-1, 3]; the moved box [x0, x0 + 0.6] x [0, 0.4]
 // x [0, 0.8] (A: x0 = 1.0, B: x0 = 1.3); a static box [2.5, 3.0] x [0, 0.5] x
 // [0, 0.6] in both missions (0.6 m from the moved box in B).
-Scene make_scene(float static_x = 2.5f, float static_h = 0.6f) {
+// `removed_at` (x, y of its low corner; none if NaN): a box of the moved box's
+// size in A only.
+Scene make_scene(float static_x = 2.5f, float static_h = 0.6f,
+                 Eigen::Vector2f removed_at = Eigen::Vector2f::Constant(std::nanf(""))) {
   Scene s;
   for (int m = 0; m < 2; ++m) {
     PointSet& c = s.cloud[m];
@@ -46,6 +50,9 @@ Scene make_scene(float static_x = 2.5f, float static_h = 0.6f) {
     const float x0 = m == 0 ? 1.0f : 1.3f;
     add_box_surface(c, {x0, 0.f, 0.f}, {x0 + 0.6f, 0.4f, 0.8f}, kStep);
     add_box_surface(c, {static_x, 0.f, 0.f}, {static_x + 0.5f, 0.5f, static_h}, kStep);
+    if (m == 0 && !removed_at.hasNaN())
+      add_box_surface(c, {removed_at.x(), removed_at.y(), 0.f}, {removed_at.x() + 0.6f, removed_at.y() + 0.4f, 0.8f},
+                      kStep);
     for (size_t i = 0; i < c.size(); ++i) c.index[i] = uint32_t(i);
     add_mission(s.missions, m == 0 ? "A" : "B", c);
   }
@@ -243,6 +250,126 @@ TEST(SegmentComplete, ARefusedPairFreesItsObjectsForTheirNextCandidates) {
   EXPECT_EQ(out_once.objects[0].points.size(), in.objects[0].points.size());
 }
 
+// After a cut (segment.carve), B holds the moved box whole; A holds its
+// sliver and, beside it, an identical box that was removed, whose box also
+// overlaps B's. Both candidates touch (gaps under one voxel). The removed box and the
+// moved one have one shape, so that pair would complete (adding nothing)
+// and take B's box from the sliver: the nearer centroids go first.
+TEST(SegmentComplete, AmongOverlappingBoxesTheNearerCentroidsPairFirst) {
+  const Scene s = make_scene(3.2f, 0.6f, {1.85f, 0.35f});  // removed box x 1.85..2.45, y 0.35..0.75
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects.push_back(object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+    return p.x() >= 1.84f && p.y() >= 0.34f && p.x() <= 2.46f && p.z() > 0.05f;  // the removed box, whole
+  }));
+  in.objects.push_back(sliver(s.cloud[0], 0, 0.99f, 1.29f));
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 1.29f && p.x() <= 1.91f && p.y() <= 0.41f && p.z() > 0.05f;  // the moved box, whole
+  }));
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
+  seg::CompletionConfig c;
+  c.self_complete = false;
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  ASSERT_FALSE(st.pair_notes.empty());
+  EXPECT_EQ(st.pair_notes[0].rfind("objects 1 + 2: completed", 0), 0u) << st.pair_notes[0];
+  EXPECT_EQ(st.completed, 1u);
+  const float clear = 0.08f;
+  EXPECT_EQ(count_in_box(out.objects[1].points, {1.0f, 0.f, clear}, {1.6f, 0.4f, 0.8f}),
+            count_in_box(s.cloud[0], {1.0f, 0.f, clear}, {1.6f, 0.4f, 0.8f}));
+
+  // In id order the removed box pairs first and the sliver stays a sliver.
+  c.centroid_order = false;
+  seg::CompletionStats st_id;
+  const ObjectSet out_id = seg::complete_objects(in, s.missions, c, &st_id);
+  ASSERT_FALSE(st_id.pair_notes.empty());
+  EXPECT_EQ(st_id.pair_notes[0].rfind("objects 0 + 2: completed", 0), 0u) << st_id.pair_notes[0];
+  EXPECT_EQ(out_id.objects[1].points.size(), in.objects[1].points.size());
+}
+
+// A short move with a turn leaves slivers at both ends of the object: A
+// holds its box as two end strips (two objects), B the moved box whole. The
+// nearer strip's growth reaches the other strip, which is joined: A's object
+// is whole and one.
+TEST(SegmentComplete, APairsGrowthJoinsTheFragmentsItReaches) {
+  const Scene s = make_scene(3.2f);
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects.push_back(sliver(s.cloud[0], 0, 0.99f, 1.15f));
+  in.objects.push_back(sliver(s.cloud[0], 0, 1.45f, 1.61f));
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 1.29f && p.x() <= 1.91f && p.y() <= 0.41f && p.z() > 0.05f;  // the moved box, whole
+  }));
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
+  seg::CompletionConfig c;
+  c.self_complete = false;
+  c.nested_share = 0.0;
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  ASSERT_EQ(out.objects.size(), 2u);
+  EXPECT_EQ(st.joined, 1u);
+  ASSERT_FALSE(st.pair_notes.empty());
+  EXPECT_EQ(st.pair_notes[0].rfind("objects 1 + 2: completed (joined: 0 to 1)", 0), 0u) << st.pair_notes[0];
+  EXPECT_EQ(out.objects[0].id, 0);  // renumbered
+  EXPECT_EQ(out.objects[1].id, 1);
+  const float clear = 0.08f;
+  EXPECT_EQ(count_in_box(out.objects[0].points, {1.0f, 0.f, clear}, {1.6f, 0.4f, 0.8f}),
+            count_in_box(s.cloud[0], {1.0f, 0.f, clear}, {1.6f, 0.4f, 0.8f}));
+  std::set<uint32_t> idx(out.objects[0].points.index.begin(), out.objects[0].points.index.end());
+  EXPECT_EQ(idx.size(), out.objects[0].points.size()) << "a point twice";
+
+  // Without: the pair completes on the nearer strip alone, the other stays.
+  c.join_fragments = false;
+  seg::CompletionStats st_alone;
+  const ObjectSet alone = seg::complete_objects(in, s.missions, c, &st_alone);
+  EXPECT_EQ(alone.objects.size(), 3u);
+  EXPECT_EQ(st_alone.joined, 0u);
+}
+
+// A fragment of another object is joined only where the shapes then agree:
+// a box removed from beside A's pose is reached by the sliver's growth, but
+// joined it makes A's object twice as long as B's.
+TEST(SegmentComplete, AFragmentThatSpoilsTheShapeIsNotJoined) {
+  const Scene s = make_scene(3.2f, 0.6f, {1.65f, 0.f});  // removed box x 1.65..2.25, in A only
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects.push_back(sliver(s.cloud[0], 0, 1.45f, 1.61f));
+  in.objects.push_back(object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+    return p.x() >= 1.64f && p.x() <= 2.26f && p.y() <= 0.41f && p.z() > 0.05f;
+  }));
+  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 1.29f && p.x() <= 1.91f && p.y() <= 0.41f && p.z() > 0.05f;
+  }));
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
+  seg::CompletionConfig c;
+  c.self_complete = false;
+  c.nested_share = 0.0;
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  EXPECT_EQ(st.joined, 0u);
+  ASSERT_EQ(out.objects.size(), 3u);
+  EXPECT_EQ(out.objects[1].points.size(), in.objects[1].points.size());
+  ASSERT_GE(st.pair_notes.size(), 2u);
+  EXPECT_EQ(st.pair_notes[0].rfind("objects 0 + 2: not joined with 1, joined shapes differ", 0), 0u) << st.pair_notes[0];
+  EXPECT_EQ(st.pair_notes[1].rfind("objects 0 + 2: completed inside", 0), 0u) << st.pair_notes[1];
+}
+
+// The default pipeline runs the stage again after segment.carve: what the
+// first pass made whole comes through the second unchanged, its floor
+// included (a remeasured floor may differ by microns).
+TEST(SegmentComplete, ASecondPassLeavesWholeObjectsAsTheyCame) {
+  const Scene s = make_scene();
+  ObjectSet once = seg::complete_objects(slivers(s), s.missions, {});
+  ASSERT_TRUE(std::isfinite(once.objects[0].floor_z));
+  once.objects[0].floor_z += 0.004f;  // as if measured on other points: kept, not remeasured
+  const ObjectSet twice = seg::complete_objects(once, s.missions, {});
+  ASSERT_EQ(twice.objects.size(), once.objects.size());
+  for (size_t i = 0; i < once.objects.size(); ++i) {
+    EXPECT_EQ(twice.objects[i].points.size(), once.objects[i].points.size());
+    EXPECT_EQ(twice.objects[i].floor_z, once.objects[i].floor_z);
+  }
+}
+
 TEST(SegmentComplete, FarApartClustersAreNotPaired) {
   const Scene s = make_scene();
   ObjectSet in = slivers(s);
@@ -421,12 +548,14 @@ TEST(SegmentComplete, FragmentInsideALargerObjectsBoxJoinsIt) {
   const size_t strip_points = in.objects[0].points.size(), rest = in.objects[1].points.size();
   ASSERT_GT(strip_points, 5u);
 
-  seg::CompletionConfig off;
+  seg::CompletionConfig on;
+  on.join_fragments = false;  // rule 6 alone (rule 1 may pair the moved box with B's static one)
+  seg::CompletionConfig off = on;
   off.nested_share = 0.0;
   EXPECT_EQ(seg::complete_objects(in, s.missions, off).objects.size(), 3u);
 
   seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  const ObjectSet out = seg::complete_objects(in, s.missions, on, &st);
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(st.absorbed, 1u);
   EXPECT_EQ(out.objects[0].id, 0);  // renumbered in order
@@ -459,7 +588,7 @@ TEST(SegmentComplete, TheFloorItselfIsNoObject) {
   in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
     return p.x() >= 3.19f && p.y() >= 1.49f && p.z() > 0.05f;
   }));
-  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int32_t(i);
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
   ASSERT_GT(in.objects[2].points.size(), 20u);
   ASSERT_GT(in.objects[3].points.size(), 20u);
 
@@ -501,7 +630,7 @@ TEST(SegmentComplete, TheFloorRuleStopsATenthOfAMetreAboveTheFloor) {
   in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
     return p.x() >= 0.f && p.x() <= 0.4f && p.y() >= 1.5f && p.y() <= 1.9f && std::abs(p.z()) < 0.005f;
   }));
-  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int32_t(i);
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
   ASSERT_GT(in.objects[0].points.size(), 50u);
   ASSERT_GT(in.objects[1].points.size(), 20u);
   // The share of the box's points under 0.1 m is what the cap leaves: under floor_share.
@@ -534,7 +663,7 @@ TEST(SegmentComplete, UnchangedThinSurfacesAreDropped) {
   in.objects.push_back(object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
     return p.x() >= 0.99f && p.x() <= 1.19f && p.y() <= 0.41f && p.z() > 0.79f;  // A's moved box, top
   }));
-  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int32_t(i);
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
   ASSERT_GT(in.objects[0].points.size(), 20u);
   ASSERT_GT(in.objects[1].points.size(), 10u);
   seg::CompletionConfig c;
@@ -584,7 +713,7 @@ TEST(SegmentComplete, ThinPatchesOfALargerSurfaceAreDropped) {
   in.objects.push_back(object_where(cloud[0], 0, [&](const Eigen::Vector3f& p) {
     return p.z() > 0.4f && in_deck(p.x(), p.y());
   }));
-  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int32_t(i);
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
   ASSERT_GT(in.objects[0].points.size(), 20u);
   ASSERT_GT(in.objects[1].points.size(), 20u);
   seg::CompletionConfig c;
