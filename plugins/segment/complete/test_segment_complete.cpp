@@ -92,6 +92,30 @@ size_t count_in_box(const PointSet& s, Eigen::Vector3f lo, Eigen::Vector3f hi) {
   return n;
 }
 
+// B's moved box, whole (as segment.carve leaves it), above the floor clearance.
+Object moved_box_in_b(const Scene& s) {
+  return object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
+    return p.x() >= 1.29f && p.x() <= 1.91f && p.y() <= 0.41f && p.z() > 0.05f;
+  });
+}
+
+// Objects of missions A and B, numbered in order.
+ObjectSet object_set(std::vector<Object> objects) {
+  ObjectSet in;
+  in.missions = {"A", "B"};
+  in.objects = std::move(objects);
+  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
+  return in;
+}
+
+// Pair completion alone: no self-completion, no nested fragments.
+seg::CompletionConfig pairs_only() {
+  seg::CompletionConfig c;
+  c.self_complete = false;
+  c.nested_share = 0.0;
+  return c;
+}
+
 ObjectSet slivers(const Scene& s) {
   ObjectSet in;
   in.missions = {"A", "B"};
@@ -252,23 +276,16 @@ TEST(SegmentComplete, ARefusedPairFreesItsObjectsForTheirNextCandidates) {
 
 // After a cut (segment.carve), B holds the moved box whole; A holds its
 // sliver and, beside it, an identical box that was removed, whose box also
-// overlaps B's. Both candidates touch (gaps under one voxel). The removed box and the
-// moved one have one shape, so that pair would complete (adding nothing)
-// and take B's box from the sliver: the nearer centroids go first.
+// overlaps B's. Both candidates touch (gaps under one voxel). The removed
+// box and the moved one have one shape, so that pair would complete (adding
+// nothing) and take B's box from the sliver: the nearer centroids go first.
 TEST(SegmentComplete, AmongOverlappingBoxesTheNearerCentroidsPairFirst) {
   const Scene s = make_scene(3.2f, 0.6f, {1.85f, 0.35f});  // removed box x 1.85..2.45, y 0.35..0.75
-  ObjectSet in;
-  in.missions = {"A", "B"};
-  in.objects.push_back(object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+  const Object removed = object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
     return p.x() >= 1.84f && p.y() >= 0.34f && p.x() <= 2.46f && p.z() > 0.05f;  // the removed box, whole
-  }));
-  in.objects.push_back(sliver(s.cloud[0], 0, 0.99f, 1.29f));
-  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
-    return p.x() >= 1.29f && p.x() <= 1.91f && p.y() <= 0.41f && p.z() > 0.05f;  // the moved box, whole
-  }));
-  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
-  seg::CompletionConfig c;
-  c.self_complete = false;
+  });
+  const ObjectSet in = object_set({removed, sliver(s.cloud[0], 0, 0.99f, 1.29f), moved_box_in_b(s)});
+  seg::CompletionConfig c = pairs_only();
   seg::CompletionStats st;
   const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
   ASSERT_FALSE(st.pair_notes.empty());
@@ -293,17 +310,9 @@ TEST(SegmentComplete, AmongOverlappingBoxesTheNearerCentroidsPairFirst) {
 // is whole and one.
 TEST(SegmentComplete, APairsGrowthJoinsTheFragmentsItReaches) {
   const Scene s = make_scene(3.2f);
-  ObjectSet in;
-  in.missions = {"A", "B"};
-  in.objects.push_back(sliver(s.cloud[0], 0, 0.99f, 1.15f));
-  in.objects.push_back(sliver(s.cloud[0], 0, 1.45f, 1.61f));
-  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
-    return p.x() >= 1.29f && p.x() <= 1.91f && p.y() <= 0.41f && p.z() > 0.05f;  // the moved box, whole
-  }));
-  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
-  seg::CompletionConfig c;
-  c.self_complete = false;
-  c.nested_share = 0.0;
+  const ObjectSet in =
+      object_set({sliver(s.cloud[0], 0, 0.99f, 1.15f), sliver(s.cloud[0], 0, 1.45f, 1.61f), moved_box_in_b(s)});
+  seg::CompletionConfig c = pairs_only();
   seg::CompletionStats st;
   const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
   ASSERT_EQ(out.objects.size(), 2u);
@@ -331,21 +340,12 @@ TEST(SegmentComplete, APairsGrowthJoinsTheFragmentsItReaches) {
 // joined it makes A's object twice as long as B's.
 TEST(SegmentComplete, AFragmentThatSpoilsTheShapeIsNotJoined) {
   const Scene s = make_scene(3.2f, 0.6f, {1.65f, 0.f});  // removed box x 1.65..2.25, in A only
-  ObjectSet in;
-  in.missions = {"A", "B"};
-  in.objects.push_back(sliver(s.cloud[0], 0, 1.45f, 1.61f));
-  in.objects.push_back(object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+  const Object removed = object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
     return p.x() >= 1.64f && p.x() <= 2.26f && p.y() <= 0.41f && p.z() > 0.05f;
-  }));
-  in.objects.push_back(object_where(s.cloud[1], 1, [](const Eigen::Vector3f& p) {
-    return p.x() >= 1.29f && p.x() <= 1.91f && p.y() <= 0.41f && p.z() > 0.05f;
-  }));
-  for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
-  seg::CompletionConfig c;
-  c.self_complete = false;
-  c.nested_share = 0.0;
+  });
+  const ObjectSet in = object_set({sliver(s.cloud[0], 0, 1.45f, 1.61f), removed, moved_box_in_b(s)});
   seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  const ObjectSet out = seg::complete_objects(in, s.missions, pairs_only(), &st);
   EXPECT_EQ(st.joined, 0u);
   ASSERT_EQ(out.objects.size(), 3u);
   EXPECT_EQ(out.objects[1].points.size(), in.objects[1].points.size());
