@@ -16,6 +16,7 @@
 #include <sstream>
 #include <cstdio>
 #include <map>
+#include <regex>
 #include <set>
 #include <string>
 #include <utility>
@@ -205,6 +206,42 @@ TEST_F(TinyScene, MissedScriptAgreesWithTheEvaluator) {
     e.second += paired;
   }
   EXPECT_EQ(summary, expected);
+}
+
+TEST_F(TinyScene, SplitScriptNamesReportsAsReportJsonHasThem) {
+  require_run();
+  if (e2e::python3().empty()) GTEST_SKIP() << "no Python 3 interpreter found by CMake";
+  const std::string out = run_script("bench/segmentation/split.py", data_ + " " + out_);
+  std::istringstream lines(out);
+  std::string first;
+  std::getline(lines, first);
+  const size_t at = first.find(": ");
+  ASSERT_NE(at, std::string::npos) << out;
+  const int count = std::stoi(first.substr(at + 2));
+  std::map<int, std::pair<std::string, long>> reports;  // id -> mission, points
+  const json objects = report().at("objects");  // a copy: the range of a for must outlive the loop
+  for (const auto& o : objects)
+    reports[o.at("id").get<int>()] = {o.at("mission").get<std::string>(), o.at("points").get<long>()};
+  // "  mission A, true object 8: reports 2 (1432 points), 3 (1090 points)"
+  const std::regex row(R"(  mission (\S+), true object \d+: reports (.*))"), piece(R"((\d+) \((\d+) points\))");
+  int rows = 0;
+  std::set<int> named;
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(line, m, row)) << line;
+    ++rows;
+    const std::string mission = m[1], list = m[2];
+    int pieces = 0;
+    for (std::sregex_iterator it(list.begin(), list.end(), piece), end; it != end; ++it, ++pieces) {
+      const int id = std::stoi((*it)[1]);
+      ASSERT_TRUE(reports.count(id)) << line;
+      EXPECT_EQ(reports[id].first, mission) << line;
+      EXPECT_EQ(reports[id].second, std::stol((*it)[2])) << line;
+      EXPECT_TRUE(named.insert(id).second) << "report " << id << " named twice";
+    }
+    EXPECT_GE(pieces, 2) << line;
+  }
+  EXPECT_EQ(rows, count) << out;
 }
 
 TEST_F(TinyScene, FloorErrorScriptMeasuresEveryReportedFloor) {
