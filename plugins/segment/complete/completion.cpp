@@ -202,7 +202,9 @@ Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, fl
     if (cloud.points.xyz[i].z() < min_z) return false;
     const auto it = owned.find(point_key(cloud.points.scan[i], cloud.points.index[i]));
     if (it == owned.end()) return true;
-    touched.push_back(it->second);
+    // Owned points come in runs of one object (the seed's own, mostly):
+    // keep the list short before it is sorted.
+    if (touched.empty() || touched.back() != it->second) touched.push_back(it->second);
     return false;
   };
   auto eligible = [&](uint32_t i) { return free_point(i) && region.contains(cloud.points.xyz[i]); };
