@@ -119,6 +119,25 @@ std::vector<char> scans_to_read(const std::vector<Eigen::Isometry3d>& poses, dou
   return keep;
 }
 
+double median_step(const std::vector<Eigen::Isometry3d>& poses) {
+  if (poses.size() < 2) return 0.0;
+  std::vector<double> steps;
+  steps.reserve(poses.size() - 1);
+  for (size_t i = 1; i < poses.size(); ++i) steps.push_back((poses[i].translation() - poses[i - 1].translation()).norm());
+  std::nth_element(steps.begin(), steps.begin() + long(steps.size() / 2), steps.end());
+  return steps[steps.size() / 2];
+}
+
+bool is_dense_log(const std::vector<Eigen::Isometry3d>& poses) {
+  return poses.size() >= kDenseLogScans && median_step(poses) < kDenseLogStep;
+}
+
+double spacing_for(const std::vector<Eigen::Isometry3d>& poses, const DatasetOptions& options) {
+  if (options.scan_spacing > 0.0) return options.scan_spacing;
+  if (options.dense_spacing > 0.0 && is_dense_log(poses)) return options.dense_spacing;
+  return 0.0;
+}
+
 Mission read_mission(const std::string& mission_dir, const DatasetOptions& options) {
   const fs::path dir(mission_dir);
   if (!fs::is_directory(dir)) throw Error(mission_dir + ": mission folder does not exist");
@@ -149,7 +168,7 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
   if (!viewpoint_layout) {
     std::vector<Eigen::Isometry3d> sensor_poses;
     for (const auto& r : poses) sensor_poses.push_back(r.pose);
-    keep = scans_to_read(sensor_poses, options.scan_spacing, options.scan_turn_deg);
+    keep = scans_to_read(sensor_poses, spacing_for(sensor_poses, options), options.scan_turn_deg);
   }
   parallel_for(files.size(), options.threads, [&](size_t i) {
     Scan& s = m.scans[i];
@@ -174,10 +193,10 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
     s.points = std::make_shared<const PointSet>(std::move(f.points));
   });
   for (size_t k : skipped) m.skipped_nonfinite += k;
-  if (viewpoint_layout && options.scan_spacing > 0.0) {
+  if (viewpoint_layout && (options.scan_spacing > 0.0 || options.dense_spacing > 0.0)) {
     std::vector<Eigen::Isometry3d> sensor_poses;
     for (const auto& s : m.scans) sensor_poses.push_back(s.pose);
-    keep = scans_to_read(sensor_poses, options.scan_spacing, options.scan_turn_deg);
+    keep = scans_to_read(sensor_poses, spacing_for(sensor_poses, options), options.scan_turn_deg);
     for (size_t i = 0; i < m.scans.size(); ++i)
       if (!keep[i]) {
         m.scans[i].points = std::make_shared<const PointSet>();

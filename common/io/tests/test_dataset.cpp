@@ -114,6 +114,29 @@ TEST(Dataset, ScanSpacingReadsAScanEverySoManyMetres) {
   EXPECT_EQ(scans_to_read(poses, 0.0, 30.0), (std::vector<char>{1, 1, 1, 1}));
 }
 
+// A dense log is thinned at dense_spacing only when scan_spacing is unset;
+// a short one, or one of scans farther apart, is read whole.
+TEST(Dataset, DenseSpacingAppliesToDenseLogsOnly) {
+  auto line = [](size_t n, double step) {
+    std::vector<Eigen::Isometry3d> poses(n, Eigen::Isometry3d::Identity());
+    for (size_t i = 0; i < n; ++i) poses[i].translation().x() = step * double(i);
+    return poses;
+  };
+  DatasetOptions opt;
+  opt.dense_spacing = 0.5;
+  EXPECT_DOUBLE_EQ(median_step(line(kDenseLogScans, 0.05)), 0.05);
+  EXPECT_EQ(spacing_for(line(kDenseLogScans, 0.05), opt), 0.5);
+  EXPECT_EQ(spacing_for(line(kDenseLogScans - 1, 0.05), opt), 0.0);
+  EXPECT_EQ(spacing_for(line(kDenseLogScans, kDenseLogStep), opt), 0.0);
+  // Standing still counts: every step is 0.
+  EXPECT_EQ(spacing_for(line(kDenseLogScans, 0.0), opt), 0.5);
+  opt.scan_spacing = 2.0;
+  EXPECT_EQ(spacing_for(line(10, 1.0), opt), 2.0);
+  opt.scan_spacing = 0.0;
+  opt.dense_spacing = 0.0;
+  EXPECT_EQ(spacing_for(line(kDenseLogScans, 0.05), opt), 0.0);
+}
+
 // The VIEWPOINT layout's poses are in the files: read first, then thinned.
 TEST(Dataset, ScanSpacingThinsTheViewpointLayoutToo) {
   const auto root = temp_dir("vp_thin");

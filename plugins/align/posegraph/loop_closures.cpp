@@ -207,6 +207,9 @@ Eigen::Isometry3d implied_map_transform(const std::vector<Keyframe>& keyframes, 
   return keyframes[c.reference].frame * c.reference_T_query * keyframes[c.query].frame.inverse();
 }
 
+// How many closures of one hypothesis are tried as its placement.
+constexpr size_t kScoredPerHypothesis = 8;
+
 std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes, const std::vector<Closure>& closures,
                                          const ConsistencyOptions& o, std::vector<AmbiguousPlacement>* ambiguous) {
   std::map<std::pair<size_t, size_t>, std::vector<size_t>> by_pair;
@@ -248,8 +251,23 @@ std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
       }
       if (!rivals.empty()) {
         const MapAgreement on_reference(keyframes, pair.first, o.agreement_voxel);
+        // The voted hypothesis is scored by the best placement among its
+        // closures (up to kScoredPerHypothesis of them, spread over the
+        // list), a rival by its own best-backed closure: each closure's
+        // placement fits the maps near its own keyframes, and where the
+        // missions drift, the voted fit's best-backed closure can place the
+        // far end of the map worse than a half-turned rival does. Votes are
+        // overruled only by a rival that beats the best the voted fit shows.
         auto agreement = [&](size_t i) { return on_reference(pair.second, maps[i]); };
         double best_agreement = agreement(best);
+        {
+          std::vector<size_t> members;
+          for (size_t j = 0; j < list.size(); ++j)
+            if (j != best && agree(best, j)) members.push_back(j);
+          const size_t step = std::max<size_t>(1, (members.size() + kScoredPerHypothesis - 1) / kScoredPerHypothesis);
+          for (size_t k = 0; k < members.size(); k += step)
+            best_agreement = std::max(best_agreement, agreement(members[k]));
+        }
         std::vector<std::pair<size_t, double>> scored{{best, best_agreement}};
         for (size_t r : rivals) {
           const double a = agreement(r);

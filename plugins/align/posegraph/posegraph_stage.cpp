@@ -127,7 +127,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.4.0";
+  s.version = "1.5.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "

@@ -680,6 +680,25 @@ TEST(LoopClosures, TheWholeMapsDecideBetweenASymmetricRoomsTwoFits) {
   o.rival_margin = 0.0;  // the count alone
   EXPECT_EQ(consistent_closures(keyframes, closures, o).size(), 3u);
 
+  // Drift: the true fit's best-backed closure (the lowest RMSE among equal
+  // support) places the map 0.6 m and 4 degrees off, which the vote still
+  // counts as the same fit; its other closures place it exactly. Scored by
+  // that one closure the true fit loses to the half turn (whose walls fit);
+  // scored by the best of its closures it wins.
+  Eigen::Isometry3d drifted = Eigen::Isometry3d::Identity();
+  drifted.linear() = Eigen::AngleAxisd(4.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  drifted.translation() = Eigen::Vector3d(0.6, 0.0, 0.0);
+  std::vector<Closure> drifting(4);
+  for (size_t i = 0; i < drifting.size(); ++i) {
+    drifting[i].reference = 0;
+    drifting[i].query = 1;
+    drifting[i].reference_T_query = i == 0 ? drifted : i == 3 ? half_turn : Eigen::Isometry3d::Identity();
+    drifting[i].rmse = i == 0 ? 0.01 : 0.05;
+  }
+  const auto kept_drifting = consistent_closures(keyframes, drifting, ConsistencyOptions{});
+  ASSERT_EQ(kept_drifting.size(), 3u);
+  for (const auto& c : kept_drifting) EXPECT_FALSE(c.reference_T_query.isApprox(half_turn));
+
   // Without the cabinet the room is the same turned: nothing tells the two
   // fits apart, and that is reported (the run then warns) rather than hidden.
   Cloud bare;

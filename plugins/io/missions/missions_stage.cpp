@@ -71,6 +71,7 @@ class MissionsStage : public Stage {
         missions_(p.get<std::vector<std::string>>("missions")),
         min_range_(p.get<double>("min_range")),
         scan_spacing_(p.get<double>("scan_spacing")),
+        dense_spacing_(p.get<double>("dense_spacing")),
         scan_turn_(p.get<double>("scan_turn")) {}
 
   Outputs run(const Inputs&, Context& ctx) override {
@@ -87,6 +88,7 @@ class MissionsStage : public Stage {
     DatasetOptions opt;
     opt.threads = ctx.threads();
     opt.scan_spacing = scan_spacing_;
+    opt.dense_spacing = dense_spacing_;
     opt.scan_turn_deg = scan_turn_;
     MissionSet set;
     set.dataset = dataset;
@@ -121,7 +123,8 @@ class MissionsStage : public Stage {
     for (const auto& m : set.missions) {
       std::vector<Eigen::Isometry3d> poses;
       for (const auto& s : m.scans) poses.push_back(s.pose);
-      const std::vector<char> kept = scans_to_read(poses, scan_spacing_, scan_turn_);
+      const double spacing = spacing_for(poses, opt);
+      const std::vector<char> kept = scans_to_read(poses, spacing, scan_turn_);
       const size_t m_read = size_t(std::count(kept.begin(), kept.end(), 1));
       read += m_read;
       // Map-frame .pcd scans carry their pose in VIEWPOINT; PCL writes an
@@ -146,10 +149,12 @@ class MissionsStage : public Stage {
       if (const std::string pair = misordered_scan_names(m); !pair.empty())
         ctx.warn("mission '" + m.name + "': " + pair +
                  " by name, and scans take their poses in file-name order: zero-pad the numbers (scan_002.pcd)");
-      if (scan_spacing_ <= 0.0) warn_if_dense(m, ctx);
+      if (scan_spacing_ <= 0.0) say_if_dense(m, poses, spacing, ctx);
       const size_t n = m.point_count();
       ctx.info("mission '" + m.name + "': " + std::to_string(m.scans.size()) + " scans" +
-               (m_read < m.scans.size() ? " (" + std::to_string(m_read) + " read, scan_spacing)" : std::string()) +
+               (m_read < m.scans.size()
+                    ? " (" + std::to_string(m_read) + " read, " + (scan_spacing_ > 0.0 ? "scan_spacing" : "dense_spacing") + ")"
+                    : std::string()) +
                ", " + std::to_string(n) +
                " points" + (m.skipped_nonfinite ? ", " + std::to_string(m.skipped_nonfinite) + " non-finite skipped" : "") +
                (m.poses_gt.empty() ? "" : ", poses_gt.txt"));
@@ -206,32 +211,31 @@ class MissionsStage : public Stage {
 
   // A log of many scans taken close together (a 10 Hz LiDAR) costs time and
   // memory in every later stage for little new evidence: said once per
-  // mission, with the parameter that thins it.
-  void warn_if_dense(const Mission& m, Context& ctx) const {
-    if (m.scans.size() < 1000) return;
-    std::vector<double> steps;
-    for (size_t i = 1; i < m.scans.size(); ++i)
-      steps.push_back((m.scans[i].pose.translation() - m.scans[i - 1].pose.translation()).norm());
-    std::nth_element(steps.begin(), steps.begin() + long(steps.size() / 2), steps.end());
-    const double median = steps[steps.size() / 2];
-    if (median >= 0.1) return;
-    char text[320];
-    std::snprintf(text, sizeof text,
-                  "mission '%s': %zu scans, %.2f m apart (median): a dense log; --set %s.scan_spacing=0.5 reads a "
-                  "scan every 0.5 m (or %.0f deg of turn) and keeps runs short",
-                  m.name.c_str(), m.scans.size(), median, ctx.stage_id().c_str(), scan_turn_);
+  // mission, with what was read of it and the parameter that decides.
+  void say_if_dense(const Mission& m, const std::vector<Eigen::Isometry3d>& poses, double spacing, Context& ctx) const {
+    if (!is_dense_log(poses)) return;
+    char text[360];
+    if (spacing > 0.0)
+      std::snprintf(text, sizeof text,
+                    "mission '%s': a dense log (%zu scans, %.2f m apart at the median): reading a scan every %.2g m "
+                    "or %.0f deg of turn (--set %s.dense_spacing=0 reads every scan)",
+                    m.name.c_str(), m.scans.size(), median_step(poses), spacing, scan_turn_, ctx.stage_id().c_str());
+    else
+      std::snprintf(text, sizeof text,
+                    "mission '%s': a dense log (%zu scans, %.2f m apart at the median), read whole (dense_spacing = 0)",
+                    m.name.c_str(), m.scans.size(), median_step(poses));
     ctx.info(text);
   }
 
   std::string path_;
   std::vector<std::string> missions_;
-  double min_range_, scan_spacing_, scan_turn_;
+  double min_range_, scan_spacing_, dense_spacing_, scan_turn_;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "io.missions";
-  s.version = "1.2.0";
+  s.version = "1.3.0";
   s.summary = "reads a dataset of missions (poses.txt + scans/, or the VIEWPOINT layout)";
   s.doc =
       "Reads the missions of a dataset folder as in the data contract, section 1: per mission poses.txt "
@@ -241,8 +245,8 @@ StageInfo info() {
       "in the sensor frame (a driver's missing return) are dropped, metric dropped_zero. Errors: scan count "
       "!= pose count, unreadable or malformed file (with its line), non-orthonormal rotation, empty "
       "mission. With scan_spacing > 0, only scans that far apart (or turned scan_turn) are read, the others "
-      "keeping their pose and no points (metric scans_read; a log of 1000+ scans under 0.1 m apart is pointed "
-      "to it). With min_range > 0, points nearer their sensor are dropped (a robot's own body), the others "
+      "keeping their pose and no points (metric scans_read). With scan_spacing 0, a dense log (500+ scans under "
+      "0.1 m apart at the median: a 10 Hz LiDAR) is read as with scan_spacing = dense_spacing. With min_range > 0, points nearer their sensor are dropped (a robot's own body), the others "
       "keeping their file index. Poses more than a km from zero (georeferenced) are moved by a whole number of km so float "
       "points keep millimetres; io.report adds the offset back. See docs/formats.md.";
   s.outputs = {{"missions", "missions", "the missions, each in its own map frame (to_common = identity)"}};
@@ -259,6 +263,12 @@ StageInfo info() {
                       "scan read, or has turned scan_turn from it (first and last always read); the others keep "
                       "their pose and no points (io.report puts those of their points that fall in the change back into "
                       "changes/); 0 reads every scan")
+          .range(0, 100)
+          .unit("m"),
+      ParamSpec::real("dense_spacing", 0.5,
+                      "with scan_spacing 0: a dense log (500 or more scans whose sensors lie under 0.1 m apart at "
+                      "the median, as a 10 Hz LiDAR at walking pace gives) is read as with scan_spacing = this; 0 "
+                      "reads every scan of it")
           .range(0, 100)
           .unit("m"),
       ParamSpec::real("scan_turn", 30.0, "with scan_spacing > 0, a scan turned this far from the last one read is read too")

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <unistd.h>
 
 using namespace lista;
@@ -142,25 +143,70 @@ TEST(IoMissions, ScanSpacingThinsADenseLogWithoutCallingTheRestEmpty) {
   EXPECT_NE(all.find("mission 'A': 5 scans (3 read, scan_spacing)"), std::string::npos) << all;
 }
 
-// A 10 Hz log (1000 scans 5 cm apart) is pointed to scan_spacing.
-TEST(IoMissions, ADenseLogIsPointedToScanSpacing) {
-  const fs::path root = io::testing::scratch_path("io_missions_log");
+// A log of `scans` scans `step` metres apart along x, one point each.
+fs::path make_log(const std::string& name, int scans, double step) {
+  const fs::path root = io::testing::scratch_path(name);
   fs::create_directories(root / "A" / "scans");
-  std::vector<io::PoseRecord> poses(1000);
-  for (int s = 0; s < 1000; ++s) {
+  std::vector<io::PoseRecord> poses(static_cast<size_t>(scans));
+  for (int s = 0; s < scans; ++s) {
     PointSet p;
     p.xyz.emplace_back(2.f, 0.f, 0.f);
-    char name[32];
-    std::snprintf(name, sizeof name, "%04d.pcd", s);
-    io::write_scan_pcd((root / "A" / "scans" / name).string(), p);
-    poses[s].timestamp = s;
-    poses[s].pose.translation() = Eigen::Vector3d(0.05 * s, 0, 0);
+    char file[32];
+    std::snprintf(file, sizeof file, "%04d.pcd", s);
+    io::write_scan_pcd((root / "A" / "scans" / file).string(), p);
+    poses[size_t(s)].timestamp = s;
+    poses[size_t(s)].pose.translation() = Eigen::Vector3d(step * s, 0, 0);
   }
   io::write_poses((root / "A" / "poses.txt").string(), poses);
-  const std::string all = messages_reading(root);
-  EXPECT_NE(all.find("mission 'A': 1000 scans, 0.05 m apart (median): a dense log; --set test.scan_spacing=0.5"),
+  return root;
+}
+
+struct Read {
+  size_t scans_read = 0;
+  std::string messages;
+};
+
+Read read_log(const fs::path& root, const std::map<std::string, ParamValue>& params = {}) {
+  BasicContext ctx("test", 2);
+  ctx.info.dataset = root.string();
+  auto out = io_test::make_stage("io.missions", params)->run(Inputs{}, ctx);
+  Read r;
+  for (const auto& scan : out.at("missions").as<MissionSet>().missions[0].scans) r.scans_read += !scan.points->empty();
+  for (const auto& m : ctx.messages) r.messages += m + "\n";
+  return r;
+}
+
+// A 10 Hz log (1000 scans 5 cm apart, 50 m) is read a scan every 0.5 m
+// without being asked (dense_spacing), says so, and is read whole on request.
+TEST(IoMissions, ADenseLogIsReadThinnedByDefault) {
+  const fs::path root = make_log("io_missions_log", 1000, 0.05);
+  const Read thinned = read_log(root);
+  // Scans 0, 10, 20, ... (0.5 m each, within float rounding of the poses) and the last.
+  EXPECT_GE(thinned.scans_read, 95u);
+  EXPECT_LE(thinned.scans_read, 102u);
+  EXPECT_NE(thinned.messages.find("mission 'A': a dense log (1000 scans, 0.05 m apart at the median): reading a scan "
+                                  "every 0.5 m or 30 deg of turn (--set test.dense_spacing=0 reads every scan)"),
             std::string::npos)
-      << all;
+      << thinned.messages;
+  EXPECT_NE(thinned.messages.find("1000 scans (" + std::to_string(thinned.scans_read) + " read, dense_spacing)"),
+            std::string::npos)
+      << thinned.messages;
+  const Read whole = read_log(root, {{"dense_spacing", 0.0}});
+  EXPECT_EQ(whole.scans_read, 1000u);
+  EXPECT_NE(whole.messages.find("read whole (dense_spacing = 0)"), std::string::npos) << whole.messages;
+  // scan_spacing, when given, decides.
+  EXPECT_EQ(read_log(root, {{"scan_spacing", 5.0}}).scans_read, 11u);
+}
+
+// Short logs, and logs of scans farther apart, are read whole: they cost
+// little, and each scan there may be the only look at a place.
+TEST(IoMissions, ShortOrSparseLogsAreReadWhole) {
+  const Read short_log = read_log(make_log("io_missions_short", 400, 0.05));
+  EXPECT_EQ(short_log.scans_read, 400u);
+  EXPECT_EQ(short_log.messages.find("dense log"), std::string::npos) << short_log.messages;
+  const Read sparse = read_log(make_log("io_missions_sparse", 600, 0.2));
+  EXPECT_EQ(sparse.scans_read, 600u);
+  EXPECT_EQ(sparse.messages.find("dense log"), std::string::npos) << sparse.messages;
 }
 
 TEST(IoMissions, ClearErrors) {

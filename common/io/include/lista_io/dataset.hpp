@@ -17,7 +17,24 @@ struct DatasetOptions {
   // with their pose and no points (points_in_file 0).
   double scan_spacing = 0.0;   // m
   double scan_turn_deg = 30.0;
+  // With scan_spacing 0, a dense log (is_dense_log) is read as with
+  // scan_spacing = dense_spacing; 0 reads it whole. 0 here so that tools
+  // which score or inspect a dataset see every point; io.missions turns it on.
+  double dense_spacing = 0.0;  // m
 };
+
+// A dense log: at least kDenseLogScans scans whose sensors lie under
+// kDenseLogStep apart at the median (a 10 Hz LiDAR at walking pace, or a
+// robot standing still). Each scan adds little there but costs every stage.
+constexpr size_t kDenseLogScans = 500;
+constexpr double kDenseLogStep = 0.1;  // m
+
+// Median distance between consecutive sensor positions; 0 for fewer than two.
+double median_step(const std::vector<Eigen::Isometry3d>& poses);
+bool is_dense_log(const std::vector<Eigen::Isometry3d>& poses);
+// The spacing a trajectory is thinned with: scan_spacing when set, else
+// dense_spacing when it is a dense log, else 0 (every scan).
+double spacing_for(const std::vector<Eigen::Isometry3d>& poses, const DatasetOptions& options);
 
 // Which scans of a trajectory to read: the first, the last, and each whose
 // sensor lies at least `spacing` from the last one kept or has turned at
