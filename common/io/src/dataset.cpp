@@ -163,12 +163,20 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
   m.scans.resize(files.size());
   std::vector<size_t> skipped(files.size(), 0);
   const bool need_read = options.load_points || viewpoint_layout;
-  // The VIEWPOINT layout's poses are in the files: thinned after reading.
+  // The VIEWPOINT layout's poses are in the files' headers: read those
+  // first when the mission may be thinned, so unread scans cost no points.
   std::vector<char> keep(files.size(), 1);
+  std::vector<Eigen::Isometry3d> header_poses;
   if (!viewpoint_layout) {
     std::vector<Eigen::Isometry3d> sensor_poses;
     for (const auto& r : poses) sensor_poses.push_back(r.pose);
     keep = scans_to_read(sensor_poses, spacing_for(sensor_poses, options), options.scan_turn_deg);
+  } else if (options.scan_spacing > 0.0 || options.dense_spacing > 0.0) {
+    header_poses.resize(files.size());
+    parallel_for(files.size(), options.threads, [&](size_t i) {
+      header_poses[i] = read_pcd_viewpoint(files[i]).value_or(Eigen::Isometry3d::Identity());
+    });
+    keep = scans_to_read(header_poses, spacing_for(header_poses, options), options.scan_turn_deg);
   }
   parallel_for(files.size(), options.threads, [&](size_t i) {
     Scan& s = m.scans[i];
@@ -180,6 +188,7 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
       s.timestamp = double(i);
     }
     if (!need_read || !keep[i]) {
+      if (!header_poses.empty()) s.pose = header_poses[i];
       s.points = std::make_shared<const PointSet>();
       return;
     }
@@ -193,16 +202,6 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
     s.points = std::make_shared<const PointSet>(std::move(f.points));
   });
   for (size_t k : skipped) m.skipped_nonfinite += k;
-  if (viewpoint_layout && (options.scan_spacing > 0.0 || options.dense_spacing > 0.0)) {
-    std::vector<Eigen::Isometry3d> sensor_poses;
-    for (const auto& s : m.scans) sensor_poses.push_back(s.pose);
-    keep = scans_to_read(sensor_poses, spacing_for(sensor_poses, options), options.scan_turn_deg);
-    for (size_t i = 0; i < m.scans.size(); ++i)
-      if (!keep[i]) {
-        m.scans[i].points = std::make_shared<const PointSet>();
-        m.scans[i].points_in_file = 0;
-      }
-  }
   if (fs::is_regular_file(dir / "poses_gt.txt")) {
     const auto gt = read_poses((dir / "poses_gt.txt").string());
     if (gt.size() != m.scans.size())

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
 
 namespace lista::io {
 namespace detail {
@@ -23,6 +24,24 @@ int PcdData::find(const std::string& name) const {
 }
 
 namespace {
+
+// The numbers after VIEWPOINT: tx ty tz qw qx qy qz.
+template <class Fail>
+Eigen::Isometry3d parse_viewpoint(const std::vector<std::string>& tok, const Fail& fail) {
+  if (tok.size() != 7) throw fail("VIEWPOINT needs 7 numbers: tx ty tz qw qx qy qz");
+  double v[7];
+  for (int k = 0; k < 7; ++k)
+    if (!parse_double(tok[k], v[k]) || !std::isfinite(v[k]))
+      throw fail("VIEWPOINT: '" + tok[k] + "' is not a finite number");
+  Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
+  if (std::abs(q.norm() - 1.0) > 1e-3) throw fail("VIEWPOINT quaternion is not unit length");
+  q.normalize();
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = q.toRotationMatrix();
+  t.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  return t;
+}
+
 template <class T>
 inline double load_as(const uint8_t* p) {
   T v;
@@ -113,17 +132,7 @@ void load_pcd(const std::string& path, PcdData& d) {
     } else if (key == "POINTS") {
       one_int(points);
     } else if (key == "VIEWPOINT") {
-      if (tok.size() != 7) throw fail("VIEWPOINT needs 7 numbers: tx ty tz qw qx qy qz");
-      double v[7];
-      for (int k = 0; k < 7; ++k)
-        if (!parse_double(tok[k], v[k]) || !std::isfinite(v[k]))
-          throw fail("VIEWPOINT: '" + tok[k] + "' is not a finite number");
-      Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
-      if (std::abs(q.norm() - 1.0) > 1e-3) throw fail("VIEWPOINT quaternion is not unit length");
-      q.normalize();
-      d.viewpoint.setIdentity();
-      d.viewpoint.linear() = q.toRotationMatrix();
-      d.viewpoint.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+      d.viewpoint = parse_viewpoint(tok, fail);
       d.viewpoint_identity = d.viewpoint.matrix().isIdentity(1e-12);
     } else if (key == "DATA") {
       if (tok.size() != 1 || (tok[0] != "ascii" && tok[0] != "binary" && tok[0] != "binary_compressed"))
@@ -256,6 +265,28 @@ void load_pcd(const std::string& path, PcdData& d) {
 }
 
 }  // namespace detail
+
+std::optional<Eigen::Isometry3d> read_pcd_viewpoint(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": cannot open");
+  std::string line;
+  int line_no = 0;
+  auto fail = [&](const std::string& what) { return Error(path + ":" + std::to_string(line_no) + ": " + what); };
+  // The header is a few short lines; a file that is no PCD ends the search early.
+  while (line_no < 64 && std::getline(in, line)) {
+    ++line_no;
+    if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    std::vector<std::string> tok = detail::split_ws(line);
+    if (tok.empty()) continue;
+    if (tok[0] == "DATA") break;
+    if (tok[0] != "VIEWPOINT") continue;
+    tok.erase(tok.begin());
+    const Eigen::Isometry3d t = detail::parse_viewpoint(tok, fail);
+    if (t.matrix().isIdentity(1e-12)) return std::nullopt;
+    return t;
+  }
+  return std::nullopt;
+}
 
 int PcdTable::column(const std::string& name) const {
   for (size_t c = 0; c < names.size(); ++c)

@@ -30,6 +30,11 @@ struct ScanFile {
 // VIEWPOINT 2^17 m or more from zero (spacing over 1 cm) are an error.
 ScanFile read_scan(const std::string& path, uint32_t scan_id = 0, bool map_frame = false);
 
+// The VIEWPOINT of a .pcd file, read from its header alone (nullopt when it
+// is the identity or absent), as read_scan would give it: lets a reader
+// choose which map-frame scans to read before reading any points.
+std::optional<Eigen::Isometry3d> read_pcd_viewpoint(const std::string& path);
+
 enum class PcdEncoding { ascii, binary, binary_compressed };
 
 // A column of a PCD file to write: F = float32, U = uint32, I = int32.
