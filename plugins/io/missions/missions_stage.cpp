@@ -259,10 +259,10 @@ StageInfo info() {
                       "a LiDAR on its back: about 1 m); dropped points keep no place in changes/; 0 keeps all")
           .range(0, 100).unit("m"),
       ParamSpec::real("scan_spacing", 0.0,
-                      "dense logs (a 10 Hz LiDAR): read a scan only where its sensor lies this far from the last "
-                      "scan read, or has turned scan_turn from it (first and last always read); the others keep "
-                      "their pose and no points (io.report puts those of their points that fall in the change back into "
-                      "changes/); 0 reads every scan")
+                      "thin every mission, dense or not: read a scan only where its sensor lies this far from the "
+                      "last scan read, or has turned scan_turn from it (first and last always read); the others keep "
+                      "their pose and no points (io.report puts those of their points that fall in the change back "
+                      "into changes/); 0 = dense_spacing decides")
           .range(0, 100)
           .unit("m"),
       ParamSpec::real("dense_spacing", 0.5,
@@ -271,7 +271,7 @@ StageInfo info() {
                       "reads every scan of it")
           .range(0, 100)
           .unit("m"),
-      ParamSpec::real("scan_turn", 30.0, "with scan_spacing > 0, a scan turned this far from the last one read is read too")
+      ParamSpec::real("scan_turn", 30.0, "when thinning (scan_spacing or dense_spacing), a scan turned this far from the last one read is read too")
           .range(0.1, 180)
           .unit("deg")};
   return s;
