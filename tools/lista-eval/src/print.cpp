@@ -31,6 +31,13 @@ std::string format_table(const Score& s, bool objects) {
   out += line;
   out += "  precision " + num(p.precision()) + "  recall " + num(p.recall()) + "  specificity " +
          num(p.specificity()) + "  F1 " + num(p.f1()) + "  IoU " + num(p.iou()) + "\n";
+  if (p.swapped > 0) {
+    std::snprintf(line, sizeof line,
+                  "  swaps: %llu FN points lie on objects that exchanged places with one of their class "
+                  "(unseen if identical); recall without them %s\n",
+                  (unsigned long long)p.fn_swapped, num(p.recall_without_swaps()).c_str());
+    out += line;
+  }
   out += "per object (pairs: point-set IoU > 0.5)\n";
   std::snprintf(line, sizeof line, "  %-12s %8s %6s %6s %9s %7s %7s %8s %8s %10s %10s\n", "mission", "reported",
                 "true", "pairs", "precision", "recall", "status", "match", "moved", "t_err_m", "r_err_deg");
@@ -73,7 +80,7 @@ std::string format_table(const Score& s, bool objects) {
                     v.report_id >= 0 ? v.report_status.c_str() : "-", match.c_str(),
                     std::isnan(v.translation_error_m) ? "-" : num(v.translation_error_m, "%.3f").c_str(),
                     std::isnan(v.rotation_error_deg) ? "-" : num(v.rotation_error_deg, "%.1f").c_str(),
-                    v.verdict.c_str());
+                    (v.verdict + (v.swapped ? " (swap)" : "")).c_str());
       out += line;
     }
   }
@@ -100,7 +107,8 @@ std::string format_json(const Score& s) {
   const PointScore& p = s.points;
   j["points"] = {{"tp", p.tp}, {"fp", p.fp}, {"tn", p.tn}, {"fn", p.fn}, {"precision", jnum(p.precision())},
                  {"recall", jnum(p.recall())}, {"specificity", jnum(p.specificity())}, {"f1", jnum(p.f1())},
-                 {"iou", jnum(p.iou())}};
+                 {"iou", jnum(p.iou())}, {"swapped", p.swapped}, {"fn_swapped", p.fn_swapped},
+                 {"recall_without_swaps", jnum(p.recall_without_swaps())}};
   json objects = json::array();
   for (const auto& o : s.objects)
     objects.push_back({{"mission", o.mission},
@@ -142,6 +150,7 @@ std::string format_json(const Score& s) {
                         {"translation_error_m", jnum(v.translation_error_m)},
                         {"rotation_error_deg", jnum(v.rotation_error_deg)},
                         {"alternatives", v.alternatives},
+                        {"swapped", v.swapped},
                         {"verdict", v.verdict}});
   j["object_verdicts"] = verdicts;
   json align = json::array();

@@ -75,6 +75,9 @@ double PointScore::recall() const { return ratio(double(tp), double(tp + fn)); }
 double PointScore::specificity() const { return ratio(double(tn), double(tn + fp)); }
 double PointScore::f1() const { return ratio(2.0 * double(tp), double(2 * tp + fp + fn)); }
 double PointScore::iou() const { return ratio(double(tp), double(tp + fp + fn)); }
+double PointScore::recall_without_swaps() const {
+  return ratio(double(tp - (swapped - fn_swapped)), double(tp + fn - swapped));
+}
 double ObjectScore::precision() const { return ratio(double(paired), double(reported)); }
 double ObjectScore::recall() const { return ratio(double(paired), double(true_changed)); }
 double ObjectScore::status_accuracy() const { return ratio(double(status_correct), double(paired)); }
@@ -113,6 +116,7 @@ std::vector<ObjectVerdict> verdicts(const Truth& truth, const std::map<std::pair
       for (const std::string& a : truth.accepted.at(id).at(m))
         v.truth_statuses += (v.truth_statuses.empty() ? "" : "/") + a;
       v.truth_points = pts->second;
+      if (const auto sw = truth.swapped.find(m); sw != truth.swapped.end()) v.swapped = sw->second.count(id) > 0;
       if (auto r = report_of.find({k, id}); r != report_of.end()) {
         v.report_id = r->second;
         v.iou = pair_iou.at({k, id});
@@ -251,6 +255,7 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
   // Per-point counts over all missions; dynamic objects' points left out.
   for (size_t k = 0; k < nm; ++k) {
     const MissionTruth& mt = truth.labels[k];
+    const auto sw = truth.swapped.find(mt.name);
     for (size_t s = 0; s < mt.labels.size(); ++s)
       for (size_t i = 0; i < mt.labels[s].size(); ++i) {
         const uint32_t l = mt.labels[s][i];
@@ -259,6 +264,10 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
         const bool predicted = runs[k].predicted[s][i] != 0;
         if (changed) (predicted ? score.points.tp : score.points.fn)++;
         else (predicted ? score.points.fp : score.points.tn)++;
+        if (changed && sw != truth.swapped.end() && sw->second.count(l)) {
+          ++score.points.swapped;
+          if (!predicted) ++score.points.fn_swapped;
+        }
       }
   }
 

@@ -14,6 +14,11 @@ constexpr double kUndefined = std::numeric_limits<double>::quiet_NaN();
 
 struct PointScore {
   uint64_t tp = 0, fp = 0, tn = 0, fn = 0;
+  // Of the truly changed points: those on swapped objects (Truth::swapped),
+  // and of the missed ones, those.
+  uint64_t swapped = 0, fn_swapped = 0;
+  // Recall over the truly changed points that are not on swapped objects.
+  double recall_without_swaps() const;
   double precision() const;
   double recall() const;
   double specificity() const;
@@ -68,6 +73,7 @@ struct ObjectVerdict {
   // Of a correctly matched move with a transform: its errors, else NaN.
   double translation_error_m = kUndefined, rotation_error_deg = kUndefined;
   size_t alternatives = 0;  // the report's alternative_transforms
+  bool swapped = false;     // exchanged places with another object of its class (Truth::swapped)
   // "ok", "missed" (no report paired), "status" (wrong status), "match"
   // (moved, its match names another report), "partner missed" (moved, the
   // other view was not paired with any report), "pose off" (matched right,

@@ -106,6 +106,31 @@ Truth load_truth(const std::string& dataset, const std::vector<std::string>& wan
       t.changed.insert(id);
     }
   }
+  // Swaps: a moved object and another of its class, both present in two
+  // compared missions, each standing in the second where the other stood
+  // in the first.
+  for (size_t k = 0; k < names.size(); ++k)
+    for (size_t j = 0; j < names.size(); ++j) {
+      if (j == k) continue;
+      for (const auto& a : t.gt.objects) {
+        const uint32_t id = uint32_t(a.id);
+        if (a.dynamic || !t.status.count(id) || !t.status.at(id).count(names[k])) continue;
+        const auto pa_k = a.poses.find(names[k]), pa_j = a.poses.find(names[j]);
+        if (pa_k == a.poses.end() || !pa_k->second || pa_j == a.poses.end() || !pa_j->second) continue;
+        for (const auto& b : t.gt.objects) {
+          if (b.id == a.id || b.dynamic || b.class_name != a.class_name) continue;
+          const auto pb_k = b.poses.find(names[k]), pb_j = b.poses.find(names[j]);
+          if (pb_k == b.poses.end() || !pb_k->second || pb_j == b.poses.end() || !pb_j->second) continue;
+          auto near = [](const Eigen::Matrix4d& x, const Eigen::Matrix4d& y) {
+            return (x.block<3, 1>(0, 3) - y.block<3, 1>(0, 3)).norm() <= kSwapMeters;
+          };
+          if (near(*pa_j->second, *pb_k->second) && near(*pb_j->second, *pa_k->second)) {
+            t.swapped[names[k]].insert(id);
+            break;
+          }
+        }
+      }
+    }
   return t;
 }
 

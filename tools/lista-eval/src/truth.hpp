@@ -16,6 +16,7 @@ namespace lista::eval {
 constexpr double kMovedMeters = 0.05;
 constexpr double kMovedDegrees = 5.0;
 constexpr uint32_t kNoPoint = 0xffffffffu;  // label slot of a non-finite point
+constexpr double kSwapMeters = 0.4;         // how near two swapped objects stand to each other's place
 
 struct MissionTruth {
   std::string name;
@@ -43,6 +44,12 @@ struct Truth {
   // status[id][mission]: the one status shown for it (the first accepted of
   // moved, removed, added).
   std::map<uint32_t, std::map<std::string, std::string>> status;
+  // Moved objects that exchanged places with another object of their class
+  // between two compared missions (each stands, within kSwapMeters, where
+  // the other stood): by mission name, the ids. Two identical objects
+  // swapped leave the occupancy as it was, so no volumetric method sees
+  // them; lista-eval says how much of a score they take.
+  std::map<std::string, std::set<uint32_t>> swapped;
 
   const io::TruthObject* object(uint32_t id) const;
   size_t mission_index(const std::string& name) const;  // throws if not compared

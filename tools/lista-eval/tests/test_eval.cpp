@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <unistd.h>
 
@@ -498,4 +499,56 @@ TEST(Eval, ContractBreaksGiveOneLineErrorsAndNonZeroExit) {
   EXPECT_EQ(run_tool("--dataset " + ds + " --truth " + perfect.string()).first, 0);
   EXPECT_EQ(run_tool("--dataset " + ds + " --run " + perfect.string() + " --json").first, 0);
   EXPECT_NE(run_tool("--dataset " + ds).first, 0);
+}
+
+// Two chairs exchange places (6 and 7), a third chair moves elsewhere (8),
+// and a box moves onto where chair 8 stood (9, another class): only 6 and 7
+// are a swap. Their missed points are counted apart and the recall without
+// them is given; the other missed points still count.
+TEST(Eval, ObjectsThatExchangedPlacesAreCountedApart) {
+  const fs::path root = io::testing::scratch_path("eval_swap");
+  // A and B: structure 0-3, chair 6 at 4-7, chair 7 at 8-11, chair 8 at 12-15, box 9 at 16-19.
+  write_mission(root, "A", {{0, 4}, {6, 4}, {7, 4}, {8, 4}, {9, 4}}, Eigen::Matrix4d::Identity());
+  write_mission(root, "B", {{0, 4}, {6, 4}, {7, 4}, {8, 4}, {9, 4}}, Eigen::Matrix4d::Identity());
+  io::GroundTruth g;
+  g.missions = {"A", "B"};
+  g.mission_to_world = {{"A", Eigen::Matrix4d::Identity()}, {"B", Eigen::Matrix4d::Identity()}};
+  auto obj = [&](int id, const char* cls, const Eigen::Matrix4d& a, const Eigen::Matrix4d& b) {
+    io::TruthObject o;
+    o.id = id;
+    o.class_name = cls;
+    o.poses = {{"A", a}, {"B", b}};
+    g.objects.push_back(o);
+  };
+  obj(6, "chair", translation(0, 0, 0), translation(3, 0, 0.05));  // within kSwapMeters of 7's place
+  obj(7, "chair", translation(3, 0, 0), translation(0, 0.1, 0));
+  obj(8, "chair", translation(6, 0, 0), translation(9, 0, 0));
+  obj(9, "box", translation(12, 0, 0), translation(6, 0, 0));
+  io::write_ground_truth((root / "ground_truth.json").string(), g);
+  const eval::Truth t = eval::load_truth(root.string(), {"A", "B"}, 1);
+  EXPECT_EQ(t.swapped.at("A"), (std::set<uint32_t>{6, 7}));
+  EXPECT_EQ(t.swapped.at("B"), (std::set<uint32_t>{6, 7}));
+
+  // The run finds chair 8 and the box in both missions, nothing of the swap.
+  const fs::path run = run_dir("swap");
+  io::Report r = empty_report();
+  r.objects = {robj(0, "A", "moved", 2, translation(3, 0, 0)), robj(1, "A", "moved", 3, translation(-6, 0, 0)),
+               robj(2, "B", "moved", 0, translation(-3, 0, 0)), robj(3, "B", "moved", 1, translation(6, 0, 0))};
+  io::write_report((run / "report.json").string(), r);
+  write_changes(run, "A", rows(range(12, 15, 0), range(16, 19, 1)));
+  write_changes(run, "B", rows(range(12, 15, 2), range(16, 18, 3)));  // one box point missed
+  const eval::Score s = eval::score_run(t, run.string());
+  EXPECT_EQ(s.points.fn, 17u);
+  EXPECT_EQ(s.points.swapped, 16u);
+  EXPECT_EQ(s.points.fn_swapped, 16u);
+  EXPECT_DOUBLE_EQ(s.points.recall(), 15.0 / 32);
+  EXPECT_DOUBLE_EQ(s.points.recall_without_swaps(), 15.0 / 16);
+  size_t swapped_verdicts = 0;
+  for (const auto& v : s.verdicts) {
+    swapped_verdicts += v.swapped;
+    EXPECT_EQ(v.swapped, v.truth_id == 6 || v.truth_id == 7) << v.truth_id;
+  }
+  EXPECT_EQ(swapped_verdicts, 4u);
+  EXPECT_NE(eval::format_table(s, true).find("swaps: 16 FN points"), std::string::npos);
+  EXPECT_NE(eval::format_table(s, true).find("missed (swap)"), std::string::npos);
 }
