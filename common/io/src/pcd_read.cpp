@@ -269,23 +269,26 @@ void load_pcd(const std::string& path, PcdData& d) {
 std::optional<Eigen::Isometry3d> read_pcd_viewpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open");
+  // A PCD header is a few short lines ending with DATA; a file whose first
+  // 64 KiB hold no DATA line is no PCD (load_pcd says the same of it).
+  constexpr std::streamsize kHeaderBytes = 64 * 1024;
+  std::optional<Eigen::Isometry3d> viewpoint;
   std::string line;
   int line_no = 0;
   auto fail = [&](const std::string& what) { return Error(path + ":" + std::to_string(line_no) + ": " + what); };
-  // The header is a few short lines; a file that is no PCD ends the search early.
-  while (line_no < 64 && std::getline(in, line)) {
+  while (std::getline(in, line)) {
     ++line_no;
     if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
     std::vector<std::string> tok = detail::split_ws(line);
-    if (tok.empty()) continue;
-    if (tok[0] == "DATA") break;
-    if (tok[0] != "VIEWPOINT") continue;
-    tok.erase(tok.begin());
-    const Eigen::Isometry3d t = detail::parse_viewpoint(tok, fail);
-    if (t.matrix().isIdentity(1e-12)) return std::nullopt;
-    return t;
+    if (!tok.empty() && tok[0] == "DATA") return viewpoint;
+    if (!tok.empty() && tok[0] == "VIEWPOINT") {
+      tok.erase(tok.begin());
+      const Eigen::Isometry3d t = detail::parse_viewpoint(tok, fail);
+      viewpoint = t.matrix().isIdentity(1e-12) ? std::nullopt : std::optional<Eigen::Isometry3d>(t);
+    }
+    if (in.tellg() > kHeaderBytes) break;
   }
-  return std::nullopt;
+  throw Error(path + ": not a PCD file (no DATA line in the header)");
 }
 
 int PcdTable::column(const std::string& name) const {

@@ -166,6 +166,28 @@ TEST(Dataset, ScanSpacingThinsTheViewpointLayoutToo) {
   EXPECT_EQ(m.scans[3].points->size(), 1u);
 }
 
+// A scan of the VIEWPOINT layout whose header never ends (no DATA line) is
+// an error naming the file, also when the mission is thinned from headers.
+TEST(Dataset, AViewpointScanWithoutAHeaderIsAnErrorWhenThinned) {
+  const auto root = temp_dir("vp_bad_header");
+  std::vector<float> x = {1.f}, y = {0.f}, z = {0.f};
+  for (int s = 0; s < 3; ++s) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%03d.pcd", s);
+    write_pcd((root / name).string(), 1, {{"x", 'F', x.data()}, {"y", 'F', y.data()}, {"z", 'F', z.data()}});
+  }
+  std::ofstream(root / "001.pcd") << "VERSION .7\nFIELDS x y z\n";
+  DatasetOptions opt;
+  opt.scan_spacing = 1.0;
+  try {
+    read_dataset(root.string(), opt);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("001.pcd: not a PCD file (no DATA line in the header)"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Dataset, ErrorsAreClear) {
   const auto root = temp_dir("ds");
   make_mission(root / "m", 3, 4);
