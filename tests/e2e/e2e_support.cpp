@@ -25,6 +25,10 @@ Result run(const std::string& command) {
 std::string bin(const std::string& program) { return std::string(LISTA_BIN_DIR) + "/" + program; }
 std::string source(const std::string& path) { return std::string(LISTA_SOURCE_DIR) + "/" + path; }
 
+Result simulate(const std::string& args, const std::filesystem::path& out) {
+  return run(bin("lista-sim") + " " + args + " --threads 2 --out " + out.string() + " 2>&1");
+}
+
 std::string read_file(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream s;

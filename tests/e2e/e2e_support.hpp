@@ -17,6 +17,9 @@ struct Result {
 Result run(const std::string& command);
 
 std::string bin(const std::string& program);  // path of a built program
+// Runs `lista-sim ARGS --threads 2 --out OUT` (stderr captured too): the
+// datasets the suites generate.
+Result simulate(const std::string& args, const std::filesystem::path& out);
 std::string source(const std::string& path);  // path inside the source tree
 std::string read_file(const std::filesystem::path& p);
 

@@ -66,7 +66,7 @@ TEST(BenchAlignment, EveryBadSettingIsOneLineOfError) {
 TEST(BenchAlignment, AGoodSettingReachesThePluginItNames) {
   e2e::TempDir dir("bench_alignment");
   const std::string data = (dir.path() / "tiny").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " --preset tiny --seed 1 --threads 2 --out " + data + " 2>&1");
+  const auto sim = e2e::simulate("--preset tiny --seed 1", data);
   ASSERT_EQ(sim.status, 0) << sim.output;
   auto icp_row = [&](const std::string& set) {
     // The table alone on stdout: log lines between its rows would split it.

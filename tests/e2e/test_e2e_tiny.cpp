@@ -31,7 +31,7 @@ class TinyScene : public ::testing::Test {
     dir_ = new e2e::TempDir("tiny");
     data_ = (dir_->path() / "data").string();
     out_ = (dir_->path() / "out").string();
-    sim_ = e2e::run(e2e::bin("lista-sim") + " --preset tiny --seed 1 --threads 2 --out " + data_ + " 2>&1");
+    sim_ = e2e::simulate("--preset tiny --seed 1", data_);
     if (sim_.status == 0)
       run_ = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " + data_ +
                       " --out " + out_ + " --threads 2 --quiet 2>&1");
@@ -465,7 +465,7 @@ TEST_F(TinyScene, EvaluatorWarnsWhenTheRunWasMadeFromAnotherDataset) {
 TEST(TinyAmbiguity, AMissionPlacedOnAnUndecidedFitIsWarnedAbout) {
   e2e::TempDir dir("tiny-ambiguous");
   const std::string data = (dir.path() / "data").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " --preset tiny --seed 3 --threads 2 --out " + data + " 2>&1");
+  const auto sim = e2e::simulate("--preset tiny --seed 3", data);
   ASSERT_EQ(sim.status, 0) << sim.output;
   for (const char* m : {"A", "B"}) std::filesystem::remove(std::filesystem::path(data) / m / "poses_gt.txt");
   std::ofstream(std::filesystem::path(data) / "B" / "scans" / "000004.pcd")
@@ -485,8 +485,7 @@ TEST(TinyAmbiguity, AMissionPlacedOnAnUndecidedFitIsWarnedAbout) {
 TEST(FewScanYard, APairTheWholeMapSearchReplacedIsNotCalledUnsure) {
   e2e::TempDir dir("yard-few-scans");
   const std::string data = (dir.path() / "data").string();
-  const auto sim =
-      e2e::run(e2e::bin("lista-sim") + " --preset fsc --scans 10 --seed 1 --threads 2 --out " + data + " 2>&1");
+  const auto sim = e2e::simulate("--preset fsc --scans 10 --seed 1", data);
   ASSERT_EQ(sim.status, 0) << sim.output;
   const std::filesystem::path pipeline = dir.path() / "align-only.toml";
   std::ofstream(pipeline) << "[pipeline]\nname = \"align-only\"\n[stages.load]\nplugin = \"io.missions\"\n"
@@ -504,8 +503,7 @@ TEST(FewScanYard, APairTheWholeMapSearchReplacedIsNotCalledUnsure) {
 TEST(RobotBody, TheDefaultPipelineDropsTheBodyItsScansHold) {
   e2e::TempDir dir("robot-body");
   const std::string data = (dir.path() / "data").string();
-  const auto sim = e2e::run(e2e::bin("lista-sim") + " --preset demo --seed 2 --sensor vlp16 --body --threads 2 --out " +
-                            data + " 2>&1");
+  const auto sim = e2e::simulate("--preset demo --seed 2 --sensor vlp16 --body", data);
   ASSERT_EQ(sim.status, 0) << sim.output;
   auto run_with = [&](const std::string& name, const std::string& extra) {
     const std::string out = (dir.path() / name).string();
@@ -533,8 +531,7 @@ TEST(RobotBody, TheDefaultPipelineDropsTheBodyItsScansHold) {
 TEST(DenseLog, ATenHertzLogIsReadThinnedAndScoredOnEveryPoint) {
   e2e::TempDir dir("dense-log");
   const std::string data = (dir.path() / "data").string();
-  const auto sim =
-      e2e::run(e2e::bin("lista-sim") + " --preset tiny --seed 1 --scans 500 --threads 2 --out " + data + " 2>&1");
+  const auto sim = e2e::simulate("--preset tiny --seed 1 --scans 500", data);
   ASSERT_EQ(sim.status, 0) << sim.output;
   const std::string out = (dir.path() / "out").string();
   const auto r = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " + data +
