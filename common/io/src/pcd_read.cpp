@@ -5,8 +5,6 @@
 #include "text_util.hpp"
 
 #include <cctype>
-
-#include <cctype>
 #include <lista/error.hpp>
 #include <lista_io/pcd.hpp>
 

@@ -109,6 +109,9 @@ Truth load_truth(const std::string& dataset, const std::vector<std::string>& wan
   // Swaps: a moved object and another of its class, both present in two
   // compared missions, each standing in the second where the other stood
   // in the first.
+  auto near = [](const Eigen::Matrix4d& x, const Eigen::Matrix4d& y) {
+    return (x.block<3, 1>(0, 3) - y.block<3, 1>(0, 3)).norm() <= kSwapMeters;
+  };
   for (size_t k = 0; k < names.size(); ++k)
     for (size_t j = 0; j < names.size(); ++j) {
       if (j == k) continue;
@@ -121,9 +124,6 @@ Truth load_truth(const std::string& dataset, const std::vector<std::string>& wan
           if (b.id == a.id || b.dynamic || b.class_name != a.class_name) continue;
           const auto pb_k = b.poses.find(names[k]), pb_j = b.poses.find(names[j]);
           if (pb_k == b.poses.end() || !pb_k->second || pb_j == b.poses.end() || !pb_j->second) continue;
-          auto near = [](const Eigen::Matrix4d& x, const Eigen::Matrix4d& y) {
-            return (x.block<3, 1>(0, 3) - y.block<3, 1>(0, 3)).norm() <= kSwapMeters;
-          };
           if (near(*pa_j->second, *pb_k->second) && near(*pb_j->second, *pa_k->second)) {
             t.swapped[names[k]].insert(id);
             break;
