@@ -67,7 +67,8 @@ TEST(Pipelines, CopiesDifferFromTheDefaultOnlyInTheirOwnStages) {
       {"pipelines/ablations/diff-paper.toml", {"diff"}},
       {"pipelines/ablations/group-agglomerative.toml", {"group"}},
       {"pipelines/ablations/match-paper.toml", {"match"}},
-      {"pipelines/ablations/register-svd.toml", {"refine", "report", "html"}},  // no refine: report reads register
+      {"pipelines/ablations/history-off.toml", {"history", "report", "html"}},  // report reads recomplete, group, refine
+      {"pipelines/ablations/register-svd.toml", {"refine", "history"}},  // no refine: history reads register
       {"pipelines/ablations/volumetric-octomap.toml", {"diff"}},
       {"examples/describe-extent/pipeline.toml", {"describe"}},
   };

@@ -1,0 +1,105 @@
+// history.static: a changed object's history extended into the neighbouring
+// missions where it stood still (see still_history.hpp).
+#include "still_history.hpp"
+
+#include <lista/lista.hpp>
+
+#include <map>
+
+namespace lista::history {
+
+namespace {
+
+class StaticStage : public Stage {
+ public:
+  explicit StaticStage(const Params& p) {
+    cfg_.radius = p.get<double>("radius");
+    cfg_.min_still_share = p.get<double>("min_still_share");
+    cfg_.min_share_gap = p.get<double>("min_share_gap");
+    cfg_.max_reported_share = p.get<double>("max_reported_share");
+  }
+
+  Outputs run(const Inputs& in, Context& ctx) override {
+    const auto& missions = in.get<MissionSet>("missions");
+    const auto& objects = in.get<ObjectSet>("objects");
+    const auto& matches = in.get<Matches>("matches");
+    const Groups* groups = in.has("groups") ? &in.get<Groups>("groups") : nullptr;
+    StillResult r = extend_histories(missions, objects, matches, groups, cfg_, ctx.threads());
+    std::map<std::string, int> verdicts;
+    for (const StillCandidate& c : r.candidates) {
+      ++verdicts[c.verdict];
+      ctx.debug("object " + std::to_string(c.source) + " in mission '" + objects.missions[c.mission] +
+                "': " + c.verdict + " (shown again " + std::to_string(c.still_share) + ", where it changed " +
+                std::to_string(c.gone_share) + ", reported there " + std::to_string(c.reported_share) + ")" +
+                (c.copy >= 0 ? ", object " + std::to_string(c.copy) : ""));
+    }
+    if (r.copies > 0)
+      ctx.info(std::to_string(r.copies) + " appearances added where a changed object stood still in another mission");
+    ctx.record("copies", double(r.copies));
+    ctx.record("looked_for", double(r.candidates.size()));
+    for (const auto& [v, n] : verdicts) ctx.record(v == "no points" ? "no_points" : v, double(n));
+    r.matches.method = matches.method + "+history.static";
+    Outputs o;
+    o.put("objects", std::move(r.objects));
+    o.put("matches", std::move(r.matches));
+    if (groups) o.put("groups", std::move(r.groups));
+    else o.put("groups", Groups{});
+    return o;
+  }
+
+ private:
+  StillConfig cfg_;
+};
+
+StageInfo info() {
+  StageInfo s;
+  s.name = "history.static";
+  s.version = "1.0.0";
+  s.summary = "Follows each changed object into the neighbouring missions where it stood still";
+  s.doc =
+      "Volumetric differencing compares neighbouring missions, so an object that changed between two of "
+      "them and then stood still is found only around its change; the data contract counts its points as "
+      "changed in every mission (a crate moved from A to B and left alone in C is the moved crate in C "
+      "too). For each object the direction away from its change is searched: an added object and one "
+      "moved from an earlier mission forward, a removed one and one moved into a later mission backward. "
+      "In the next mission that way the object stands still when at least min_still_share of its points "
+      "have a point of that mission within radius, and (first step only) at least min_share_gap more "
+      "than in the mission it changed against (a static thing flagged by mistake shows alike in both). "
+      "It is then added to that mission: that mission's points within radius of it, grown (within "
+      "radius) inside its box enlarged by radius, none below its lowest point; same status, group, "
+      "partner and transform as the object followed (a move's copy names the same partner), confidence "
+      "the lower of the object's and its shown share. The search goes on from the copy until the object "
+      "is not found still, a mission already holds it (its history), or that mission's own objects "
+      "cover more than max_reported_share of it (it changed there). Every history lists its copies. "
+      "With two missions nothing is added.";
+  s.inputs = {{"missions", "missions", "aligned missions, whose full clouds are searched"},
+              {"objects", "objects", "changed objects of all missions"},
+              {"matches", "matches", "status, partner, transform and history of every object"},
+              {"groups", "groups", "descriptor groups; a copy joins its object's", true}};
+  s.outputs = {{"objects", "objects", "the objects, then the copies (new ids)"},
+               {"matches", "matches", "an entry for every object; histories include the copies"},
+               {"groups", "groups", "the groups with the copies (empty when none came in)"}};
+  s.params = {
+      ParamSpec::real("radius", 0.1, "a point of the other mission within this distance shows the same surface")
+          .range(0.01, 1.0)
+          .unit("m"),
+      ParamSpec::real("min_still_share", 0.6, "share of the object's points shown again to call it still there")
+          .range(0.0, 1.0),
+      ParamSpec::real("min_share_gap", 0.3,
+                      "by how much that share must exceed the one in the mission the object changed against")
+          .range(0.0, 1.0),
+      ParamSpec::real("max_reported_share", 0.2,
+                      "share of the object already covered by that mission's own objects at which the search stops")
+          .range(0.0, 1.0)};
+  return s;
+}
+
+void register_stages(Registrar& r) {
+  r.add(info(), [](const Params& p) { return std::make_unique<StaticStage>(p); });
+}
+
+}  // namespace
+
+}  // namespace lista::history
+
+LISTA_PLUGIN(lista::history::register_stages)
