@@ -30,18 +30,18 @@ class Grid {
 
   template <class F>
   void for_near(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& p, F&& f) const {
-    const Eigen::Vector3i c = cell_of(p);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
-          if (it == cells_.end()) continue;
-          for (uint32_t i : it->second)
-            if ((xyz[i] - p).squaredNorm() <= r2_) f(i);
-        }
+    visit(xyz, p, [&](uint32_t i) { f(i); return false; });
   }
 
   bool any_near(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& p) const {
+    return visit(xyz, p, [](uint32_t) { return true; });
+  }
+
+ private:
+  // Calls f on every point within the radius of p until f returns true;
+  // says whether it did.
+  template <class F>
+  bool visit(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& p, F&& f) const {
     const Eigen::Vector3i c = cell_of(p);
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
@@ -49,12 +49,11 @@ class Grid {
           auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
           if (it == cells_.end()) continue;
           for (uint32_t i : it->second)
-            if ((xyz[i] - p).squaredNorm() <= r2_) return true;
+            if ((xyz[i] - p).squaredNorm() <= r2_ && f(i)) return true;
         }
     return false;
   }
 
- private:
   Eigen::Vector3i cell_of(const Eigen::Vector3f& p) const {
     return (p * inv_).array().floor().cast<int>();
   }
