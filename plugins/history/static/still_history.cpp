@@ -207,7 +207,9 @@ StillResult extend_histories(const MissionSet& missions, const ObjectSet& object
 
   const size_t n_in = objects.objects.size();
   for (size_t oi = 0; oi < n_in; ++oi) {
-    const ObjectChange* c0 = matches.find(objects.objects[oi].id);
+    // From out.matches: an earlier object of the same history may have
+    // extended it already (a move in the middle, followed both ways).
+    const ObjectChange* c0 = out.matches.find(objects.objects[oi].id);
     if (!c0) continue;
     const ObjectChange source = *c0;  // copied: out.matches grows below
     const Direction dir = direction_of(objects.objects[oi], source, objects, nm);

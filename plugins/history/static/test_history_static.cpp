@@ -164,6 +164,31 @@ TEST(HistoryStatic, RemovedObjectFollowedBackIntoEarlierMissions) {
   EXPECT_EQ(r.matches.find(7)->history, (std::vector<int>{9, 8, 7}));  // mission order
 }
 
+TEST(HistoryStatic, MoveInTheMiddleIsFollowedBothWaysIntoOneHistory) {
+  // Still from A to B, moved from B to C, still from C to D: B's object is
+  // followed back into A, C's forward into D, and all four share one history.
+  Scene s;
+  for (const char* m : {"A", "B"}) add_mission(s.missions, m, {box(kLo0, kHi0)});
+  for (const char* m : {"C", "D"}) add_mission(s.missions, m, {box(kLo0 + kShift, kHi0 + kShift)});
+  s.objects.missions = {"A", "B", "C", "D"};
+  s.objects.objects = {object(0, 1, kLo0, kHi0), object(1, 2, kLo0 + kShift, kHi0 + kShift)};
+  s.matches.objects = {change(0, ChangeStatus::moved, 1, {0, 1}), change(1, ChangeStatus::moved, 0, {0, 1})};
+  const StillResult r = extend_histories(s.missions, s.objects, s.matches, nullptr, StillConfig{}, 1);
+  ASSERT_EQ(r.copies, 2u);
+  const Object* in_a = nullptr;
+  const Object* in_d = nullptr;
+  for (const Object& o : r.objects.objects) {
+    if (o.mission == 0) in_a = &o;
+    if (o.mission == 3) in_d = &o;
+  }
+  ASSERT_NE(in_a, nullptr);
+  ASSERT_NE(in_d, nullptr);
+  const std::vector<int> expected{in_a->id, 0, 1, in_d->id};
+  for (const Object& o : r.objects.objects) EXPECT_EQ(r.matches.find(o.id)->history, expected) << "object " << o.id;
+  EXPECT_EQ(r.matches.find(in_a->id)->match, 1);  // A's copy stands for B's object: its partner is in C
+  EXPECT_EQ(r.matches.find(in_d->id)->match, 0);
+}
+
 TEST(HistoryStatic, AddedObjectNotFollowedWhereItChangedAgain) {
   // Added in B, gone again in C: nothing stands still in C.
   Scene s;
