@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace lista::report_html {
 
@@ -43,18 +44,23 @@ std::string render_match_matrix(const ReportModel& model, const DescriptorSet* d
   const auto rows = of_mission(model, a), cols = of_mission(model, b);
   if (rows.empty() || cols.empty()) return "<p class=\"empty\">No objects to compare in this pair.</p>\n";
 
-  // Distances, then min-max normalised to a similarity in [0, 1].
+  // Distances, then min-max normalised to a similarity in [0, 1]. With
+  // descriptors, an object without a row (one a later stage added, such as
+  // history.static's copies) gets no cell value: metres and descriptor
+  // distances are not to be normalised together. NaN marks such cells.
   Eigen::MatrixXd dist(rows.size(), cols.size());
+  double dmin = std::numeric_limits<double>::infinity(), dmax = -dmin;
   for (size_t i = 0; i < rows.size(); ++i)
     for (size_t j = 0; j < cols.size(); ++j) {
-      int ri = descriptors ? descriptors->row_of(rows[i]->object->id) : -1;
-      int rj = descriptors ? descriptors->row_of(cols[j]->object->id) : -1;
-      if (ri >= 0 && rj >= 0)
-        dist(i, j) = (descriptors->values.row(ri) - descriptors->values.row(rj)).norm();
-      else
+      if (descriptors) {
+        const int ri = descriptors->row_of(rows[i]->object->id), rj = descriptors->row_of(cols[j]->object->id);
+        dist(i, j) = ri >= 0 && rj >= 0 ? (descriptors->values.row(ri) - descriptors->values.row(rj)).norm()
+                                        : std::numeric_limits<double>::quiet_NaN();
+      } else {
         dist(i, j) = (rows[i]->object->centroid - cols[j]->object->centroid).norm();
+      }
+      if (!std::isnan(dist(i, j))) dmin = std::min(dmin, dist(i, j)), dmax = std::max(dmax, dist(i, j));
     }
-  const double dmin = dist.minCoeff(), dmax = dist.maxCoeff();
   const double span = dmax - dmin > 1e-12 ? dmax - dmin : 1.0;
 
   const int cell = int(std::clamp(600.0 / std::max(rows.size(), cols.size()), 14.0, 40.0));
@@ -73,13 +79,14 @@ std::string render_match_matrix(const ReportModel& model, const DescriptorSet* d
            "\" font-size=\"" + fmt(font, 1) + "\" text-anchor=\"end\">" +
            std::to_string(rows[i]->object->id) + "</text>\n";
     for (size_t j = 0; j < cols.size(); ++j) {
-      const double similarity = 1.0 - (dist(i, j) - dmin) / span;
+      const bool known = !std::isnan(dist(i, j));
+      const double similarity = known ? 1.0 - (dist(i, j) - dmin) / span : 0.0;
       const bool matched = rows[i]->match == cols[j]->object->id;
       svg += "<rect x=\"" + std::to_string(margin + cell * int(j)) + "\" y=\"" +
              std::to_string(margin + cell * int(i)) + "\" width=\"" + std::to_string(cell) +
-             "\" height=\"" + std::to_string(cell) + "\" fill=\"" + heat(similarity).css() +
+             "\" height=\"" + std::to_string(cell) + "\" fill=\"" + (known ? heat(similarity).css() : "#f4f4f4") +
              "\" stroke=\"#ddd\" stroke-width=\"0.5\"><title>" + std::to_string(rows[i]->object->id) + " vs " +
-             std::to_string(cols[j]->object->id) + ": similarity " + fmt(similarity) +
+             std::to_string(cols[j]->object->id) + (known ? ": similarity " + fmt(similarity) : ": no descriptor") +
              (matched ? ", matched, confidence " + fmt(rows[i]->confidence) : "") + "</title></rect>\n";
       if (matched) {
         // Drawn after the cell, inset, so no neighbouring cell paints over it.

@@ -138,7 +138,9 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
     html += "<h2>Match matrix: " + escape(model.missions[a]) + " &times; " + escape(model.missions[b]) + "</h2>\n";
     html += "<p>Cell colour: object similarity (" +
             std::string(descriptors ? "descriptor" : "physical") +
-            " distance, min-max normalised; darker = more alike). Outlined: reported match with its confidence.</p>\n";
+            " distance, min-max normalised; darker = more alike" +
+            std::string(descriptors ? "; pale grey: an object without a descriptor, found after the describe stage" : "") +
+            "). Outlined: reported match with its confidence.</p>\n";
     html += render_match_matrix(model, descriptors, a, b);
   }
 

@@ -200,6 +200,21 @@ TEST(ReportHtml, WithoutDescriptorsUsesPhysicalDistanceAndNoPca) {
   fs::remove_all(dir);
 }
 
+// An object a later stage added (history.static's copies) has no descriptor
+// row: its cells say so instead of mixing metres into descriptor distances.
+TEST(ReportHtml, ObjectWithoutADescriptorGetsNoSimilarity) {
+  Scene s = make_scene();
+  s.descriptors.object_ids = {0, 1, 2};
+  s.descriptors.values.conservativeResize(3, 3);
+  const fs::path dir = write_report(s, "partdesc");
+  const std::string html = read(dir / "report.html");
+  EXPECT_EQ(count(html, " vs 3: no descriptor"), 2u);  // rows 0 and 2 against column 3
+  EXPECT_EQ(count(html, ": similarity "), 2u);
+  EXPECT_EQ(html.find("\"nan"), std::string::npos) << "no NaN reached an attribute";
+  EXPECT_NE(html.find("pale grey: an object without a descriptor"), std::string::npos);
+  fs::remove_all(dir);
+}
+
 TEST(ReportHtml, ChangePlyHasOneVertexPerObjectPoint) {
   const Scene s = make_scene();
   const fs::path dir = write_report(s, "ply");
