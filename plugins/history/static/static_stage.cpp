@@ -4,6 +4,7 @@
 
 #include <lista/lista.hpp>
 
+#include <cctype>
 #include <map>
 
 namespace lista::history {
@@ -17,6 +18,7 @@ class StaticStage : public Stage {
     cfg_.min_still_share = p.get<double>("min_still_share");
     cfg_.min_share_gap = p.get<double>("min_share_gap");
     cfg_.max_reported_share = p.get<double>("max_reported_share");
+    cfg_.follow_contradictions = p.get<bool>("follow_contradictions");
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
@@ -35,9 +37,21 @@ class StaticStage : public Stage {
     }
     if (r.copies > 0)
       ctx.info(std::to_string(r.copies) + " appearances added where a changed object stood still in another mission");
+    for (int id : r.corrected) {
+      const ObjectChange* c = r.matches.find(id);
+      ctx.info("object " + std::to_string(id) + ": now " + to_string(c->status) +
+               ", standing still on the side it was said to have changed against");
+    }
     ctx.record("copies", double(r.copies));
+    ctx.record("corrected", double(r.corrected.size()));
     ctx.record("looked_for", double(r.candidates.size()));
-    for (const auto& [v, n] : verdicts) ctx.record(v == "no points" ? "no_points" : v, double(n));
+    for (const auto& [v, n] : verdicts) {
+      std::string key;  // "still, added" -> "still_added"
+      for (char ch : v)
+        if (std::isalnum(static_cast<unsigned char>(ch))) key += ch;
+        else if (!key.empty() && key.back() != '_') key += '_';
+      ctx.record(key, double(n));
+    }
     r.matches.method = matches.method + "+history.static";
     Outputs o;
     o.put("objects", std::move(r.objects));
@@ -54,7 +68,7 @@ class StaticStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "history.static";
-  s.version = "1.0.0";
+  s.version = "1.1.0";
   s.summary = "Follows each changed object into the neighbouring missions where it stood still";
   s.doc =
       "Volumetric differencing compares neighbouring missions, so an object that changed between two of "
@@ -71,7 +85,10 @@ StageInfo info() {
       "the lower of the object's and its shown share. The search goes on from the copy until the object "
       "is not found still, a mission already holds it (its history), or that mission's own objects "
       "cover more than max_reported_share of it (it changed there). Every history lists its copies. "
-      "With two missions nothing is added.";
+      "With follow_contradictions, an added or removed object that stands still (by the same rules) in the "
+      "mission it was said to have changed against, and is gone from its place on the other side, is followed "
+      "that way too; it and its copies take the status the two sides show (still later and gone earlier: "
+      "added; the reverse: removed). With two missions nothing is added.";
   s.inputs = {{"missions", "missions", "aligned missions, whose full clouds are searched"},
               {"objects", "objects", "changed objects of all missions"},
               {"matches", "matches", "status, partner, transform and history of every object"},
@@ -90,7 +107,10 @@ StageInfo info() {
           .range(0.0, 1.0),
       ParamSpec::real("max_reported_share", 0.2,
                       "share of the object already covered by that mission's own objects at which the search stops")
-          .range(0.0, 1.0)};
+          .range(0.0, 1.0),
+      ParamSpec::boolean("follow_contradictions", true,
+                         "also follow an added or removed object into the mission it was said to have changed against "
+                         "where it stands still there and is gone on the other side, and correct its status")};
   return s;
 }
 

@@ -219,74 +219,101 @@ StillResult extend_histories(const MissionSet& missions, const ObjectSet& object
     for (int id : chain)
       if (const Object* m = out.objects.find(id)) chain_missions.push_back(m->mission);
 
-    // The object's share in the mission it changed against: a still copy
-    // must show it clearly better than that (a static thing wrongly flagged
-    // shows alike in both).
+    // Walks from the object `step` missions at a time while it stands still,
+    // adding a copy to each mission. On the first step its share there must
+    // exceed `reference` (its share on the other side, where it changed) by
+    // min_share_gap: a static thing wrongly flagged shows alike on both sides.
+    // `status`: the copies' status; a move's copies keep its partner.
     const std::vector<Eigen::Vector3f> probe0 = sample(objects.objects[oi].points);
-    const double gone = dir.changed_against >= 0 ? share_near(probe0, clouds[dir.changed_against]) : -1.0;
-
-    Object current = objects.objects[oi];
-    std::vector<Eigen::Vector3f> probe = probe0;
-    bool first = true;
-    for (int m = int(current.mission) + dir.step; m >= 0 && m < int(nm); m += dir.step) {
-      if (std::find(chain_missions.begin(), chain_missions.end(), uint32_t(m)) != chain_missions.end()) break;
-      StillCandidate cand;
-      cand.source = current.id;
-      cand.mission = uint32_t(m);
-      cand.gone_share = first ? gone : -1.0;
-      cand.reported_share = share_near(probe, reported[m]);
-      cand.still_share = share_near(probe, clouds[m]);
-      const bool changed = cand.still_share < cfg.min_still_share ||
-                           (first && gone >= 0.0 && cand.still_share - gone < cfg.min_share_gap);
-      if (cand.reported_share > cfg.max_reported_share) cand.verdict = "reported";
-      else if (changed) cand.verdict = "changed";
-      Object copy;
-      if (cand.verdict.empty()) {
-        copy.points = take(current, clouds[m], r);
-        if (copy.points.empty()) cand.verdict = "no points";
-      }
-      if (!cand.verdict.empty()) {
+    auto walk = [&](int step, double reference, ChangeStatus status) {
+      size_t made = 0;
+      Object current = objects.objects[oi];
+      std::vector<Eigen::Vector3f> probe = probe0;
+      bool first = true;
+      for (int m = int(current.mission) + step; m >= 0 && m < int(nm); m += step) {
+        if (std::find(chain_missions.begin(), chain_missions.end(), uint32_t(m)) != chain_missions.end()) break;
+        StillCandidate cand;
+        cand.source = current.id;
+        cand.mission = uint32_t(m);
+        cand.gone_share = first ? reference : -1.0;
+        cand.reported_share = share_near(probe, reported[m]);
+        cand.still_share = share_near(probe, clouds[m]);
+        const bool changed = cand.still_share < cfg.min_still_share ||
+                             (first && reference >= 0.0 && cand.still_share - reference < cfg.min_share_gap);
+        if (cand.reported_share > cfg.max_reported_share) cand.verdict = "reported";
+        else if (changed) cand.verdict = "changed";
+        Object copy;
+        if (cand.verdict.empty()) {
+          copy.points = take(current, clouds[m], r);
+          if (copy.points.empty()) cand.verdict = "no points";
+        }
+        if (!cand.verdict.empty()) {
+          out.candidates.push_back(cand);
+          return made;
+        }
+        cand.verdict = status == source.status ? "still" : "still, " + std::string(to_string(status));
+        copy.id = next_id++;
+        copy.mission = uint32_t(m);
+        copy.floor_z = current.floor_z;
+        copy.update_geometry();
+        for (size_t i = 0; i < copy.points.size(); ++i) reported[m].add(copy.points, i, copy.points.xyz[i]);
+        cand.copy = copy.id;
         out.candidates.push_back(cand);
-        break;
-      }
-      cand.verdict = "still";
-      copy.id = next_id++;
-      copy.mission = uint32_t(m);
-      copy.floor_z = current.floor_z;
-      copy.update_geometry();
-      for (size_t i = 0; i < copy.points.size(); ++i) reported[m].add(copy.points, i, copy.points.xyz[i]);
-      cand.copy = copy.id;
-      out.candidates.push_back(cand);
 
-      ObjectChange c;
-      c.object_id = copy.id;
-      c.status = source.status;
-      c.confidence = std::min(source.confidence, cand.still_share);
-      if (source.status == ChangeStatus::moved) {
-        // Still since (or until) the move: the same partner, the same motion.
-        c.match = source.match;
-        c.cost = source.cost;
-        c.has_transform = source.has_transform;
-        c.transform = source.transform;
-        c.alternative_transforms = source.alternative_transforms;
+        ObjectChange c;
+        c.object_id = copy.id;
+        c.status = status;
+        c.confidence = std::min(source.confidence, cand.still_share);
+        if (status == ChangeStatus::moved) {
+          // Still since (or until) the move: the same partner, the same motion.
+          c.match = source.match;
+          c.cost = source.cost;
+          c.has_transform = source.has_transform;
+          c.transform = source.transform;
+          c.alternative_transforms = source.alternative_transforms;
+        }
+        out.matches.objects.push_back(c);
+        if (groups) {
+          for (size_t g = 0; g < groups->object_ids.size(); ++g)
+            if (groups->object_ids[g] == source.object_id) {
+              out.groups.object_ids.push_back(copy.id);
+              out.groups.group.push_back(groups->group[g]);
+              if (g < groups->confidence.size()) out.groups.confidence.push_back(groups->confidence[g]);
+              break;
+            }
+        }
+        chain.push_back(copy.id);
+        chain_missions.push_back(copy.mission);
+        ++out.copies;
+        probe = sample(copy.points);
+        current = copy;
+        out.objects.objects.push_back(std::move(copy));
+        first = false;
+        ++made;
       }
-      out.matches.objects.push_back(c);
-      if (groups) {
-        for (size_t g = 0; g < groups->object_ids.size(); ++g)
-          if (groups->object_ids[g] == source.object_id) {
-            out.groups.object_ids.push_back(copy.id);
-            out.groups.group.push_back(groups->group[g]);
-            if (g < groups->confidence.size()) out.groups.confidence.push_back(groups->confidence[g]);
-            break;
-          }
+      return made;
+    };
+
+    // Away from the change, against the object's share where it changed.
+    const double there = dir.changed_against >= 0 ? share_near(probe0, clouds[dir.changed_against]) : -1.0;
+    walk(dir.step, there, source.status);
+
+    // Toward it: an added or removed object that stands still in the
+    // mission it reportedly changed against, and is gone from its place on
+    // the other side, changed against that side instead: its status was
+    // wrong. It and its copies take the status the two sides show: still in
+    // later missions and gone from an earlier one is added; the reverse,
+    // removed. (A move's partner stands in that mission; that contradiction
+    // is left alone.)
+    const int k = int(objects.objects[oi].mission);
+    if (cfg.follow_contradictions && source.status != ChangeStatus::moved && dir.changed_against == k - dir.step &&
+        there >= cfg.min_still_share) {
+      const double other_side = share_near(probe0, clouds[k + dir.step]);
+      const ChangeStatus shown = -dir.step > 0 ? ChangeStatus::added : ChangeStatus::removed;
+      if (there - other_side >= cfg.min_share_gap && walk(-dir.step, other_side, shown) > 0) {
+        out.matches.find(source.object_id)->status = shown;
+        out.corrected.push_back(source.object_id);
       }
-      chain.push_back(copy.id);
-      chain_missions.push_back(copy.mission);
-      ++out.copies;
-      probe = sample(copy.points);
-      current = copy;
-      out.objects.objects.push_back(std::move(copy));
-      first = false;
     }
 
     // Every member of the history lists the whole history, in mission order.

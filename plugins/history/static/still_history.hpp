@@ -8,6 +8,12 @@
 // looks for the object at the same place in the next mission (or, for an
 // object that changed against the next one, in the previous one), and while
 // it is there, adds it to that mission as an object of the same history.
+//
+// An added or removed object found standing still on the side it changed
+// against, and gone from its place on the other side, was given the wrong
+// status (a kitchen unit new in B and left in C, called removed): with
+// follow_contradictions it is followed that way too, and it and its copies
+// take the status the two sides show.
 #pragma once
 
 #include <lista/groups.hpp>
@@ -25,6 +31,7 @@ struct StillConfig {
   double min_still_share = 0.6;    // share of the object's points shown again, to call it still there
   double min_share_gap = 0.3;      // by how much more than in the mission it changed against
   double max_reported_share = 0.2; // share already covered by that mission's own objects: stop there
+  bool follow_contradictions = true;  // also follow an added/removed object toward its change (below)
 };
 
 // One candidate looked at: where an object was looked for, and what was found.
@@ -32,10 +39,10 @@ struct StillCandidate {
   int source = -1;       // the object followed (a copy after the first step)
   uint32_t mission = 0;  // the mission it was looked for in
   double still_share = 0.0;     // its points shown again there
-  double gone_share = -1.0;     // shown in the mission it changed against (-1: not checked)
+  double gone_share = -1.0;     // shown on the other side, where it changed (first step; -1: not checked)
   double reported_share = 0.0;  // covered by that mission's own objects
   int copy = -1;                // id of the object added, or -1
-  std::string verdict;          // "still", "changed", "reported", "no points"
+  std::string verdict;          // "still" ("still, added" / "still, removed": status corrected), "changed", "reported", "no points"
 };
 
 struct StillResult {
@@ -44,6 +51,7 @@ struct StillResult {
   Groups groups;      // a copy in its source's group (empty when no groups came in)
   std::vector<StillCandidate> candidates;
   size_t copies = 0;
+  std::vector<int> corrected;  // ids of added/removed objects whose status the missions contradicted
 };
 
 // `groups` may be null. Objects without an entry in `matches` are not

@@ -221,7 +221,37 @@ TEST(HistoryStatic, StaticThingFlaggedByMistakeIsNotCopied) {
   // Without the comparison it would be copied: the rule is what refuses it.
   StillConfig no_gap;
   no_gap.min_share_gap = 0.0;
-  EXPECT_EQ(extend_histories(s.missions, s.objects, s.matches, nullptr, no_gap, 1).copies, 1u);
+  EXPECT_EQ(extend_histories(s.missions, s.objects, s.matches, nullptr, no_gap, 1).copies, 2u);  // C, and A
+}
+
+TEST(HistoryStatic, WrongStatusIsCorrectedWhereTheMissionsContradictIt) {
+  // New in B and left in C, but reported 'removed' (changed against C):
+  // it stands still in C and is gone from A, so it was added. It is copied
+  // into C and it and its copy are 'added'.
+  Scene s;
+  add_mission(s.missions, "A", {});
+  for (const char* m : {"B", "C"}) add_mission(s.missions, m, {box(kLo0, kHi0)});
+  s.objects.missions = {"A", "B", "C"};
+  s.objects.objects = {object(0, 1, kLo0, kHi0)};
+  s.matches.objects = {change(0, ChangeStatus::removed, -1, {0})};
+  const StillResult r = extend_histories(s.missions, s.objects, s.matches, nullptr, StillConfig{}, 1);
+  ASSERT_EQ(r.copies, 1u);
+  EXPECT_EQ(r.corrected, (std::vector<int>{0}));
+  const Object& copy = r.objects.objects.back();
+  EXPECT_EQ(copy.mission, 2u);
+  EXPECT_EQ(r.matches.find(copy.id)->status, ChangeStatus::added);
+  EXPECT_EQ(r.matches.find(0)->status, ChangeStatus::added);
+  EXPECT_EQ(r.matches.find(0)->history, (std::vector<int>{0, copy.id}));
+  ASSERT_EQ(r.candidates.size(), 2u);  // A: not there; C: still, and the status with it
+  EXPECT_EQ(r.candidates[0].verdict, "changed");
+  EXPECT_EQ(r.candidates[1].verdict, "still, added");
+
+  StillConfig off;
+  off.follow_contradictions = false;
+  const StillResult kept = extend_histories(s.missions, s.objects, s.matches, nullptr, off, 1);
+  EXPECT_EQ(kept.copies, 0u);
+  EXPECT_TRUE(kept.corrected.empty());
+  EXPECT_EQ(kept.matches.find(0)->status, ChangeStatus::removed);
 }
 
 TEST(HistoryStatic, StopsWhereTheMissionAlreadyReportsTheObject) {
