@@ -254,6 +254,8 @@ StillResult extend_histories(const MissionSet& missions, const ObjectSet& object
         cand.verdict = status == source.status ? "still" : "still, " + std::string(to_string(status));
         copy.id = next_id++;
         copy.mission = uint32_t(m);
+        // Nothing changed against either neighbour here: it stood still.
+        copy.points.changed_against.assign(copy.points.size(), 0);
         copy.floor_z = current.floor_z;
         copy.update_geometry();
         for (size_t i = 0; i < copy.points.size(); ++i) reported[m].add(copy.points, i, copy.points.xyz[i]);

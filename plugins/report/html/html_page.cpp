@@ -90,7 +90,12 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
                         const DescriptorSet* descriptors, const RunInfo& run, const PageOptions& options) {
   std::map<std::string, int> counts;
   int moves = 0;  // pairs of reports: each move has a report at both ends
+  int still = 0;  // reports of an object where it stood still before or after its change (history.static)
   for (const auto& v : model.objects) {
+    if (v.object->points.has_changed_against() && v.object->points.changed_against_all() == 0) {
+      ++still;
+      continue;
+    }
     ++counts[to_string(v.status)];
     if (v.status == ChangeStatus::moved && v.match >= 0 && v.object->id < v.match) ++moves;
   }
@@ -112,7 +117,10 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
   html += "<p class=\"summary\"><span class=\"removed\">removed: " + std::to_string(counts["removed"]) +
           "</span><span class=\"added\">added: " + std::to_string(counts["added"]) +
           "</span><span class=\"moved\">moved: " + std::to_string(moves) + (moves == 1 ? " move (" : " moves (") + std::to_string(counts["moved"]) +
-          " reports at their ends)</span><span>objects: " + std::to_string(model.objects.size()) +
+          " reports at their ends)</span>" +
+          (still ? "<span>standing still before or after their change: " + std::to_string(still) + "</span>"
+                 : std::string()) +
+          "<span>objects: " + std::to_string(model.objects.size()) +
           "</span></p>\n";
   // Contents: with many missions the page runs to thousands of pixels.
   html += "<p class=\"contents\">Contents: ";

@@ -400,8 +400,18 @@ TEST(ReportHtml, EachChangeMapShowsOnlyItsPairsChanges) {
   EXPECT_NE(html3.find("<title>object 4, C, group 2</title>"), std::string::npos);
   EXPECT_FALSE(labelled(html3.substr(0, second3), 5));
   EXPECT_TRUE(labelled(html3.substr(second3), 5));
+  // Changed against neither (history.static's report of it standing still):
+  // in no map, and counted apart in the summary.
+  for (auto& o : s.objects.objects)
+    if (o.id == 5) o.points.changed_against.assign(o.points.size(), 0);
+  const fs::path still = write_report(s, "three_still", false);
+  const std::string html4 = read(still / "report.html");
+  EXPECT_EQ(html4.find("class=\"object-label\">5</text>"), std::string::npos);
+  EXPECT_NE(html4.find("<span class=\"removed\">removed: 1</span>"), std::string::npos) << "A's 0 only";
+  EXPECT_NE(html4.find("standing still before or after their change: 1"), std::string::npos);
   fs::remove_all(both);
   fs::remove_all(next);
+  fs::remove_all(still);
 }
 
 // A row of removed boxes side by side: each id goes where it covers no

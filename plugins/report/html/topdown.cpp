@@ -15,7 +15,9 @@ namespace {
 // ("removed"), what arrived in b ("added"), one end of a move from one to
 // the other ("moved"), or nothing ("": another pair's change). With three or
 // more missions an object of b may also move on to c, or leave before c;
-// that belongs to the next map. Which neighbour an unpaired object changed
+// that belongs to the next map. A report whose points changed against
+// neither neighbour (history.static's: the object standing still before or
+// after its change) is in no map. Which neighbour an unpaired object changed
 // against comes from its change points (PointSet::changed_against): a desk
 // that arrived in b and left before c is an arrival here, whatever its one
 // status says; without that channel the status decides.
@@ -23,6 +25,7 @@ std::string status_in_pair(const ObjectView& v, const ReportModel& model, size_t
   const size_t m = v.object->mission;
   if (m != a && m != b) return "";
   const size_t other = m == a ? b : a;
+  if (v.object->points.has_changed_against() && v.object->points.changed_against_all() == 0) return "";
   if (v.status == ChangeStatus::moved) {
     if (const ObjectView* p = v.match >= 0 ? model.find(v.match) : nullptr; p && p->object->mission == other)
       return "moved";
