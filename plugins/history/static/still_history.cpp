@@ -2,6 +2,7 @@
 
 #include <lista/error.hpp>
 #include <lista/parallel.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +27,7 @@ class Grid {
  public:
   explicit Grid(float cell) : inv_(1.f / cell), r2_(cell * cell) {}
 
-  void add(const Eigen::Vector3f& p, uint32_t i) { cells_[key(cell_of(p))].push_back(i); }
+  void add(const Eigen::Vector3f& p, uint32_t i) { cells_[geometry::voxel_key(cell_of(p))].push_back(i); }
 
   template <class F>
   void for_near(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& p, F&& f) const {
@@ -46,7 +47,7 @@ class Grid {
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
-          auto it = cells_.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          auto it = cells_.find(geometry::voxel_key(c + Eigen::Vector3i(dx, dy, dz)));
           if (it == cells_.end()) continue;
           for (uint32_t i : it->second)
             if ((xyz[i] - p).squaredNorm() <= r2_ && f(i)) return true;
@@ -56,10 +57,6 @@ class Grid {
 
   Eigen::Vector3i cell_of(const Eigen::Vector3f& p) const {
     return (p * inv_).array().floor().cast<int>();
-  }
-  static uint64_t key(const Eigen::Vector3i& c) {
-    return (uint64_t(uint32_t(c.x()) & 0x1FFFFF) << 42) | (uint64_t(uint32_t(c.y()) & 0x1FFFFF) << 21) |
-           uint64_t(uint32_t(c.z()) & 0x1FFFFF);
   }
   float inv_, r2_;
   std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
