@@ -68,7 +68,7 @@ class StaticStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "history.static";
-  s.version = "1.1.0";
+  s.version = "1.2.0";
   s.summary = "Follows each changed object into the neighbouring missions where it stood still";
   s.doc =
       "Volumetric differencing compares neighbouring missions, so an object that changed between two of "
@@ -80,7 +80,9 @@ StageInfo info() {
       "have a point of that mission within radius, and (first step only) at least min_share_gap more "
       "than in the mission it changed against (a static thing flagged by mistake shows alike in both). "
       "It is then added to that mission: that mission's points within radius of it, grown (within "
-      "radius) inside its box enlarged by radius, none below its lowest point; same status, group, "
+      "radius) inside its box enlarged by radius, none below its lowest point, and the growth taking no point "
+      "that the mission where the object was absent from this place also shows (the wall or floor it touches); "
+      "same status, group, "
       "partner and transform as the object followed (a move's copy names the same partner), confidence "
       "the lower of the object's and its shown share. The search goes on from the copy until the object "
       "is not found still, a mission already holds it (its history), or that mission's own objects "

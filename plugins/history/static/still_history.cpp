@@ -120,24 +120,40 @@ double share_near(const std::vector<Eigen::Vector3f>& probe, const Cloud& cloud)
 // The points of `cloud` that show `object` again: those within the radius
 // of its points, then those connected to them (within the radius) inside
 // its box grown by the radius; none below its lowest point (segmentation
-// kept the floor, and its noise, below that).
-PointSet take(const Object& object, const Cloud& cloud, float radius) {
+// kept the floor, and its noise, below that). The growth takes no point
+// that `absent` (the mission where the object was not at this place) also
+// shows: a wall or floor the object touches is there without it, and
+// growing into it took in structure (a shelf against a wall, three times
+// its own points). The first points are exempt: near the object's own, they
+// keep its foot, which lies within the radius of the floor.
+PointSet take(const Object& object, const Cloud& cloud, float radius, const Cloud* absent) {
   const float floor_z = object.bbox_min.z();
   const Box box{object.bbox_min.array() - radius, object.bbox_max.array() + radius};
-  std::vector<char> taken(cloud.points.size(), 0);
+  // 0: not looked at, 1: taken, 2: refused (structure).
+  std::vector<char> state(cloud.points.size(), 0);
   std::deque<uint32_t> queue;
+  auto consider = [&](uint32_t i, bool grown) {
+    if (state[i]) return;
+    const Eigen::Vector3f& q = cloud.points.xyz[i];
+    if (q.z() < floor_z) return;
+    if (grown && absent && absent->grid.any_near(absent->points.xyz, q)) {
+      state[i] = 2;
+      return;
+    }
+    state[i] = 1;
+    queue.push_back(i);
+  };
   for (const auto& p : object.points.xyz)
-    cloud.grid.for_near(cloud.points.xyz, p, [&](uint32_t i) {
-      if (!taken[i] && cloud.points.xyz[i].z() >= floor_z) taken[i] = 1, queue.push_back(i);
-    });
+    cloud.grid.for_near(cloud.points.xyz, p, [&](uint32_t i) { consider(i, false); });
   while (!queue.empty()) {
     const uint32_t i = queue.front();
     queue.pop_front();
     cloud.grid.for_near(cloud.points.xyz, cloud.points.xyz[i], [&](uint32_t j) {
-      const Eigen::Vector3f& q = cloud.points.xyz[j];
-      if (!taken[j] && q.z() >= floor_z && box.contains(q)) taken[j] = 1, queue.push_back(j);
+      if (box.contains(cloud.points.xyz[j])) consider(j, true);
     });
   }
+  std::vector<char> taken(state.size());
+  for (size_t i = 0; i < state.size(); ++i) taken[i] = state[i] == 1;
   std::vector<uint32_t> idx;
   for (uint32_t i = 0; i < taken.size(); ++i)
     if (taken[i]) idx.push_back(i);
@@ -222,7 +238,7 @@ StillResult extend_histories(const MissionSet& missions, const ObjectSet& object
     // min_share_gap: a static thing wrongly flagged shows alike on both sides.
     // `status`: the copies' status; a move's copies keep its partner.
     const std::vector<Eigen::Vector3f> probe0 = sample(objects.objects[oi].points);
-    auto walk = [&](int step, double reference, ChangeStatus status) {
+    auto walk = [&](int step, double reference, ChangeStatus status, int absent) {
       size_t made = 0;
       Object current = objects.objects[oi];
       std::vector<Eigen::Vector3f> probe = probe0;
@@ -241,7 +257,7 @@ StillResult extend_histories(const MissionSet& missions, const ObjectSet& object
         else if (changed) cand.verdict = "changed";
         Object copy;
         if (cand.verdict.empty()) {
-          copy.points = take(current, clouds[m], r);
+          copy.points = take(current, clouds[m], r, absent >= 0 ? &clouds[absent] : nullptr);
           if (copy.points.empty()) cand.verdict = "no points";
         }
         if (!cand.verdict.empty()) {
@@ -295,7 +311,7 @@ StillResult extend_histories(const MissionSet& missions, const ObjectSet& object
 
     // Away from the change, against the object's share where it changed.
     const double there = dir.changed_against >= 0 ? share_near(probe0, clouds[dir.changed_against]) : -1.0;
-    walk(dir.step, there, source.status);
+    walk(dir.step, there, source.status, dir.changed_against);
 
     // Toward it: an added or removed object that stands still in the
     // mission it reportedly changed against, and is gone from its place on
@@ -309,7 +325,7 @@ StillResult extend_histories(const MissionSet& missions, const ObjectSet& object
         there >= cfg.min_still_share) {
       const double other_side = share_near(probe0, clouds[k + dir.step]);
       const ChangeStatus shown = -dir.step > 0 ? ChangeStatus::added : ChangeStatus::removed;
-      if (there - other_side >= cfg.min_share_gap && walk(-dir.step, other_side, shown) > 0) {
+      if (there - other_side >= cfg.min_share_gap && walk(-dir.step, other_side, shown, k + dir.step) > 0) {
         out.matches.find(source.object_id)->status = shown;
         out.corrected.push_back(source.object_id);
       }

@@ -144,6 +144,48 @@ TEST(HistoryStatic, MovedObjectFollowedIntoTheMissionWhereItStoodStill) {
   EXPECT_EQ(r.matches.find(1)->match, 0);
 }
 
+TEST(HistoryStatic, CopyDoesNotGrowIntoTheWallItStandsAgainst) {
+  // The box's second place is 5 cm from a wall that stands in every mission.
+  // B's object lacks the face toward the wall (unseen); the copy in C may
+  // take wall points near the object's own, but not grow along the wall.
+  const Eigen::Vector3f lo = kLo0 + kShift, hi = kHi0 + kShift;
+  const float wall_x = hi.x() + 0.05f;
+  PointSet wall;
+  for (float y = lo.y() - 0.5f; y <= hi.y() + 0.5f; y += kStep)
+    for (float z = 0.f; z <= 1.5f; z += kStep) {
+      wall.xyz.emplace_back(wall_x, y, z);
+      wall.scan.push_back(0);
+      wall.index.push_back(uint32_t(wall.index.size()));
+    }
+  Scene s;
+  add_mission(s.missions, "A", {box(kLo0, kHi0), wall});
+  add_mission(s.missions, "B", {box(lo, hi), wall});
+  add_mission(s.missions, "C", {box(lo, hi), wall});
+  s.objects.missions = {"A", "B", "C"};
+  Object seen = object(1, 1, lo, hi);
+  std::vector<uint32_t> keep;
+  for (uint32_t i = 0; i < seen.points.size(); ++i)
+    if (seen.points.xyz[i].x() < hi.x() - 1e-3f) keep.push_back(i);
+  seen.points = seen.points.select(keep);
+  seen.update_geometry();
+  s.objects.objects = {object(0, 0, kLo0, kHi0), seen};
+  s.matches.objects = {change(0, ChangeStatus::moved, 1, {0, 1}), change(1, ChangeStatus::moved, 0, {0, 1})};
+  const StillResult r = extend_histories(s.missions, s.objects, s.matches, nullptr, StillConfig{}, 1);
+  ASSERT_EQ(r.copies, 1u);
+  const Object& copy = r.objects.objects.back();
+  EXPECT_EQ(copy.mission, 2u);
+  size_t on_wall = 0, wall_far_from_object = 0;
+  for (const Eigen::Vector3f& p : copy.points.xyz)
+    if (p.x() > wall_x - 1e-3f) {
+      ++on_wall;
+      // Over 10 cm from every point of B's object: reached only by growing.
+      if (p.y() > lo.y() + 0.12f && p.y() < hi.y() - 0.12f && p.z() < hi.z() - 0.12f) ++wall_far_from_object;
+    }
+  EXPECT_GT(on_wall, 0u) << "wall points next to the object's own are taken with it";
+  EXPECT_EQ(wall_far_from_object, 0u);
+  EXPECT_GT(copy.points.size(), seen.points.size() / 2);
+}
+
 TEST(HistoryStatic, RemovedObjectFollowedBackIntoEarlierMissions) {
   // Present in A, B and C, gone in D: found in C only (changed against D).
   Scene s;
