@@ -9,6 +9,8 @@
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 
@@ -31,6 +33,38 @@ struct CovarianceGicp : Gicp {
   }
 };
 
+// The covariance of every point as PCL's GICP defines it (the spread of its
+// 10 nearest points flattened to a plane: 1 along the plane, 1e-3 across
+// it), from a closed-form eigen-solver and reused buffers where PCL runs an
+// SVD and allocates per point; the spread is taken about the mean in double
+// (PCL sums float squares). Only the plane's normal matters: the matrix is
+// I - (1 - 1e-3) n n^T.
+Gicp::MatricesVectorPtr plane_covariances(const PclCloud& cloud, const pcl_search::FastKdTree& tree) {
+  constexpr double kAcross = 1e-3;  // PCL's gicp_epsilon
+  auto out = std::make_shared<Gicp::MatricesVector>(cloud.size(), Eigen::Matrix3d::Identity());
+  pcl::Indices idx;
+  std::vector<float> d2;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const int n = tree.nearestKSearch(cloud[i], kCovarianceNeighbours, idx, d2);
+    if (n < 3) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int j = 0; j < n; ++j) mean += cloud[static_cast<size_t>(idx[j])].getVector3fMap().cast<double>();
+    mean /= n;
+    Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+    for (int j = 0; j < n; ++j) {
+      const Eigen::Vector3d d = cloud[static_cast<size_t>(idx[j])].getVector3fMap().cast<double>() - mean;
+      spread.noalias() += d * d.transpose();
+    }
+    solver.computeDirect(spread / n);
+    const Eigen::Vector3d normal = solver.eigenvectors().col(0);  // smallest eigenvalue first
+    (*out)[i] = Eigen::Matrix3d::Identity() - (1.0 - kAcross) * normal * normal.transpose();
+  }
+  return out;
+}
+
+enum class Covariances { none, ours, pcl };
+
 }  // namespace
 
 struct PreparedCloud::Impl {
@@ -41,13 +75,15 @@ struct PreparedCloud::Impl {
     Gicp::MatricesVectorPtr covariances;  // GICP only
 
     Level() = default;
-    Level(const Cloud& points, bool gicp)
+    Level(const Cloud& points, Covariances kind)
         : cloud(std::make_shared<PclCloud>()), tree(std::make_shared<pcl_search::FastKdTree>()) {
       cloud->resize(points.size());
       for (size_t i = 0; i < points.size(); ++i) cloud->points[i].getVector3fMap() = points[i];
       if (points.empty()) return;
       tree->setInputCloud(cloud);
-      if (gicp && points.size() >= kCovarianceNeighbours) covariances = CovarianceGicp().covariances_of(cloud, tree);
+      if (points.size() < kCovarianceNeighbours) return;
+      if (kind == Covariances::ours) covariances = plane_covariances(*cloud, *tree);
+      if (kind == Covariances::pcl) covariances = CovarianceGicp().covariances_of(cloud, tree);
     }
     bool usable() const { return cloud && cloud->size() >= 20; }
   };
@@ -61,14 +97,88 @@ using Level = PreparedCloud::Impl::Level;
 double coarse_voxel_of(const RegistrationOptions& o) { return std::max(o.voxel, o.coarse_distance / 4.0); }
 
 void check_method(const RegistrationOptions& o) {
-  if (o.method != "gicp" && o.method != "icp")
-    throw Error("registration method must be 'gicp' or 'icp', got '" + o.method + "'");
+  if (o.method != "gicp" && o.method != "gicp_gn" && o.method != "icp")
+    throw Error("registration method must be 'gicp', 'gicp_gn' or 'icp', got '" + o.method + "'");
+}
+
+Covariances covariances_for(const RegistrationOptions& o) {
+  return o.method == "gicp_gn" ? Covariances::ours : o.method == "gicp" ? Covariances::pcl : Covariances::none;
+}
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+// Generalized ICP (Segal et al. 2009, the cost PCL's GICP minimises: each
+// pair's residual weighted by (C_target + R C_source R^T)^-1) solved by
+// Gauss-Newton, one linearisation per correspondence update, as small_gicp
+// and fast_gicp solve it. PCL runs a BFGS with line searches to convergence
+// after every update, a third of align.posegraph's time on a VLP-16 hall
+// (docs/bench/alignment.md, 2026-11-29; opt-in there, method "gicp_gn"). Like PCL's, `converged` is false
+// only when the solve fails (under 6 pairs, a singular system); reaching
+// `max_iterations` counts as converged and is judged by the caller's gates.
+Eigen::Isometry3d gicp_gauss_newton(const Level& source, const Level& target, const Eigen::Isometry3d& guess,
+                                    double max_distance, int max_iterations, bool& converged) {
+  constexpr double kRotationEpsilon = 2e-4;     // rad per step: 4 mm at 20 m
+  constexpr double kTranslationEpsilon = 1e-4;  // m per step
+  constexpr size_t kMinPairs = 6;
+  const auto& src = source.cloud->points;
+  const auto& tgt = target.cloud->points;
+  const auto& src_cov = *source.covariances;
+  const auto& tgt_cov = *target.covariances;
+  const float max_sq = static_cast<float>(max_distance * max_distance);
+  Eigen::Isometry3d t = guess;
+  converged = false;
+  for (int it = 0; it < max_iterations; ++it) {
+    Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+    size_t pairs = 0;
+    const Eigen::Matrix3d r = t.linear();
+    for (size_t i = 0; i < src.size(); ++i) {
+      const Eigen::Vector3d q = t * src[i].getVector3fMap().cast<double>();
+      pcl::PointXYZ query;
+      query.getVector3fMap() = q.cast<float>();
+      float d2 = 0.0f;
+      const int j = target.tree->nearest(query, d2, max_sq);
+      if (j < 0) continue;
+      const Eigen::Matrix3d w = (tgt_cov[static_cast<size_t>(j)] + r * src_cov[i] * r.transpose()).inverse();
+      const Eigen::Vector3d e = tgt[static_cast<size_t>(j)].getVector3fMap().cast<double>() - q;
+      // e(xi) = target - (q + w x q + v): d e / d(w, v) = [ [q]x, -I ].
+      Eigen::Matrix<double, 3, 6> jac;
+      jac.leftCols<3>() = skew(q);
+      jac.rightCols<3>() = -Eigen::Matrix3d::Identity();
+      const Eigen::Matrix<double, 6, 3> jtw = jac.transpose() * w;
+      h.noalias() += jtw * jac;
+      b.noalias() += jtw * e;
+      ++pairs;
+    }
+    if (pairs < kMinPairs) return converged = false, t;
+    const Eigen::Matrix<double, 6, 1> step = h.ldlt().solve(-b);
+    if (!step.allFinite()) return converged = false, t;
+    const Eigen::Vector3d w = step.head<3>();
+    const double angle = w.norm();
+    const Eigen::Matrix3d dr =
+        angle > 0.0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    const Eigen::Vector3d moved_to = dr * t.translation() + step.tail<3>();
+    const double shift = (moved_to - t.translation()).norm();
+    t.linear() = dr * t.linear();
+    t.translation() = moved_to;
+    converged = true;
+    // The step's rotation and how far it moved the translation (rotation
+    // about the origin included), as PCL compares successive transforms.
+    if (angle < kRotationEpsilon && shift < kTranslationEpsilon) break;
+  }
+  return t;
 }
 
 Eigen::Isometry3d run_stage(const Level& source, const Level& target, const Eigen::Isometry3d& guess,
                             double max_distance, const RegistrationOptions& o, bool& converged) {
+  if (o.method == "gicp_gn" && source.covariances && target.covariances)
+    return gicp_gauss_newton(source, target, guess, max_distance, o.max_iterations, converged);
   std::unique_ptr<pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>> reg;
-  const bool gicp = o.method == "gicp";
+  const bool gicp = o.method != "icp";
   if (gicp) {
     auto g = std::make_unique<Gicp>();
     g->setCorrespondenceRandomness(kCovarianceNeighbours);
@@ -132,9 +242,9 @@ double share(size_t n, const Level& of) { return of.cloud->empty() ? 0.0 : stati
 PreparedCloud::PreparedCloud(const Cloud& points, const RegistrationOptions& o) {
   check_method(o);
   auto impl = std::make_shared<Impl>();
-  const bool gicp = o.method == "gicp";
-  impl->fine = Level(points, gicp);
-  impl->coarse = Level(voxel_downsample(points, coarse_voxel_of(o)), gicp);
+  const Covariances kind = covariances_for(o);
+  impl->fine = Level(points, kind);
+  impl->coarse = Level(voxel_downsample(points, coarse_voxel_of(o)), kind);
   impl_ = std::move(impl);
 }
 

@@ -112,4 +112,38 @@ float FastKdTree::nearest_sqr_distance(const pcl::PointXYZ& point) const {
   return d2;
 }
 
+namespace {
+// FLANN result set for the one nearest point within a bound: the bound
+// prunes the search from the start, where an unbounded 1-NN query walks
+// far for a point with no neighbour near (most of a scan's points outside
+// the overlap).
+class __attribute__((visibility("hidden"))) NearestWithin : public flann::ResultSet<float> {
+ public:
+  explicit NearestWithin(float max_sqr_distance) : best_(max_sqr_distance) {}
+  bool full() const override { return true; }
+  float worstDist() const override { return best_; }
+  void addPoint(float dist, size_t index) override {
+    if (dist < best_) best_ = dist, index_ = index;
+  }
+  bool found() const { return index_ != kNone; }
+  size_t index() const { return index_; }
+  float distance() const { return best_; }
+
+ private:
+  static constexpr size_t kNone = static_cast<size_t>(-1);
+  float best_;
+  size_t index_ = kNone;
+};
+}  // namespace
+
+int FastKdTree::nearest(const pcl::PointXYZ& point, float& sqr_distance, float max_sqr_distance) const {
+  if (!index_->tree || !searchable(point)) return -1;
+  NearestWithin result(max_sqr_distance);
+  const float q[3] = {point.x, point.y, point.z};
+  index_->tree->findNeighbors(result, q, flann::SearchParams(-1, 0.0f, false));
+  if (!result.found()) return -1;
+  sqr_distance = result.distance();
+  return index_->to_cloud[result.index()];
+}
+
 }  // namespace lista::pcl_search

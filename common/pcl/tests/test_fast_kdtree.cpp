@@ -46,6 +46,40 @@ TEST(FastKdTree, KnnMatchesKdTreeFlann) {
   }
 }
 
+TEST(FastKdTree, BoundedNearestIsTheNearestWithinTheBound) {
+  // nearest() is what GICP asks per point and iteration: the stock 1-NN
+  // when it lies within the bound, nothing otherwise; the index names the
+  // point of the input cloud.
+  Trees t(11);
+  auto& [cloud, fast, stock] = t;
+  const Cloud::Ptr queries = random_cloud(400, 12);
+  size_t within = 0, beyond = 0;
+  for (const auto& q : queries->points) {
+    pcl::Indices si;
+    std::vector<float> sd;
+    ASSERT_EQ(stock.nearestKSearch(q, 1, si, sd), 1);
+    float d2 = -1.0f;
+    EXPECT_EQ(fast.nearest(q, d2), si[0]);
+    EXPECT_FLOAT_EQ(d2, sd[0]);
+    const float bound = 0.0064f;  // (8 cm)^2: about 40 % of the queries have a point that near
+    float bounded = -1.0f;
+    const int j = fast.nearest(q, bounded, bound);
+    if (sd[0] < bound) {
+      ++within;
+      EXPECT_EQ(j, si[0]);
+      EXPECT_FLOAT_EQ(bounded, sd[0]);
+    } else {
+      ++beyond;
+      EXPECT_EQ(j, -1);
+      EXPECT_FLOAT_EQ(bounded, -1.0f) << "left as it was";
+    }
+  }
+  EXPECT_GT(within, 50u);
+  EXPECT_GT(beyond, 50u);
+  float d2 = 0.0f;
+  EXPECT_EQ(fast.nearest(pcl::PointXYZ(1e20f, 0, 0), d2), -1);
+}
+
 TEST(FastKdTree, RadiusMatchesKdTreeFlann) {
   Trees t(3);
   auto& [cloud, fast, stock] = t;

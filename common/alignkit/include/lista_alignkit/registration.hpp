@@ -12,7 +12,10 @@
 namespace lista::align {
 
 struct RegistrationOptions {
-  std::string method = "gicp";  // "gicp" or "icp" (point-to-point)
+  // "gicp": PCL's Generalized ICP (BFGS); "gicp_gn": the same cost solved
+  // by Gauss-Newton (ours, 1.3-1.5x faster; opt-in until measured end to
+  // end); "icp": PCL's point-to-point ICP.
+  std::string method = "gicp";
   double voxel = 0.2;           // m; fine-stage downsampling
   double coarse_distance = 2.0; // m; max correspondence distance of the coarse stage
   double fine_distance = 0.5;   // m; of the fine stage

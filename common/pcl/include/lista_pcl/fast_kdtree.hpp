@@ -13,6 +13,7 @@
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
 
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -39,6 +40,14 @@ class FastKdTree : public pcl::search::KdTree<pcl::PointXYZ> {
   // The nearest point's squared distance, or -1 for an empty tree: the
   // allocation-free form of a 1-NN query.
   float nearest_sqr_distance(const pcl::PointXYZ& point) const;
+
+  // The nearest point closer than sqrt(max_sqr_distance) (its index in the
+  // input cloud) and its squared distance, allocation-free; -1 when there is
+  // none, the tree is empty or the query too far out to search
+  // (sqr_distance is then left as it was). The bound makes the search
+  // cheaper, most of all for queries with no point near.
+  int nearest(const pcl::PointXYZ& point, float& sqr_distance,
+              float max_sqr_distance = std::numeric_limits<float>::max()) const;
 
  private:
   struct Index;
