@@ -116,9 +116,10 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 // Gauss-Newton, one linearisation per correspondence update, as small_gicp
 // and fast_gicp solve it. PCL runs a BFGS with line searches to convergence
 // after every update, a third of align.posegraph's time on a VLP-16 hall
-// (docs/bench/alignment.md, 2026-11-29; opt-in there, method "gicp_gn"). Like PCL's, `converged` is false
-// only when the solve fails (under 6 pairs, a singular system); reaching
-// `max_iterations` counts as converged and is judged by the caller's gates.
+// (docs/bench/alignment.md, 2026-11-29; opt-in, method "gicp_gn"). Like
+// PCL's, `converged` is false only when the solve fails (under 6 pairs, a
+// singular system); reaching `max_iterations` counts as converged and is
+// judged by the caller's gates.
 Eigen::Isometry3d gicp_gauss_newton(const Level& source, const Level& target, const Eigen::Isometry3d& guess,
                                     double max_distance, int max_iterations, bool& converged) {
   constexpr double kRotationEpsilon = 2e-4;     // rad per step: 4 mm at 20 m
