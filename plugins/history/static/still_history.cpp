@@ -152,11 +152,9 @@ PointSet take(const Object& object, const Cloud& cloud, float radius, const Clou
       if (box.contains(cloud.points.xyz[j])) consider(j, true);
     });
   }
-  std::vector<char> taken(state.size());
-  for (size_t i = 0; i < state.size(); ++i) taken[i] = state[i] == 1;
   std::vector<uint32_t> idx;
-  for (uint32_t i = 0; i < taken.size(); ++i)
-    if (taken[i]) idx.push_back(i);
+  for (uint32_t i = 0; i < state.size(); ++i)
+    if (state[i] == 1) idx.push_back(i);
   return cloud.points.select(idx);
 }
 
