@@ -181,7 +181,7 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("intra_min_travel", 0.0,
                       "loops within a mission: trajectory between the two keyframes at least this (0: none)")
           .range(0, 1e5).unit("m"),
-      ParamSpec::text("registration", "gicp", "registration method of every scan, submap and map pair: gicp (PCL's Generalized ICP), gicp_gn (the same cost by Gauss-Newton: 1.3-1.5x faster, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
+      ParamSpec::text("registration", "gicp", "registration method of every scan, submap and map pair: gicp (PCL's Generalized ICP), gicp_gn (the same cost by Gauss-Newton: 1.1-1.5x faster, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
       ParamSpec::real("coarse_distance", 2.0, "max correspondence distance, coarse stage").range(0.05, 50).unit("m"),
       ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::integer("icp_iterations", 40, "iterations per registration stage").range(1, 1000),

@@ -13,8 +13,9 @@ namespace lista::align {
 
 struct RegistrationOptions {
   // "gicp": PCL's Generalized ICP (BFGS); "gicp_gn": the same cost solved
-  // by Gauss-Newton (ours, 1.3-1.5x faster; opt-in until measured end to
-  // end); "icp": PCL's point-to-point ICP.
+  // by Gauss-Newton (ours, 1.1-1.5x faster; opt-in: on sparse sensors the
+  // alignments it gives moved both ways, docs/bench/alignment.md); "icp":
+  // PCL's point-to-point ICP.
   std::string method = "gicp";
   double voxel = 0.2;           // m; fine-stage downsampling
   double coarse_distance = 2.0; // m; max correspondence distance of the coarse stage
