@@ -5,10 +5,16 @@
 //
 // Scan pairs of a synthetic hall (ray-cast, 16 / 32 / 64 rings), each pair
 // one step of the route apart, registered from the true relative pose
-// moved by a random offset (up to --offset m and --yaw degrees). Both
-// methods see the same clouds, starts and options (coarse then fine stage,
-// align.posegraph's scan-to-scan settings); each prepares its clouds
-// (k-d trees, covariances) inside the timing, as a pipeline does.
+// moved by a random offset (up to --offset m and --yaw degrees). Or, with
+// --dataset, the scan pairs of a recorded dataset with poses_gt.txt, as
+// align.posegraph's scan-to-scan edges register them: from the odometry,
+// judged by its gates, scored against the truth (the odometry's own error
+// is the row to beat). Both methods see the same clouds, starts and
+// options (coarse then fine stage, align.posegraph's scan-to-scan
+// settings); each prepares its clouds (k-d trees, covariances) inside the
+// timing, as a pipeline does.
+#include "dataset_pairs.hpp"
+
 #include <lista_alignkit/cloud_ops.hpp>
 #include <lista_alignkit/registration.hpp>
 #include <lista_alignkit/synthetic_scene.hpp>
@@ -29,15 +35,41 @@ namespace {
 using namespace lista::align;
 using Clock = std::chrono::steady_clock;
 
-struct Pair {
-  Cloud source, target;
-  Eigen::Isometry3d truth, guess;  // source -> target
+using Pair = lista::bench::ScanPair;
+
+// align.posegraph's scan-to-scan gates (min_overlap both ways, max_rmse,
+// the largest change from the odometry).
+struct Gates {
+  double min_overlap = 0.5, max_rmse = 0.15, max_translation_change = 0.5, max_rotation_change = 0.087;
+  bool pass(const RegistrationResult& r, const Eigen::Isometry3d& guess) const {
+    const Eigen::Isometry3d change = guess.inverse() * r.transform;
+    return r.converged && std::min(r.overlap, r.reverse_overlap) >= min_overlap && r.inlier_rmse <= max_rmse &&
+           change.translation().norm() <= max_translation_change &&
+           rotation_angle(change.linear()) <= max_rotation_change;
+  }
 };
 
 struct Outcome {
   std::vector<double> seconds, translation_error, rotation_error_deg;
-  size_t converged = 0;
+  // What a planar scan edge keeps (horizontal translation, yaw), over the
+  // pairs that pass the gates.
+  std::vector<double> passed_horizontal_error, passed_yaw_error_deg;
+  size_t converged = 0, passed = 0;
 };
+
+void score(const Pair& p, const Eigen::Isometry3d& estimate, Outcome& out) {
+  const Eigen::Isometry3d error = p.truth.inverse() * estimate;
+  out.translation_error.push_back(error.translation().norm());
+  out.rotation_error_deg.push_back(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI);
+}
+
+void score_passed(const Pair& p, const Eigen::Isometry3d& estimate, Outcome& out) {
+  const Eigen::Isometry3d error = p.truth.inverse() * estimate;
+  out.passed_horizontal_error.push_back(error.translation().head<2>().norm());
+  const Eigen::Vector3d x = error.linear().col(0);
+  out.passed_yaw_error_deg.push_back(std::abs(std::atan2(x.y(), x.x())) * 180.0 / M_PI);
+  ++out.passed;
+}
 
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
@@ -45,7 +77,7 @@ double percentile(std::vector<double> v, double q) {
   return v[static_cast<size_t>(q * static_cast<double>(v.size() - 1) + 0.5)];
 }
 
-Outcome run(const std::vector<Pair>& pairs, RegistrationOptions o, const std::string& method) {
+Outcome run(const std::vector<Pair>& pairs, RegistrationOptions o, const std::string& method, const Gates& gates) {
   o.method = method;
   Outcome out;
   for (const Pair& p : pairs) {
@@ -53,12 +85,72 @@ Outcome run(const std::vector<Pair>& pairs, RegistrationOptions o, const std::st
     const PreparedCloud source(p.source, o), target(p.target, o);
     const RegistrationResult r = register_prepared(source, target, p.guess, o);
     out.seconds.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
-    const Eigen::Isometry3d error = p.truth.inverse() * r.transform;
-    out.translation_error.push_back(error.translation().norm());
-    out.rotation_error_deg.push_back(Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI);
+    score(p, r.transform, out);
     out.converged += r.converged ? 1 : 0;
+    if (gates.pass(r, p.guess)) score_passed(p, r.transform, out);
   }
   return out;
+}
+
+std::string fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+// The odometry as if it were a third method: its errors over every pair.
+Outcome odometry_of(const std::vector<Pair>& pairs) {
+  Outcome out;
+  for (const Pair& p : pairs) {
+    score(p, p.guess, out);
+    score_passed(p, p.guess, out);
+  }
+  return out;
+}
+
+// align.posegraph's scan-to-scan defaults (scan_voxel, scan_coarse_distance,
+// scan_fine_distance, icp_iterations, scan_inlier_distance).
+RegistrationOptions scan_edge_options() {
+  RegistrationOptions o;
+  o.voxel = 0.1;
+  o.coarse_distance = 1.0;
+  o.fine_distance = 0.5;
+  o.max_iterations = 40;
+  o.inlier_distance = 0.3;
+  return o;
+}
+
+int run_dataset(const std::string& dir, const lista::bench::DatasetPairOptions& po) {
+  const std::vector<Pair> pairs = lista::bench::dataset_pairs(dir, po);
+  const RegistrationOptions o = scan_edge_options();
+  const Gates gates;
+  std::printf("%zu scan pairs of %s (each scan onto the next %d), started from the odometry, scored against "
+              "poses_gt.txt; gates as align.posegraph's scan-to-scan edges (overlap >= %.2f both ways, inlier RMSE "
+              "<= %.2f m); one thread; times include preparing both clouds\n\n",
+              pairs.size(), dir.c_str(), po.steps, gates.min_overlap, gates.max_rmse);
+  std::printf("| method | median (ms) | p95 (ms) | speed-up (median) | converged | pass the gates | error median / p95 "
+              "(m, deg) | passed: horizontal error median / p95 (m) | passed: yaw error median / p95 (deg) |\n"
+              "|---|---:|---:|---:|---:|---:|---|---|---|\n");
+  const Outcome stock = run(pairs, o, "gicp", gates);
+  const Outcome ours = run(pairs, o, "gicp_gn", gates);
+  const Outcome odometry = odometry_of(pairs);
+  const double stock_median = percentile(stock.seconds, 0.5);
+  for (const auto& [name, r] : {std::pair<const char*, const Outcome*>{"odometry (poses.txt)", &odometry},
+                                {"PCL GICP (gicp)", &stock},
+                                {"Gauss-Newton GICP (gicp_gn)", &ours}}) {
+    const bool timed = !r->seconds.empty();  // the odometry is not a registration
+    const double median = timed ? percentile(r->seconds, 0.5) : 0.0;
+    const std::string ms = timed ? fixed(1e3 * median, 1) : "-", p95 = timed ? fixed(1e3 * percentile(r->seconds, 0.95), 1) : "-",
+                      ratio = timed ? fixed(stock_median / median, 2) + "x" : "-",
+                      converged = timed ? std::to_string(r->converged) + " / " + std::to_string(pairs.size()) : "-";
+    std::printf("| %s | %s | %s | %s | %s | %zu / %zu | %.4f / %.4f, %.3f / %.3f | %.4f / %.4f | %.3f / %.3f |\n", name,
+                ms.c_str(), p95.c_str(), ratio.c_str(), converged.c_str(), r->passed, pairs.size(),
+                percentile(r->translation_error, 0.5), percentile(r->translation_error, 0.95),
+                percentile(r->rotation_error_deg, 0.5), percentile(r->rotation_error_deg, 0.95),
+                percentile(r->passed_horizontal_error, 0.5), percentile(r->passed_horizontal_error, 0.95),
+                percentile(r->passed_yaw_error_deg, 0.5), percentile(r->passed_yaw_error_deg, 0.95));
+  }
+  return 0;
 }
 
 }  // namespace
@@ -72,17 +164,28 @@ int main(int argc, char** argv) {
   app.add_option("--offset", max_offset, "largest start error, m")->check(CLI::Range(0.0, 5.0));
   app.add_option("--yaw", max_yaw, "largest start yaw error, degrees")->check(CLI::Range(0.0, 90.0));
   app.add_option("--seed", seed, "scene, scans and start errors");
+  std::string dataset;
+  lista::bench::DatasetPairOptions po;
+  app.add_option("--dataset", dataset,
+                 "a recorded dataset with poses_gt.txt: its scan pairs from the odometry instead of the synthetic hall")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--steps", po.steps, "--dataset: each scan onto the next N scans (align.posegraph's scan_edges)")
+      ->check(CLI::Range(1, 10));
+  app.add_option("--max-pairs", po.max_pairs, "--dataset: at most this many pairs, spread over the dataset (0: all)");
+  app.add_option("--threads", po.threads, "--dataset: threads reading the scans")->check(CLI::Range(1, 256));
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench registration")) return *code;
+  if (!dataset.empty()) {
+    try {
+      return run_dataset(dataset, po);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "lista-bench registration: %s\n", e.what());
+      return 1;
+    }
+  }
 
-  // align.posegraph's scan-to-scan defaults (scan_voxel, scan_coarse_distance,
-  // scan_fine_distance, icp_iterations, scan_inlier_distance), without its
-  // early refusal after the coarse stage: every pair runs both stages.
-  RegistrationOptions o;
-  o.voxel = 0.1;
-  o.coarse_distance = 1.0;
-  o.fine_distance = 0.5;
-  o.max_iterations = 40;
-  o.inlier_distance = 0.3;
+  // Without align.posegraph's early refusal after the coarse stage: every
+  // pair runs both stages.
+  const RegistrationOptions o = scan_edge_options();
 
   constexpr double kHallX = 40.0, kHallY = 24.0;
   const testing::Scene hall = testing::make_hall(kHallX, kHallY, 60, seed);
@@ -108,8 +211,8 @@ int main(int argc, char** argv) {
       p.guess = p.truth * off;
       pairs.push_back(std::move(p));
     }
-    const Outcome stock = run(pairs, o, "gicp");
-    const Outcome ours = run(pairs, o, "gicp_gn");
+    const Outcome stock = run(pairs, o, "gicp", Gates{});
+    const Outcome ours = run(pairs, o, "gicp_gn", Gates{});
     const double stock_median = percentile(stock.seconds, 0.5);
     for (const auto& [name, r] : {std::pair<const char*, const Outcome*>{"PCL GICP (gicp)", &stock},
                                   {"Gauss-Newton GICP (gicp_gn)", &ours}}) {

@@ -127,7 +127,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.5.0";
+  s.version = "1.5.1";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
@@ -181,7 +181,7 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("intra_min_travel", 0.0,
                       "loops within a mission: trajectory between the two keyframes at least this (0: none)")
           .range(0, 1e5).unit("m"),
-      ParamSpec::text("registration", "gicp", "registration method of every scan, submap and map pair: gicp (PCL's Generalized ICP), gicp_gn (the same cost by Gauss-Newton: 1.1-1.5x faster, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
+      ParamSpec::text("registration", "gicp", "registration method of every scan, submap and map pair: gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; faster and nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
       ParamSpec::real("coarse_distance", 2.0, "max correspondence distance, coarse stage").range(0.05, 50).unit("m"),
       ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::integer("icp_iterations", 40, "iterations per registration stage").range(1, 1000),

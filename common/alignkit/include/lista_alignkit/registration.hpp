@@ -12,10 +12,11 @@
 namespace lista::align {
 
 struct RegistrationOptions {
-  // "gicp": PCL's Generalized ICP (BFGS); "gicp_gn": the same cost solved
-  // by Gauss-Newton (ours, 1.1-1.5x faster; opt-in: on sparse sensors the
-  // alignments it gives moved both ways, docs/bench/alignment.md); "icp":
-  // PCL's point-to-point ICP.
+  // "gicp": PCL's Generalized ICP (BFGS); "gicp_gn": ours, the GICP cost
+  // solved by Gauss-Newton, with covariances that give a one-ring strip no
+  // plane (1.0-1.4x faster; several times nearer the truth on a sparse
+  // scanner's scan pairs; opt-in: end to end its reports moved both ways,
+  // docs/bench/alignment.md); "icp": PCL's point-to-point ICP.
   std::string method = "gicp";
   double voxel = 0.2;           // m; fine-stage downsampling
   double coarse_distance = 2.0; // m; max correspondence distance of the coarse stage
