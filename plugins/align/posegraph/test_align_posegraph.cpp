@@ -64,6 +64,30 @@ MissionSet drifted_pair() {
   return set;
 }
 
+// Scans k and k + 1 of a route through `hall` by a `rings`-beam sensor, each
+// downsampled as align.posegraph's scan-to-scan edges are (0.1 m), and the
+// true pose of b in a's frame.
+struct ScanPair {
+  Cloud a, b;
+  Eigen::Isometry3d truth;  // b -> a
+};
+
+ScanPair scan_pair(const Scene& hall, const std::vector<Eigen::Isometry3d>& route, int k, std::mt19937& rng,
+                   int rings = 16) {
+  const size_t i = static_cast<size_t>(k);
+  return {voxel_downsample(cast_scan(hall, route[i], 0, rng, rings).xyz, 0.1),
+          voxel_downsample(cast_scan(hall, route[i + 1], 1, rng, rings).xyz, 0.1), route[i].inverse() * route[i + 1]};
+}
+
+// align.posegraph's scan-to-scan registration settings, Gauss-Newton GICP.
+RegistrationOptions scan_options_gn() {
+  RegistrationOptions o;
+  o.method = "gicp_gn";
+  o.voxel = 0.1;
+  o.coarse_distance = 1.0;
+  return o;
+}
+
 }  // namespace
 
 TEST(ScanContext, RecoversYawAndSeparatesPlaces) {
@@ -473,16 +497,11 @@ TEST(Registration, GaussNewtonGicpFindsWhatPclsGicpFinds) {
   const Scene hall = make_hall(kHallX, kHallY, 40, 7);
   const auto route = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
   std::mt19937 rng(9);
-  RegistrationOptions ours;
-  ours.method = "gicp_gn";
-  ours.voxel = 0.1;
-  ours.coarse_distance = 1.0;
+  const RegistrationOptions ours = scan_options_gn();
   RegistrationOptions pcl_gicp = ours;
   pcl_gicp.method = "gicp";
   for (int k : {2, 6, 10}) {
-    const Cloud a = voxel_downsample(cast_scan(hall, route[k], 0, rng).xyz, ours.voxel);
-    const Cloud b = voxel_downsample(cast_scan(hall, route[k + 1], 1, rng).xyz, ours.voxel);
-    const Eigen::Isometry3d truth = route[k].inverse() * route[k + 1];  // b -> a
+    const auto [a, b, truth] = scan_pair(hall, route, k, rng);
     for (const Eigen::Isometry3d& off : {offset(0.4, -0.2, 0.0, 6.0), offset(-0.25, 0.3, 0.05, -4.0)}) {
       const RegistrationResult g = register_clouds(b, a, truth * off, ours);
       const RegistrationResult p = register_clouds(b, a, truth * off, pcl_gicp);
@@ -510,16 +529,10 @@ TEST(Registration, GaussNewtonGicpKeepsRingsOffRings) {
   const Scene hall = make_hall(kHallX, kHallY, 40, 3);
   const auto route = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
   std::mt19937 rng(5);
-  RegistrationOptions o;
-  o.method = "gicp_gn";
-  o.voxel = 0.1;
-  o.coarse_distance = 1.0;
   std::vector<double> errors;
   for (int k : {1, 4, 7, 10, 13, 16}) {
-    const Cloud a = voxel_downsample(cast_scan(hall, route[k], 0, rng, 64).xyz, o.voxel);
-    const Cloud b = voxel_downsample(cast_scan(hall, route[k + 1], 1, rng, 64).xyz, o.voxel);
-    const Eigen::Isometry3d truth = route[k].inverse() * route[k + 1];  // b -> a
-    const RegistrationResult r = register_clouds(b, a, truth, o);
+    const auto [a, b, truth] = scan_pair(hall, route, k, rng, 64);
+    const RegistrationResult r = register_clouds(b, a, truth, scan_options_gn());
     ASSERT_TRUE(r.converged) << "scan " << k;
     errors.push_back((r.transform.translation() - truth.translation()).norm());
   }
