@@ -1,34 +1,19 @@
 #include "dataset_pairs.hpp"
 
 #include <lista/error.hpp>
+#include <lista/parallel.hpp>
 #include <lista_io/dataset.hpp>
+#include <lista_io/pcd.hpp>
+
+#include <map>
 
 namespace lista::bench {
 
-namespace {
-
-// As align.posegraph's scan-to-scan edges prepare a scan (scan_odometry.cpp).
-align::Cloud edge_points(const Scan& scan, const DatasetPairOptions& o) {
-  align::Cloud near;
-  if (!scan.points) return near;
-  const float r2 = static_cast<float>(o.max_range * o.max_range);
-  for (const auto& p : scan.points->xyz)
-    if (p.squaredNorm() <= r2) near.push_back(p);
-  double voxel = o.voxel;
-  align::Cloud out = align::voxel_downsample(near, voxel);
-  while (out.size() > o.max_points) {
-    voxel *= 1.25;
-    out = align::voxel_downsample(near, voxel);
-  }
-  return out;
-}
-
-}  // namespace
-
 std::vector<ScanPair> dataset_pairs(const std::string& dataset_dir, const DatasetPairOptions& o) {
-  io::DatasetOptions read;
-  read.threads = o.threads;
-  const MissionSet set = io::read_dataset(dataset_dir, read);
+  // Poses and file lists first: only the scans the chosen pairs use are read.
+  io::DatasetOptions poses_only;
+  poses_only.load_points = false;
+  const MissionSet set = io::read_dataset(dataset_dir, poses_only);
   struct Index {
     size_t mission, from, to;
   };
@@ -46,15 +31,30 @@ std::vector<ScanPair> dataset_pairs(const std::string& dataset_dir, const Datase
     chosen.clear();
     for (size_t k = 0; k < o.max_pairs; ++k) chosen.push_back(all[k * all.size() / o.max_pairs]);
   }
+
+  // Each scan read once and prepared as align.posegraph's scan-to-scan
+  // edges prepare it (scan_odometry.cpp): near points, downsampled.
+  std::map<std::pair<size_t, size_t>, align::Cloud> clouds;
+  for (const Index& x : chosen) clouds[{x.mission, x.from}], clouds[{x.mission, x.to}];
+  std::vector<std::pair<const std::pair<size_t, size_t>, align::Cloud>*> todo;
+  for (auto& entry : clouds) todo.push_back(&entry);
+  parallel_for(todo.size(), o.threads, [&](size_t k) {
+    const auto [m, s] = todo[k]->first;
+    const Mission& mission = set.missions[m];
+    const io::ScanFile file =
+        io::read_scan(mission.scans[s].file, uint32_t(s), io::is_viewpoint_layout(mission.dir));
+    todo[k]->second = align::voxel_downsample_at_most(align::within_range(file.points.xyz, o.max_range), o.voxel,
+                                                      o.max_points);
+  });
+
   std::vector<ScanPair> pairs;
   for (const Index& x : chosen) {
     const Mission& mission = set.missions[x.mission];
     ScanPair p;
-    p.source = edge_points(mission.scans[x.to], o);
-    p.target = edge_points(mission.scans[x.from], o);
+    p.source = clouds.at({x.mission, x.to});
+    p.target = clouds.at({x.mission, x.from});
     p.guess = mission.scans[x.from].pose.inverse() * mission.scans[x.to].pose;
     p.truth = mission.poses_gt[x.from].inverse() * mission.poses_gt[x.to];
-    p.name = mission.name + " " + std::to_string(x.from) + "->" + std::to_string(x.to);
     pairs.push_back(std::move(p));
   }
   return pairs;

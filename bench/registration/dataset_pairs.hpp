@@ -17,7 +17,6 @@ namespace lista::bench {
 struct ScanPair {
   align::Cloud source, target;
   Eigen::Isometry3d truth, guess;  // source -> target
-  std::string name;                // "<mission> <from>-><to>"
 };
 
 struct DatasetPairOptions {
@@ -26,7 +25,7 @@ struct DatasetPairOptions {
   double voxel = 0.1;          // m; its scan_voxel
   size_t max_points = 15000;   // its scan_points
   size_t max_pairs = 0;        // spread evenly over the dataset; 0: all
-  int threads = 2;             // for reading
+  int threads = 2;             // for reading and preparing the scans
 };
 
 // Throws lista::Error when no mission has poses_gt.txt (nothing to score).

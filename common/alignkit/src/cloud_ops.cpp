@@ -38,6 +38,23 @@ Cloud voxel_downsample(const Cloud& points, double voxel) {
   return result;
 }
 
+Cloud voxel_downsample_at_most(const Cloud& points, double voxel, size_t max_points) {
+  Cloud out = voxel_downsample(points, voxel);
+  while (out.size() > max_points) {
+    voxel *= 1.25;
+    out = voxel_downsample(points, voxel);
+  }
+  return out;
+}
+
+Cloud within_range(const Cloud& points, double range) {
+  const float r2 = static_cast<float>(range * range);
+  Cloud near;
+  for (const auto& p : points)
+    if (p.squaredNorm() <= r2) near.push_back(p);
+  return near;
+}
+
 Eigen::Isometry3d levelled_frame(const Eigen::Isometry3d& pose) {
   const Eigen::Vector3d x = pose.linear().col(0);
   // Heading from the sensor's x axis projected on the ground plane; a sensor

@@ -115,7 +115,7 @@ StageInfo icp_stage_info() {
   s.params = {
       ParamSpec::real("voxel", 0.25, "map downsampling").range(0.01, 10).unit("m"),
       ParamSpec::real("max_range", 40.0, "points farther from their sensor are left out").range(0.5, 1000).unit("m"),
-      ParamSpec::text("registration", "gicp", "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; faster and nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
+      ParamSpec::text("registration", "gicp", "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
       ParamSpec::text("initial", "centroid", "starting guess: identity, centroid offset, or the input to_common")
           .one_of({"identity", "centroid", "input"}),
       ParamSpec::real("coarse_distance", 3.0, "max correspondence distance, coarse stage").range(0.05, 100).unit("m"),

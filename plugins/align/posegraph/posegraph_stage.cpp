@@ -71,8 +71,8 @@ JointAlignmentOptions options_from(const Params& p) {
   o.scan_edges.registration.fine_distance = p.get<double>("scan_fine_distance");
   o.scan_edges.registration.inlier_distance = p.get<double>("scan_inlier_distance");
   o.scan_edges.registration.min_coarse_overlap = 0.6 * o.verify.min_overlap;
-  o.scan_edges.min_overlap = o.verify.min_overlap;
-  o.scan_edges.max_rmse = o.verify.max_rmse;
+  o.scan_edges.gates.min_overlap = o.verify.min_overlap;
+  o.scan_edges.gates.max_rmse = o.verify.max_rmse;
   o.scan_edges.sigma_translation = p.get<double>("scan_sigma_translation");
   o.scan_edges.sigma_rotation = p.get<double>("scan_sigma_rotation") * kDeg;
   o.scan_disagreement = p.get<double>("scan_disagreement");
@@ -181,7 +181,7 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("intra_min_travel", 0.0,
                       "loops within a mission: trajectory between the two keyframes at least this (0: none)")
           .range(0, 1e5).unit("m"),
-      ParamSpec::text("registration", "gicp", "registration method of every scan, submap and map pair: gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; faster and nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
+      ParamSpec::text("registration", "gicp", "registration method of every scan, submap and map pair: gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
       ParamSpec::real("coarse_distance", 2.0, "max correspondence distance, coarse stage").range(0.05, 50).unit("m"),
       ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::integer("icp_iterations", 40, "iterations per registration stage").range(1, 1000),

@@ -33,22 +33,12 @@ namespace {
 
 // The points a registration uses: near the sensor, the ground left out if asked.
 Cloud near_points(const Scan& scan, const ScanEdgeOptions& o) {
-  Cloud near;
-  if (!scan.points) return near;
-  const float r2 = static_cast<float>(o.max_range * o.max_range);
-  for (const auto& p : scan.points->xyz)
-    if (p.squaredNorm() <= r2) near.push_back(p);
-  return above_ground(near, scan.pose, o.ground_clearance);
+  if (!scan.points) return {};
+  return above_ground(within_range(scan.points->xyz, o.max_range), scan.pose, o.ground_clearance);
 }
 
 Cloud downsampled(const Cloud& near, const ScanEdgeOptions& o, size_t max_points) {
-  double voxel = o.registration.voxel;
-  Cloud out = voxel_downsample(near, voxel);
-  while (out.size() > max_points) {
-    voxel *= 1.25;
-    out = voxel_downsample(near, voxel);
-  }
-  return out;
+  return voxel_downsample_at_most(near, o.registration.voxel, max_points);
 }
 
 Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) { return downsampled(near_points(scan, o), o, o.max_points); }
@@ -60,11 +50,7 @@ std::optional<Eigen::Isometry3d> gated_registration(const PreparedCloud& source,
                                                     const Eigen::Isometry3d& odometry, const ScanEdgeOptions& o,
                                                     bool both_ways) {
   const RegistrationResult r = register_prepared(source, target, odometry, o.registration);
-  const double overlap = both_ways ? std::min(r.overlap, r.reverse_overlap) : r.overlap;
-  if (!r.converged || overlap < o.min_overlap || r.inlier_rmse > o.max_rmse) return std::nullopt;
-  const Eigen::Isometry3d change = odometry.inverse() * r.transform;
-  if (change.translation().norm() > o.max_translation_change || rotation_angle(change.linear()) > o.max_rotation_change)
-    return std::nullopt;
+  if (!o.gates.accept(r, odometry, both_ways)) return std::nullopt;
   return r.transform;
 }
 

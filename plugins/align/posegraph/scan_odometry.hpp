@@ -36,11 +36,9 @@ struct ScanEdgeOptions {
   // always, or never; map_scans 1 is never too.
   int map_scans = 3;
   MapUse map_use = MapUse::when_pairs_fail;
-  double min_overlap = 0.5;     // both ways, as for loop closures
-  double max_rmse = 0.15;       // m
-  // A result this far from the odometry is a wrong minimum, not a correction.
-  double max_translation_change = 0.5;  // m
-  double max_rotation_change = 0.087;   // rad
+  // Overlap both ways (one way onto a local map), as for loop closures; a
+  // result far from the odometry is a wrong minimum, not a correction.
+  RegistrationGates gates;
   // Edges constrain x, y and yaw only (PoseGraphEdge::planar): height and
   // level stay the odometry's, which sparse scans do not register better.
   double sigma_translation = 0.005;     // m, horizontal

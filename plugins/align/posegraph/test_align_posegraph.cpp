@@ -600,8 +600,8 @@ TEST(ScanEdges, GroundLeftOutTheStepIsStillMeasured) {
     o.neighbours = 1;
     o.registration.voxel = 0.1;  // the stage's scan-to-scan settings
     o.registration.coarse_distance = 1.0;
-    o.min_overlap = 0.0;  // judged here by the step's error, not by the gates
-    o.max_rmse = 1.0;
+    o.gates.min_overlap = 0.0;  // judged here by the step's error, not by the gates
+    o.gates.max_rmse = 1.0;
     o.ground_clearance = clearance;
     ScanEdgeReport report;
     const auto edges = scan_registration_edges(set, {0}, o, 1, report);
@@ -643,8 +643,8 @@ TEST(ScanEdges, ScanToMapMeasuresEveryStep) {
   o.registration.coarse_distance = 1.0;
   ScanEdgeOptions ungated = o;
   ungated.map_use = MapUse::always;
-  ungated.min_overlap = 0.0;  // judged here by the steps' errors, not by the gates
-  ungated.max_rmse = 1.0;
+  ungated.gates.min_overlap = 0.0;  // judged here by the steps' errors, not by the gates
+  ungated.gates.max_rmse = 1.0;
   ScanEdgeReport report;
   const auto edges = scan_registration_edges(set, {0}, ungated, 1, report);
   EXPECT_EQ(report.tried, 6u);  // 7 held scans, one edge each after the first

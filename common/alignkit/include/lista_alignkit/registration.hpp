@@ -14,7 +14,7 @@ namespace lista::align {
 struct RegistrationOptions {
   // "gicp": PCL's Generalized ICP (BFGS); "gicp_gn": ours, the GICP cost
   // solved by Gauss-Newton, with covariances that give a one-ring strip no
-  // plane (1.0-1.4x faster; several times nearer the truth on a sparse
+  // plane (about as fast per pair; many times nearer the truth on a sparse
   // scanner's scan pairs; opt-in: end to end its reports moved both ways,
   // docs/bench/alignment.md); "icp": PCL's point-to-point ICP.
   std::string method = "gicp";
@@ -35,6 +35,19 @@ struct RegistrationResult {
   double overlap = 0.0;         // share of source points with a target point within inlier_distance
   double reverse_overlap = 0.0; // share of target points with a source point within inlier_distance
   double inlier_rmse = 0.0;     // m, over the source inliers
+};
+
+// Whether a registration measured a relative pose (align.posegraph's
+// scan-to-scan edges): converged, the source's overlap (with `both_ways`
+// the smaller of the two) at least min_overlap, inlier RMSE at most
+// max_rmse, and no farther from the guess than a correction goes (farther
+// is a wrong minimum).
+struct RegistrationGates {
+  double min_overlap = 0.5;
+  double max_rmse = 0.15;               // m
+  double max_translation_change = 0.5;  // m
+  double max_rotation_change = 0.087;   // rad
+  bool accept(const RegistrationResult& r, const Eigen::Isometry3d& guess, bool both_ways) const;
 };
 
 // A cloud made ready once for any number of registrations: its coarse and
