@@ -33,28 +33,21 @@ struct CovarianceGicp : Gicp {
   }
 };
 
-// The covariance of every point as PCL's GICP defines it (the spread of its
-// 10 nearest points flattened to a plane: 1 along the plane, 1e-3 across
-// it), from a closed-form eigen-solver and reused buffers where PCL runs an
-// SVD and allocates per point; the spread is taken about the mean in double
-// (PCL sums float squares). Only the plane's normal matters: the matrix is
-// I - (1 - 1e-3) n n^T.
+// The normal of every point's local plane, or NaN where it has none: the
+// spread of its 10 nearest points, from a closed-form eigen-solver and reused
+// buffers, taken about the mean in double.
 //
-// Unlike PCL's, a neighbourhood that is a strip rather than a patch (its
-// second spread under kMinPlaneAspect of its first) is widened to 3x the
-// points, which on a sparse scanner reaches the next ring; a strip even so
-// gets no plane: I, a weak point-to-point pull. The 10 nearest points of a
-// sparse scanner's floor or wall point lie along one ring, and the "normal"
-// of a line is whichever way noise tips it, often across the ring within
-// the surface: rings then pull onto rings wherever the scans were taken.
-// VLP-16 scan pairs of a hall, scored against the truth (`lista-bench
-// registration --dataset`, docs/bench/alignment.md): median error 55 ->
-// 3.3 mm and 0.82 -> 0.06 degrees against the same solver with PCL's planes.
-Gicp::MatricesVectorPtr plane_covariances(const PclCloud& cloud, const pcl_search::FastKdTree& tree) {
-  constexpr double kAcross = 1e-3;  // PCL's gicp_epsilon
+// Unlike PCL's GICP planes, a neighbourhood that is a strip rather than a
+// patch (its second spread under kMinPlaneAspect of its first) is widened to
+// 3x the points, which on a sparse scanner reaches the next ring; a strip
+// even so gets no plane. The 10 nearest points of a sparse scanner's floor or
+// wall point lie along one ring, and the "normal" of a line is whichever way
+// noise tips it, often across the ring within the surface: rings then pull
+// onto rings wherever the scans were taken.
+std::vector<Eigen::Vector3f> plane_normals(const PclCloud& cloud, const pcl_search::FastKdTree& tree) {
   constexpr double kMinPlaneAspect = 0.3;  // second / first eigenvalue of the spread
   constexpr int kWide = 3 * kCovarianceNeighbours;
-  auto out = std::make_shared<Gicp::MatricesVector>(cloud.size(), Eigen::Matrix3d::Identity());
+  std::vector<Eigen::Vector3f> out(cloud.size(), Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
   pcl::Indices idx;
   std::vector<float> d2;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
@@ -76,9 +69,25 @@ Gicp::MatricesVectorPtr plane_covariances(const PclCloud& cloud, const pcl_searc
   auto is_strip = [&] { return solver.eigenvalues()(1) < kMinPlaneAspect * solver.eigenvalues()(2); };
   for (size_t i = 0; i < cloud.size(); ++i) {
     if (!spread_of(i, kCovarianceNeighbours)) continue;
-    if (is_strip() && (!spread_of(i, kWide) || is_strip())) continue;  // a strip even so: left I
-    const Eigen::Vector3d normal = solver.eigenvectors().col(0);  // smallest eigenvalue first
-    (*out)[i] = Eigen::Matrix3d::Identity() - (1.0 - kAcross) * normal * normal.transpose();
+    if (is_strip() && (!spread_of(i, kWide) || is_strip())) continue;  // a strip even so: no plane
+    out[i] = solver.eigenvectors().col(0).cast<float>();  // smallest eigenvalue first
+  }
+  return out;
+}
+
+// The covariance of every point as PCL's GICP defines it (its plane: 1 along
+// the plane, 1e-3 across it; I - (1 - 1e-3) n n^T), from plane_normals; a
+// point without a plane gets I, a weak point-to-point pull. VLP-16 scan pairs
+// of a hall, scored against the truth (`lista-bench registration --dataset`,
+// docs/bench/alignment.md): median error 55 -> 3.3 mm and 0.82 -> 0.06
+// degrees against the same solver with PCL's planes.
+Gicp::MatricesVectorPtr plane_covariances(const std::vector<Eigen::Vector3f>& normals) {
+  constexpr double kAcross = 1e-3;  // PCL's gicp_epsilon
+  auto out = std::make_shared<Gicp::MatricesVector>(normals.size(), Eigen::Matrix3d::Identity());
+  for (size_t i = 0; i < normals.size(); ++i) {
+    if (!normals[i].allFinite()) continue;
+    const Eigen::Vector3d n = normals[i].cast<double>();
+    (*out)[i] = Eigen::Matrix3d::Identity() - (1.0 - kAcross) * n * n.transpose();
   }
   return out;
 }
@@ -93,16 +102,19 @@ struct PreparedCloud::Impl {
     PclCloud::Ptr cloud;
     pcl_search::FastKdTree::Ptr tree;
     Gicp::MatricesVectorPtr covariances;  // GICP only
+    std::vector<Eigen::Vector3f> normals; // fine level only; NaN where no plane
 
     Level() = default;
-    Level(const Cloud& points, Covariances kind)
+    Level(const Cloud& points, Covariances kind, bool with_normals)
         : cloud(std::make_shared<PclCloud>()), tree(std::make_shared<pcl_search::FastKdTree>()) {
       cloud->resize(points.size());
       for (size_t i = 0; i < points.size(); ++i) cloud->points[i].getVector3fMap() = points[i];
       if (points.empty()) return;
       tree->setInputCloud(cloud);
       if (points.size() < kCovarianceNeighbours) return;
-      if (kind == Covariances::ours) covariances = plane_covariances(*cloud, *tree);
+      if (with_normals || kind == Covariances::ours) normals = plane_normals(*cloud, *tree);
+      if (kind == Covariances::ours) covariances = plane_covariances(normals);
+      if (!with_normals) normals.clear();
       if (kind == Covariances::pcl) covariances = CovarianceGicp().covariances_of(cloud, tree);
     }
     bool usable() const { return cloud && cloud->size() >= 20; }
@@ -238,22 +250,35 @@ Eigen::Isometry3d run_stage(const Level& source, const Level& target, const Eige
 }
 
 // Points of `from` (moved by t) with a point of `to` within max_distance:
-// their count and the sum of their squared distances.
-std::pair<size_t, double> hits(const Level& from, const Level& to, const Eigen::Isometry3d& t, double max_distance) {
+// their count and the sum of their squared distances; and of those whose
+// nearest point has a plane (`to`'s normals), the count and the sum of their
+// squared distances along its normal.
+struct Hits {
+  size_t count = 0;
+  double sum_sq = 0.0;
+  double plane_sum_sq = 0.0;
+  size_t on_planes = 0;
+};
+Hits hits(const Level& from, const Level& to, const Eigen::Isometry3d& t, double max_distance) {
   const Eigen::Isometry3f tf = t.cast<float>();
   const float max_sq = static_cast<float>(max_distance * max_distance);
-  size_t n = 0;
-  double sum_sq = 0.0;
+  const bool planes = !to.normals.empty();
+  Hits h;
   for (const auto& p : from.cloud->points) {
     pcl::PointXYZ q;
     q.getVector3fMap() = tf * p.getVector3fMap();
-    const float d2 = to.tree->nearest_sqr_distance(q);
-    if (d2 >= 0.0f && d2 <= max_sq) {
-      ++n;
-      sum_sq += d2;
-    }
+    float d2 = 0.0f;
+    const int j = to.tree->nearest(q, d2, max_sq);
+    if (j < 0) continue;
+    ++h.count;
+    h.sum_sq += d2;
+    const Eigen::Vector3f& n = planes ? to.normals[static_cast<size_t>(j)] : Eigen::Vector3f::Constant(NAN);
+    if (!n.allFinite()) continue;
+    const float along = n.dot(q.getVector3fMap() - to.cloud->points[static_cast<size_t>(j)].getVector3fMap());
+    h.plane_sum_sq += along * along;
+    ++h.on_planes;
   }
-  return {n, sum_sq};
+  return h;
 }
 
 double share(size_t n, const Level& of) { return of.cloud->empty() ? 0.0 : static_cast<double>(n) / of.cloud->size(); }
@@ -264,8 +289,8 @@ PreparedCloud::PreparedCloud(const Cloud& points, const RegistrationOptions& o) 
   check_method(o);
   auto impl = std::make_shared<Impl>();
   const Covariances kind = covariances_for(o);
-  impl->fine = Level(points, kind);
-  impl->coarse = Level(voxel_downsample(points, coarse_voxel_of(o)), kind);
+  impl->fine = Level(points, kind, o.measure_planes);
+  impl->coarse = Level(voxel_downsample(points, coarse_voxel_of(o)), kind, false);
   impl_ = std::move(impl);
 }
 
@@ -287,8 +312,8 @@ RegistrationResult register_prepared(const PreparedCloud& source, const Prepared
     // Most wrong candidates show here, at a fraction of the fine stage's cost.
     if (o.min_coarse_overlap > 0.0) {
       const double d = std::max(coarse_voxel_of(o), o.inlier_distance);
-      const double ov = std::min(share(hits(src.coarse, tgt.coarse, t, d).first, src.coarse),
-                                 share(hits(tgt.coarse, src.coarse, t.inverse(), d).first, tgt.coarse));
+      const double ov = std::min(share(hits(src.coarse, tgt.coarse, t, d).count, src.coarse),
+                                 share(hits(tgt.coarse, src.coarse, t.inverse(), d).count, tgt.coarse));
       if (ov < o.min_coarse_overlap) {
         result.transform = t;
         result.overlap = result.reverse_overlap = ov;
@@ -299,19 +324,34 @@ RegistrationResult register_prepared(const PreparedCloud& source, const Prepared
   t = run_stage(src.fine, tgt.fine, t, o.fine_distance, o, converged);
   result.converged = converged;
   result.transform = t;
-  const auto [inliers, sum_sq] = hits(src.fine, tgt.fine, t, o.inlier_distance);
-  result.overlap = share(inliers, src.fine);
-  result.inlier_rmse = inliers ? std::sqrt(sum_sq / inliers) : 0.0;
-  result.reverse_overlap = share(hits(tgt.fine, src.fine, t.inverse(), o.inlier_distance).first, tgt.fine);
+  const Hits h = hits(src.fine, tgt.fine, t, o.inlier_distance);
+  result.overlap = share(h.count, src.fine);
+  if (h.count) {
+    result.inlier_rmse = std::sqrt(h.sum_sq / static_cast<double>(h.count));
+  }
+  if (h.on_planes) result.plane_rmse = std::sqrt(h.plane_sum_sq / static_cast<double>(h.on_planes));
+  result.reverse_overlap = share(hits(tgt.fine, src.fine, t.inverse(), o.inlier_distance).count, tgt.fine);
   return result;
 }
 
 bool RegistrationGates::accept(const RegistrationResult& r, const Eigen::Isometry3d& guess, bool both_ways) const {
   const double overlap = both_ways ? std::min(r.overlap, r.reverse_overlap) : r.overlap;
-  if (!r.converged || overlap < min_overlap || r.inlier_rmse > max_rmse) return false;
+  if (!r.converged || overlap < min_overlap) return false;
+  if (max_rmse > 0.0 && r.inlier_rmse > max_rmse) return false;
+  if (max_plane_rmse > 0.0 && !(r.plane_rmse <= max_plane_rmse)) return false;  // NaN: not measured
   const Eigen::Isometry3d change = guess.inverse() * r.transform;
   return change.translation().norm() <= max_translation_change &&
          rotation_angle(change.linear()) <= max_rotation_change;
+}
+
+RegistrationGates scan_pair_gates(const std::string& method, double min_overlap, double max_rmse,
+                                  double max_plane_rmse) {
+  RegistrationGates g;
+  g.min_overlap = min_overlap;
+  const bool planes = method == "gicp_gn";
+  g.max_rmse = planes ? 0.0 : max_rmse;
+  g.max_plane_rmse = planes ? max_plane_rmse : 0.0;
+  return g;
 }
 
 RegistrationResult register_clouds(const Cloud& source, const Cloud& target,

@@ -71,8 +71,8 @@ JointAlignmentOptions options_from(const Params& p) {
   o.scan_edges.registration.fine_distance = p.get<double>("scan_fine_distance");
   o.scan_edges.registration.inlier_distance = p.get<double>("scan_inlier_distance");
   o.scan_edges.registration.min_coarse_overlap = 0.6 * o.verify.min_overlap;
-  o.scan_edges.gates.min_overlap = o.verify.min_overlap;
-  o.scan_edges.gates.max_rmse = o.verify.max_rmse;
+  o.scan_edges.gates = scan_pair_gates(o.scan_edges.registration.method, o.verify.min_overlap, o.verify.max_rmse,
+                                       p.get<double>("scan_max_plane_rmse"));
   o.scan_edges.sigma_translation = p.get<double>("scan_sigma_translation");
   o.scan_edges.sigma_rotation = p.get<double>("scan_sigma_rotation") * kDeg;
   o.scan_disagreement = p.get<double>("scan_disagreement");
@@ -127,7 +127,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.5.1";
+  s.version = "1.6.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
@@ -146,8 +146,9 @@ StageInfo posegraph_stage_info() {
       "mission, with a warning naming it. Missions are placed by a spanning tree over closures from the first (reference) "
       "mission; a mission without closures is an error naming it. The pose graph holds every mission's "
       "odometry chain (relative poses of consecutive scans from poses.txt), scan-to-scan edges (each scan "
-      "registered by GICP, from the odometry guess, onto each of the next scan_edges scans; in a mission where fewer "
-      "than half of those pass (scan_map_use), onto a local map of the scan_map scans before it instead, placed by the "
+      "registered by GICP, from the odometry guess, onto each of the next scan_edges scans, refused below min_overlap or "
+      "above max_rmse (gicp_gn: scan_max_plane_rmse, along planes); in a mission where fewer "
+      "than half of those pass (gicp_gn: three quarters; scan_map_use), onto a local map of the scan_map scans before it instead, placed by the "
       "registrations before (the ground left out "
       "with scan_ground_clearance > 0); they constrain horizontal position and yaw: metric steps that remove an odometry scale or heading bias which closures cannot see "
       "when every mission shares it) and the closures under a robust loss; it is solved with Ceres (quaternion "
@@ -224,12 +225,13 @@ StageInfo posegraph_stage_info() {
                          "(placed by the registrations before; one edge per scan); 1 = never")
           .range(1, 10),
       ParamSpec::text("scan_map_use", "when_pairs_fail",
-                      "scan-to-map per mission: when fewer than half its scan-to-scan registrations pass (sparse scans, "
+                      "scan-to-map per mission: when fewer than half (gicp_gn: three quarters) of its scan-to-scan registrations pass (sparse scans, "
                       "a 16-beam scanner outdoors), always, or never")
           .one_of({"when_pairs_fail", "always", "never"}),
       ParamSpec::real("scan_coarse_distance", 1.0, "scan-to-scan: max correspondence distance, coarse stage").range(0.01, 50).unit("m"),
       ParamSpec::real("scan_fine_distance", 0.5, "scan-to-scan: max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::real("scan_inlier_distance", 0.3, "scan-to-scan: distance counted as overlap").range(0.01, 10).unit("m"),
+      ParamSpec::real("scan_max_plane_rmse", 0.06, "scan-to-scan with registration gicp_gn: RMSE of the overlapping points along the other scan's local planes above which an edge is refused (point to point, max_rmse, measures a sparse scanner's ring gaps rather than the fit; gicp and icp keep that); raise it for a scanner noisier than 2 cm").range(0.001, 10).unit("m"),
       ParamSpec::real("scan_sigma_translation", 0.005, "std. dev. of a scan-to-scan edge, horizontal (height and level are left to the odometry)").range(1e-5, 10).unit("m"),
       ParamSpec::real("scan_sigma_rotation", 0.05, "std. dev. of a scan-to-scan edge, yaw")
           .range(1e-4, 90).unit("deg"),

@@ -134,6 +134,16 @@ std::vector<std::optional<PoseGraphEdge>> scan_to_scan_edges(const std::vector<S
   return edges;
 }
 
+// The share of a mission's scan pairs that must register for its scan
+// edges to stay scan to scan: half, three quarters when they are judged
+// along planes (RegistrationGates::max_plane_rmse). Judged point to point,
+// a sparse scanner's pairs fail on their ring gaps and local maps fill
+// them. Along planes 58-62 % of a VLP-16's pairs on an open site pass, and
+// the steps no passing pair spans kept the odometry's bias: its poses ended
+// 0.14-0.19 m off, against 0.06 m on local maps; a hall's pairs pass 98 %,
+// an XT32's or OS0-128's 99-100 % (docs/bench/alignment.md, 2026-11-30).
+double min_pair_share(const RegistrationGates& gates) { return gates.max_plane_rmse > 0.0 ? 0.75 : 0.5; }
+
 size_t accepted(const std::vector<std::optional<PoseGraphEdge>>& edges) {
   return size_t(std::count_if(edges.begin(), edges.end(), [](const auto& e) { return e.has_value(); }));
 }
@@ -141,9 +151,11 @@ size_t accepted(const std::vector<std::optional<PoseGraphEdge>>& edges) {
 }  // namespace
 
 std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const std::vector<size_t>& offsets,
-                                                   const ScanEdgeOptions& o, int threads, ScanEdgeReport& report,
-                                                   const std::function<bool()>& cancelled,
+                                                   const ScanEdgeOptions& options, int threads,
+                                                   ScanEdgeReport& report, const std::function<bool()>& cancelled,
                                                    const std::function<void()>& on_cancel) {
+  ScanEdgeOptions o = options;
+  o.registration.measure_planes = o.gates.max_plane_rmse > 0.0;
   auto stop = [&] { return cancelled && cancelled(); };
   report = {};
   if (o.neighbours <= 0) return {};
@@ -163,10 +175,12 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
     if (stop() && on_cancel) on_cancel();
     report.pairs_tried[m] = edges[m].size();
     report.pairs_accepted[m] = accepted(edges[m]);
-    // Fewer than half the pairs register: the scans are too sparse for one
-    // another (a 16-beam scanner outdoors); local maps fill the gaps.
+    // Fewer than min_pair_share of the pairs register: the scans are too
+    // sparse for one another (a 16-beam scanner outdoors), and the steps no
+    // pair spans keep the odometry's bias; local maps fill the gaps.
     report.scan_to_map[m] = o.map_scans > 1 && o.map_use == MapUse::when_pairs_fail &&
-                            2 * report.pairs_accepted[m] < report.pairs_tried[m];
+                            static_cast<double>(report.pairs_accepted[m]) <
+                                min_pair_share(o.gates) * static_cast<double>(report.pairs_tried[m]);
   }
   // Scan-to-map is sequential within a mission: the missions side by side.
   parallel_for(missions, threads, [&](size_t m) {

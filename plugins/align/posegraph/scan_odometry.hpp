@@ -32,11 +32,14 @@ struct ScanEdgeOptions {
   // map_scans scans before it, placed by the registrations before (one edge
   // per scan). A sparse sensor's single scan puts its nearest points a ring
   // gap away whatever the pose; several scans fill the gaps. Used per
-  // mission (map_use): when fewer than half its scan-to-scan pairs register,
-  // always, or never; map_scans 1 is never too.
+  // mission (map_use): when fewer than half of its scan-to-scan pairs
+  // register (three quarters when they are judged along planes: the steps
+  // no registered pair spans keep the odometry's bias), always, or never;
+  // map_scans 1 is never too.
   int map_scans = 3;
   MapUse map_use = MapUse::when_pairs_fail;
-  // Overlap both ways (one way onto a local map), as for loop closures; a
+  // Overlap both ways (one way onto a local map), as for loop closures; the
+  // RMSE point to point or along the target's planes (scan_pair_gates); a
   // result far from the odometry is a wrong minimum, not a correction.
   RegistrationGates gates;
   // Edges constrain x, y and yaw only (PoseGraphEdge::planar): height and

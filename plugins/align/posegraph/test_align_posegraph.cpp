@@ -540,6 +540,51 @@ TEST(Registration, GaussNewtonGicpKeepsRingsOffRings) {
   EXPECT_LT(errors[3], 0.001);
 }
 
+TEST(Registration, PlaneRmseMeasuresTheFitNotTheRingGaps) {
+  // Two 16-ring scans measured where they truly lie (no iteration): every
+  // point of one is a ring gap from the other's, so the point-to-point RMSE
+  // is large, but along the other scan's planes the distance is the noise.
+  // Moved 5 cm off the truth, the plane RMSE grows; a gate on it tells the
+  // two apart where the point-to-point one cannot (align.posegraph's scan
+  // edges, RegistrationGates).
+  const Scene hall = make_hall(kHallX, kHallY, 40, 3);
+  const auto route = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
+  std::mt19937 rng(9);
+  RegistrationOptions measure_only = scan_options_gn();
+  measure_only.max_iterations = 0;
+  measure_only.measure_planes = true;
+  const RegistrationGates gates = scan_pair_gates("gicp_gn", 0.5, 0.15, 0.06);  // the stage's defaults
+  for (int k : {2, 8, 14}) {
+    const auto [a, b, truth] = scan_pair(hall, route, k, rng);
+    const RegistrationResult at_truth = register_clouds(b, a, truth, measure_only);
+    const RegistrationResult off = register_clouds(b, a, truth * offset(0.05, 0.05, 0.05, 0.0), measure_only);
+    EXPECT_GT(at_truth.inlier_rmse, 2.0 * at_truth.plane_rmse) << "scan " << k;
+    EXPECT_LT(at_truth.plane_rmse, gates.max_plane_rmse) << "scan " << k;
+    EXPECT_GT(off.plane_rmse, at_truth.plane_rmse + 0.015) << "scan " << k;
+  }
+}
+
+TEST(Registration, ScanPairGatesJudgeEachMethodByItsRmse) {
+  // gicp_gn's pairs by the RMSE along planes, the others point to point; a
+  // plane bar on a result whose planes were not measured refuses it.
+  RegistrationResult r;
+  r.converged = true;
+  r.overlap = r.reverse_overlap = 0.8;
+  r.inlier_rmse = 0.16;  // a sparse scanner's ring gaps
+  const Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
+  const RegistrationGates planes = scan_pair_gates("gicp_gn", 0.5, 0.15, 0.06);
+  const RegistrationGates points = scan_pair_gates("gicp", 0.5, 0.15, 0.06);
+  EXPECT_FALSE(planes.accept(r, guess, true));  // NaN: not measured
+  r.plane_rmse = 0.03;
+  EXPECT_TRUE(planes.accept(r, guess, true));
+  EXPECT_FALSE(points.accept(r, guess, true));
+  r.plane_rmse = 0.07;
+  r.inlier_rmse = 0.12;
+  EXPECT_FALSE(planes.accept(r, guess, true));
+  EXPECT_TRUE(points.accept(r, guess, true));
+  EXPECT_TRUE(scan_pair_gates("icp", 0.5, 0.15, 0.06).accept(r, guess, true));
+}
+
 TEST(TrajectoryError, ReportsTheRigidFitItUsed) {
   // Every estimate is the truth moved by one transform: no error, and the
   // fit is that transform undone.
