@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace lista::align {
 
@@ -272,8 +273,9 @@ Hits hits(const Level& from, const Level& to, const Eigen::Isometry3d& t, double
     if (j < 0) continue;
     ++h.count;
     h.sum_sq += d2;
-    const Eigen::Vector3f& n = planes ? to.normals[static_cast<size_t>(j)] : Eigen::Vector3f::Constant(NAN);
-    if (!n.allFinite()) continue;
+    if (!planes) continue;
+    const Eigen::Vector3f& n = to.normals[static_cast<size_t>(j)];
+    if (!n.allFinite()) continue;  // a strip or a corner: no plane
     const float along = n.dot(q.getVector3fMap() - to.cloud->points[static_cast<size_t>(j)].getVector3fMap());
     h.plane_sum_sq += along * along;
     ++h.on_planes;
