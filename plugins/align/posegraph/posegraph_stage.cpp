@@ -188,7 +188,7 @@ StageInfo posegraph_stage_info() {
       ParamSpec::integer("icp_iterations", 40, "iterations per registration stage").range(1, 1000),
       ParamSpec::real("inlier_distance", 0.3, "distance counted as overlap in the fitness check").range(0.01, 10).unit("m"),
       ParamSpec::real("min_overlap", 0.5, "share of each submap's points with a partner in the other (both ways) to accept a closure").range(0, 1),
-      ParamSpec::real("max_rmse", 0.15, "inlier RMSE above which a closure is refused").range(0.001, 10).unit("m"),
+      ParamSpec::real("max_rmse", 0.15, "inlier RMSE above which a closure is refused (and a scan-to-scan edge, but with gicp_gn: scan_max_plane_rmse)").range(0.001, 10).unit("m"),
       ParamSpec::boolean("global_search", true,
                          "a mission that no Scan Context closure links is searched for on the linked missions' maps: "
                          "plan views correlated over every yaw and offset, the best placements registered map onto "
