@@ -38,6 +38,9 @@ using Clock = std::chrono::steady_clock;
 
 using Pair = lista::bench::ScanPair;
 
+// align.posegraph's defaults for its scan-to-scan gates (min_overlap,
+// max_rmse, scan_max_plane_rmse).
+constexpr double kMinOverlap = 0.5, kMaxRmse = 0.15, kMaxPlaneRmse = 0.06;
 
 struct Outcome {
   std::vector<double> seconds, translation_error, rotation_error_deg;
@@ -77,7 +80,7 @@ double percentile(std::vector<double> v, double q) {
 // with their defaults (both ways).
 Outcome run(const std::vector<Pair>& pairs, RegistrationOptions o, const std::string& method) {
   o.method = method;
-  const RegistrationGates gates = scan_pair_gates(method, 0.5, 0.15, 0.06);
+  const RegistrationGates gates = scan_pair_gates(method, kMinOverlap, kMaxRmse, kMaxPlaneRmse);
   o.measure_planes = gates.max_plane_rmse > 0.0;
   Outcome out;
   for (const Pair& p : pairs) {
@@ -130,12 +133,12 @@ int run_dataset(const std::string& dir, const lista::bench::DatasetPairOptions& 
   RegistrationOptions o = scan_edge_options();
   // As align.posegraph: a pair whose coarse stage overlaps less than 0.6 of
   // min_overlap is refused there, without the fine stage.
-  o.min_coarse_overlap = 0.6 * 0.5;
+  o.min_coarse_overlap = 0.6 * kMinOverlap;
   std::printf("%zu scan pairs of %s (each scan onto the next %d), started from the odometry, scored against "
-              "poses_gt.txt; gates as align.posegraph's scan-to-scan edges (overlap >= 0.5 both ways; RMSE <= 0.15 m "
-              "point to point for gicp, <= 0.06 m along planes for gicp_gn); one thread; times include preparing "
+              "poses_gt.txt; gates as align.posegraph's scan-to-scan edges (overlap >= %.2f both ways; RMSE <= %.2f m "
+              "point to point for gicp, <= %.2f m along planes for gicp_gn); one thread; times include preparing "
               "both clouds\n\n",
-              pairs.size(), dir.c_str(), po.steps);
+              pairs.size(), dir.c_str(), po.steps, kMinOverlap, kMaxRmse, kMaxPlaneRmse);
   std::printf("| method | median (ms) | p95 (ms) | speed-up (median) | converged | pass the gates | error median / p95 "
               "(m, deg) | passed: horizontal error median / p95 (m) | passed: yaw error median / p95 (deg) | passed: "
               "along-step error mean (mm) |\n"

@@ -113,9 +113,10 @@ struct PreparedCloud::Impl {
       if (points.empty()) return;
       tree->setInputCloud(cloud);
       if (points.size() < kCovarianceNeighbours) return;
-      if (with_normals || kind == Covariances::ours) normals = plane_normals(*cloud, *tree);
-      if (kind == Covariances::ours) covariances = plane_covariances(normals);
-      if (!with_normals) normals.clear();
+      std::vector<Eigen::Vector3f> planes;
+      if (with_normals || kind == Covariances::ours) planes = plane_normals(*cloud, *tree);
+      if (kind == Covariances::ours) covariances = plane_covariances(planes);
+      if (with_normals) normals = std::move(planes);
       if (kind == Covariances::pcl) covariances = CovarianceGicp().covariances_of(cloud, tree);
     }
     bool usable() const { return cloud && cloud->size() >= 20; }
