@@ -42,11 +42,10 @@ struct RegistrationResult {
   double reverse_overlap = 0.0; // share of target points with a source point within inlier_distance
   double inlier_rmse = 0.0;     // m, over the source inliers
   // m, over the source inliers whose nearest target point has a local plane
-  // (strips and corners have none; NaN when none has or unless
-  // options.measure_planes): their distances along
-  // its normal. Unlike inlier_rmse it does not grow with the gaps between a
-  // sparse scanner's rings, which lie between each other's when two scans
-  // align, and it does shrink when rings are wrongly pulled onto rings.
+  // (strips and corners have none): their distances along its normal; NaN
+  // when no inlier has one or options.measure_planes is off. Unlike
+  // inlier_rmse it does not grow with the gaps between a sparse scanner's
+  // rings, which lie between each other's when two scans align.
   double plane_rmse = std::numeric_limits<double>::quiet_NaN();
 };
 
