@@ -22,6 +22,7 @@ class CompleteStage : public Stage {
     c_.pair_retry = p.get<bool>("pair_retry");
     c_.centroid_order = p.get<std::string>("pair_order") == "centroid";
     c_.join_fragments = p.get<bool>("join_fragments");
+    c_.join_connected = p.get<bool>("join_connected");
     c_.self_complete = p.get<bool>("self_complete");
     c_.leak_own_box = p.get<std::string>("leak_growth") == "own_box";
     c_.static_check = p.get<bool>("static_check");
@@ -35,7 +36,7 @@ class CompleteStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.complete";
-    i.version = "1.4.0";
+    i.version = "1.5.0";
     i.summary = "Grows partial change clusters of short moves into whole objects";
     i.doc =
         "First, an object with at least floor_share of its points within the floor clearance of its local floor "
@@ -59,8 +60,13 @@ class CompleteStage : public Stage {
         "shape of one rigid object (height above the floor and footprint-rectangle sides agree "
         "within max(shape_tolerance x the larger, shape_slack)). With join_fragments, other objects of a pair "
         "member's mission that its growth reaches are tried in the pair too (a turned short move leaves slivers "
-        "at both ends) and joined into it if the shapes then agree within half that allowance. Then, with "
-        "self_complete, every object "
+        "at both ends) and joined into it if the shapes then agree within half that allowance. With "
+        "join_connected, two objects of one mission that no completed pair holds, boxes at most pair_gap apart and "
+        "voxels not touching, are joined when a growth from one inside the union of their boxes grown by "
+        "box_margin (no leak check: a table's top reaches past its legs' boxes) reaches the other over points it "
+        "adds of which at most 1 - static_share lie where every neighbouring mission holds points too: the "
+        "material between them changed with them (a "
+        "removed table's top between the legs the difference found). Then, with self_complete, every object "
         "grows the same way inside its own box grown by box_margin, down to the floor if it stands "
         "on it (the difference cannot confirm change next to the floor, so objects lose their base); "
         "if that growth wants out of the box (it touches a wall or furniture), it is cut to the object's own box "
@@ -102,7 +108,8 @@ class CompleteStage : public Stage {
                            "self-completion leaves out points every neighbouring mission also holds (see static_share)"),
         share("static_share", 0.8,
               "share of a self-completion held unchanged by every neighbouring mission from which on those points "
-              "are left out; also the share that makes a thin object an unchanged surface (thin_height)"),
+              "are left out; also the share that makes a thin object an unchanged surface (thin_height), and 1 - it "
+              "the most of join_connected's connecting points that may be held there"),
         share("nested_share", 0.5,
               "share of an object's points inside the box of a larger object of its mission from which "
               "it joins that object (a fragment of it); 0 = never"),
@@ -130,6 +137,10 @@ class CompleteStage : public Stage {
                            "a pair's growth that reaches other objects of its own mission (within one voxel) that no "
                            "completed pair holds grows again with them joined; kept, and they are joined into the "
                            "pair's object, if the shapes then agree (a turned short move leaves slivers at both ends)"),
+        ParamSpec::boolean("join_connected", true,
+                           "two objects of one mission that no completed pair holds are joined when a growth from one "
+                           "reaches the other over points mostly not held by the neighbouring missions (a table's "
+                           "legs without its top)"),
         ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
     };
     return i;
@@ -151,6 +162,7 @@ class CompleteStage : public Stage {
     context.record("floors", double(st.floors));
     context.record("absorbed", double(st.absorbed));
     context.record("joined", double(st.joined));
+    context.record("connected", double(st.connected));
     context.record("floor_only", double(st.floor_only));
     context.record("thin_static", double(st.thin_static));
     context.record("thin_surface", double(st.thin_surface));
@@ -160,6 +172,7 @@ class CompleteStage : public Stage {
                  (st.thin_static ? ", " + std::to_string(st.thin_static) + " unchanged thin surfaces dropped" : "") +
                  (st.thin_surface ? ", " + std::to_string(st.thin_surface) + " thin patches of a larger surface dropped" : "") +
                  (st.joined ? ", " + std::to_string(st.joined) + " fragments joined into completed pairs" : "") +
+                 (st.connected ? ", " + std::to_string(st.connected) + " objects joined over changed points" : "") +
                  (st.absorbed ? ", " + std::to_string(st.absorbed) + " fragments joined to the object around them" : ""));
     Outputs out;
     out.put("objects", std::move(objects));

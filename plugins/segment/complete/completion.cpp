@@ -449,6 +449,116 @@ size_t absorb_nested(ObjectSet& set, double share, float margin) {
   return absorbed;
 }
 
+// Rule 4b: joins the objects of one mission that its cloud connects over
+// changed points. `candidates`: (gap, i, j) same-mission pairs of free
+// objects, nearest first. Growth from i inside the union of the two boxes
+// grown by box_margin (down to the floor) must reach j over points it
+// adds, and at most 1 - static_share of those may lie where every
+// neighbouring mission holds points too: the material between them changed
+// with them (a table's top between the legs the difference found). Objects
+// whose voxels touch are left apart: segment.carve and segment.overlap cut
+// them so on purpose. Each component joins its largest member; returns how
+// many objects joined another (ids renumbered when any did).
+
+size_t join_connected(ObjectSet& set, const std::vector<std::tuple<float, size_t, size_t>>& candidates,
+                      const std::vector<LocalCloud>& clouds, const std::vector<std::vector<size_t>>& neighbours,
+                      const CompletionConfig& c, std::vector<std::string>& notes) {
+  const size_t n = set.objects.size();
+  std::vector<Owners> owned(clouds.size());
+  for (size_t k = 0; k < n; ++k) {
+    const Object& o = set.objects[k];
+    for (size_t i = 0; i < o.points.size(); ++i) owned[o.mission][point_key(o.points.scan[i], o.points.index[i])] = uint32_t(k);
+  }
+  std::vector<size_t> parent(n);
+  for (size_t k = 0; k < n; ++k) parent[k] = k;
+  auto root = [&](size_t k) {
+    while (parent[k] != k) k = parent[k] = parent[parent[k]];
+    return k;
+  };
+  auto voxels = [](const PointSet& pts, const LocalCloud& cloud) {
+    std::unordered_set<uint64_t> v;
+    for (const auto& p : pts.xyz) v.insert(voxel_key(cloud.voxel_of(p)));
+    return v;
+  };
+  // Whether a point of `pts` lies in or next to (26-neighbourhood) a voxel of `set_voxels`.
+  auto next_to = [](const std::unordered_set<uint64_t>& set_voxels, const PointSet& pts, const LocalCloud& cloud) {
+    for (const auto& p : pts.xyz) {
+      const Eigen::Vector3i v = cloud.voxel_of(p);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz)
+            if (set_voxels.count(voxel_key(v + Eigen::Vector3i(dx, dy, dz)))) return true;
+    }
+    return false;
+  };
+  const float margin = float(c.box_margin);
+  for (const auto& [gap, i, j] : candidates) {
+    if (root(i) == root(j)) continue;
+    const Object &a = set.objects[i], &b = set.objects[j];
+    const LocalCloud& cloud = clouds[a.mission];
+    const std::string which = "objects " + std::to_string(a.id) + " and " + std::to_string(b.id);
+    if (next_to(voxels(a.points, cloud), b.points, cloud)) {
+      notes.push_back(which + ": not joined, their voxels touch (cut apart before)");
+      continue;
+    }
+    Box own{a.bbox_min, a.bbox_max};
+    own.extend(Box{b.bbox_min, b.bbox_max});
+    const Box floor_region = own.grown(margin + 0.75f, 1.5f, margin);
+    Floor f;
+    if (!local_floor(cloud.points, floor_region, c.floor_percentile, c.floor_clearance, f)) continue;
+    // No leak check: what connects two fragments (a table's top) reaches
+    // past their boxes; what connects two unrelated objects (a wall, the
+    // bench they stood on) is held elsewhere, which the test below sees.
+    Box region = own.grown(margin, 0.f, margin);
+    region.lo.z() = std::min(region.lo.z(), f.clear_z);
+    const Growth g = grow(a.points, cloud, region, f.clear_z, owned[a.mission]);
+    if (g.added.empty() || !std::binary_search(g.touched.begin(), g.touched.end(), uint32_t(j))) {
+      notes.push_back(which + ": not joined, a growth from the first does not reach the second");
+      continue;
+    }
+    const HeldElsewhere held(floor_region, neighbours[a.mission], clouds, c);
+    if (!held.valid) continue;
+    size_t held_points = 0;
+    for (uint32_t k : g.added) held_points += held.everywhere(cloud.voxel_of(cloud.points.xyz[k]));
+    const double share = double(held_points) / double(g.added.size());
+    if (share > 1.0 - c.static_share) {
+      notes.push_back(which + ": not joined, connected over points held unchanged elsewhere (" + format_number(share) + ")");
+      continue;
+    }
+    notes.push_back(which + ": joined, connected over " + std::to_string(g.added.size()) + " changed points (" +
+                    format_number(share) + " held elsewhere)");
+    parent[root(j)] = root(i);
+  }
+  // Each component into its largest member (the lowest index among equals).
+  std::vector<size_t> into(n);
+  for (size_t k = 0; k < n; ++k) into[k] = k;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t r = root(k), best = into[r];
+    const size_t size = set.objects[k].points.size(), best_size = set.objects[best].points.size();
+    if (size > best_size || (size == best_size && k < best)) into[r] = k;
+  }
+  size_t joined = 0;
+  std::vector<char> gone(n, 0);
+  for (size_t k = 0; k < n; ++k) {
+    const size_t target = into[root(k)];
+    if (target == k) continue;
+    set.objects[target].points.append(set.objects[k].points);
+    set.objects[k].points = PointSet();
+    gone[k] = 1;
+    ++joined;
+  }
+  if (joined == 0) return 0;
+  std::vector<Object> kept;
+  for (size_t k = 0; k < n; ++k)
+    if (!gone[k]) {
+      set.objects[k].update_geometry();
+      kept.push_back(std::move(set.objects[k]));
+    }
+  set.objects = std::move(kept);
+  set.renumber();
+  return joined;
+}
+
 }  // namespace
 
 ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, const CompletionConfig& c,
@@ -504,6 +614,22 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     std::sort(candidates.begin(), candidates.end());
     return candidates;
   };
+  // Rule 4b's candidates: free objects of one mission whose boxes are at
+  // most pair_gap apart, nearest first (`paired`: objects a completed pair
+  // holds, aligned with out.objects; empty = none).
+  auto connected_candidates = [&](const std::vector<char>& paired) {
+    std::vector<std::tuple<float, size_t, size_t>> candidates;
+    for (size_t i = 0; i < out.objects.size(); ++i)
+      for (size_t j = i + 1; j < out.objects.size(); ++j) {
+        const Object &a = out.objects[i], &b = out.objects[j];
+        if (a.mission != b.mission || a.points.empty() || b.points.empty()) continue;
+        if (!paired.empty() && (paired[i] || paired[j])) continue;
+        const float gap = box_gap(a, b);
+        if (gap <= c.pair_gap) candidates.emplace_back(gap, i, j);
+      }
+    std::sort(candidates.begin(), candidates.end());
+    return candidates;
+  };
   CompletionStats st;
 
   // Each mission's points around its objects and around every candidate
@@ -525,6 +651,17 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
         for (size_t n : neighbours(o.mission)) regions[n].push_back(own_floor_region(o));
     }
   };
+  // Rule 4b grows in the union of two boxes of one mission and asks the
+  // neighbouring missions what they hold there.
+  auto add_connected_regions = [&](std::vector<std::vector<Box>>& regions) {
+    if (!c.join_connected) return;
+    for (const auto& [gap, i, j] : connected_candidates({})) {
+      const Object &a = out.objects[i], &b = out.objects[j];
+      const Box r = pair_region(a, b).grown(margin + 0.75f, 1.5f, margin);
+      regions[a.mission].push_back(r);
+      for (size_t n : neighbours(a.mission)) regions[n].push_back(r);
+    }
+  };
   std::vector<std::vector<Box>> first_regions(nm);
   for (const auto& [order, apart, gap, i, j] : candidate_pairs()) {
     const Box r = pair_region(out.objects[i], out.objects[j]).grown(margin + 0.75f, 1.5f, margin);
@@ -532,6 +669,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     first_regions[out.objects[j].mission].push_back(r);
   }
   add_own_regions(first_regions, (c.self_complete && c.static_check) || c.thin_height > 0.0);
+  add_connected_regions(first_regions);
   std::vector<LocalCloud> clouds(nm);
   for (size_t m = 0; m < nm; ++m) clouds[m] = gather(*mission_of[m], first_regions[m], float(c.voxel), c.threads);
 
@@ -619,6 +757,7 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   for (const auto& p : pairs)
     for (size_t k : {p.a, p.b}) regions[out.objects[k].mission].push_back(p.floor_region);
   add_own_regions(regions, c.self_complete && c.static_check);
+  add_connected_regions(regions);
   for (size_t m = 0; m < nm; ++m) clouds[m] = restrict_to(clouds[m], regions[m]);
   std::vector<Owners> owned(nm);
   for (size_t k = 0; k < out.objects.size(); ++k) {
@@ -777,6 +916,9 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
       o->update_geometry();
     }
   }
+  std::vector<char> paired;  // aligned with out.objects from here
+  for (size_t k = 0; k < out.objects.size(); ++k)
+    if (!gone[k]) paired.push_back(completed[k]);
   if (st.joined) {
     std::vector<Object> kept;
     for (size_t k = 0; k < out.objects.size(); ++k)
@@ -784,6 +926,14 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
     out.objects = std::move(kept);
     out.renumber();
     // owned's object indices are stale from here; later rules only test membership.
+  }
+
+  // 4b. Free objects of one mission connected over changed points are one
+  // object the difference cut apart (a table's legs without its top).
+  if (c.join_connected) {
+    std::vector<std::vector<size_t>> neighbour_lists(nm);
+    for (size_t m = 0; m < nm; ++m) neighbour_lists[m] = neighbours(m);
+    st.connected = join_connected(out, connected_candidates(paired), clouds, neighbour_lists, c, st.object_notes);
   }
 
   // 5. Every object: its own missing points inside its box grown by

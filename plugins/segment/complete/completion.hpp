@@ -59,6 +59,20 @@
 //     footprint rectangle (lista::geometry) agree within max(`shape_tolerance` x the larger,
 //     `shape_slack`). Otherwise both objects are kept as they were, so an
 //     unrelated pair of changes never swallows the structure between them.
+//  4b. Connected fragments (`join_connected`): two objects of one mission
+//     that no completed pair holds, boxes at most pair_gap apart and voxels
+//     not touching (segment.carve cut such apart on purpose), are one object
+//     when a growth from one (as in 3, inside the union of their boxes grown
+//     by box_margin, down to the floor, with no leak check: a table's top
+//     reaches past its legs' boxes) reaches the other over points it adds,
+//     and at most 1 - static_share of those lie in voxels every
+//     neighbouring mission also holds (rule 5's test): the material between
+//     them changed with them. A removed table whose top the difference
+//     could not confirm leaves its legs as separate clusters, joined by the
+//     top; two boxes taken off a bench that stays are connected only over
+//     the bench, which the other mission holds, and stay two. Joined objects
+//     go into the largest and ids are renumbered 0..n-1; rule 5 then grows
+//     the joined object in its whole box.
 //  5. Self-completion (every object, `self_complete`): the same growth inside
 //     the object's own box grown by `box_margin`, reaching down to the floor
 //     for objects standing on it. The difference cannot confirm change next
@@ -128,6 +142,9 @@ struct CompletionConfig {
   // A pair's growth that reaches other free objects of its own mission
   // tries again with them joined (true): kept if the joined shapes agree.
   bool join_fragments = true;
+  // Rule 4b: free objects of one mission that its cloud connects over
+  // changed points are joined (a table's legs without its top).
+  bool join_connected = true;
   bool self_complete = true;      // also complete every object inside its own box (rule 5)
   // When a growth leaks out of its region (the object touches a wall or
   // furniture): rule 5 also adds what the growth reaches inside the
@@ -153,6 +170,7 @@ struct CompletionStats {
   size_t floors = 0;          // objects given their floor_z (rule 7)
   size_t absorbed = 0;        // fragments joined to a larger object (rule 6)
   size_t joined = 0;          // fragments joined into a completed pair's object (rule 1)
+  size_t connected = 0;       // objects joined to another of their mission over changed points (rule 4b)
   size_t floor_only = 0;      // objects dropped as the floor itself (rule 0)
   size_t thin_static = 0;     // thin objects every neighbouring mission also holds (rule 0b)
   size_t thin_surface = 0;    // thin patches of a larger surface of their own mission (rule 0b)
@@ -165,7 +183,7 @@ struct CompletionStats {
 
 // `missions` must be the aligned missions the objects were detected in (same
 // names, same order as objects.missions). Objects keep their ids and order
-// unless rule 0 drops floor or rule 1 or 6 joins fragments (then ids are
+// unless rule 0 drops floor or rule 1, 4b or 6 joins fragments (then ids are
 // renumbered 0..n-1 in order).
 ObjectSet complete_objects(const ObjectSet& objects, const MissionSet& missions,
                            const CompletionConfig& config, CompletionStats* stats = nullptr);

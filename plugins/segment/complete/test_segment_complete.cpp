@@ -3,6 +3,8 @@
 #include "../testing/test_support.hpp"
 #include "completion.hpp"
 
+#include <lista_geometry/object_geometry.hpp>
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -726,4 +728,92 @@ TEST(SegmentComplete, ThinPatchesOfALargerSurfaceAreDropped) {
   EXPECT_EQ(out.objects[0].points.size(), in.objects[1].points.size());  // the deck
   c.thin_surface_sides = 0;
   EXPECT_EQ(seg::complete_objects(in, missions, c).objects.size(), 2u);
+}
+
+namespace {
+
+// Floor z = 0 over [-1, 4] x [-1, 2] in missions A and B; in A only a table
+// (top [0, 1.2] x [0, 0.8] at 0.70-0.74 m, four 6 cm legs inset 5 cm) and two
+// boxes on a bench; the bench ([2.0, 3.6] x [0, 0.4], 0.4 m high) in both.
+struct TableScene {
+  MissionSet missions;
+  PointSet cloud[2];
+};
+
+TableScene make_table_scene() {
+  TableScene s;
+  for (int m = 0; m < 2; ++m) {
+    PointSet& c = s.cloud[m];
+    for (float x = -1.f; x <= 4.f; x += kStep)
+      for (float y = -1.f; y <= 2.f; y += kStep) {
+        c.xyz.emplace_back(x, y, 0.f);
+        c.scan.push_back(0);
+        c.index.push_back(0);
+      }
+    add_box_surface(c, {2.0f, 0.f, 0.f}, {3.6f, 0.4f, 0.4f}, kStep);
+    if (m == 0) {
+      add_box_surface(c, {0.f, 0.f, 0.70f}, {1.2f, 0.8f, 0.74f}, kStep);
+      for (float x : {0.05f, 1.09f})
+        for (float y : {0.05f, 0.69f}) add_box_surface(c, {x, y, 0.f}, {x + 0.06f, y + 0.06f, 0.70f}, 0.02f);
+      add_box_surface(c, {2.05f, 0.05f, 0.4f}, {2.35f, 0.35f, 0.7f}, kStep);
+      add_box_surface(c, {3.25f, 0.05f, 0.4f}, {3.55f, 0.35f, 0.7f}, kStep);
+    }
+    for (size_t i = 0; i < c.size(); ++i) c.index[i] = uint32_t(i);
+    add_mission(s.missions, m == 0 ? "A" : "B", c);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(SegmentComplete, ObjectsConnectedOverChangedPointsAreJoined) {
+  // The difference found the removed table's legs (10-60 cm) but not its
+  // top: four clusters, joined over the top, which B does not hold.
+  const TableScene s = make_table_scene();
+  std::vector<Object> legs;
+  for (float x : {0.05f, 1.09f})
+    for (float y : {0.05f, 0.69f})
+      legs.push_back(object_where(s.cloud[0], 0, [&](const Eigen::Vector3f& p) {
+        return p.x() >= x - 1e-3f && p.x() <= x + 0.061f && p.y() >= y - 1e-3f && p.y() <= y + 0.061f &&
+               p.z() > 0.1f && p.z() < 0.6f;
+      }));
+  const ObjectSet in = object_set(legs);
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  EXPECT_EQ(st.connected, 3u);
+  ASSERT_EQ(out.objects.size(), 1u);
+  EXPECT_EQ(out.objects[0].id, 0);
+  const Eigen::Vector3f top_lo{0.f, 0.f, 0.70f}, top_hi{1.2f, 0.8f, 0.74f};
+  EXPECT_EQ(count_in_box(out.objects[0].points, top_lo, top_hi), count_in_box(s.cloud[0], top_lo, top_hi));
+  EXPECT_EQ(count_in_box(out.objects[0].points, {-1.f, -1.f, -0.01f}, {4.f, 2.f, 0.01f}), 0u) << "floor points added";
+  size_t joined_notes = 0;
+  for (const auto& note : st.object_notes) joined_notes += note.find(": joined, connected over ") != std::string::npos;
+  EXPECT_EQ(joined_notes, 3u);
+
+  seg::CompletionConfig off;
+  off.join_connected = false;
+  seg::CompletionStats st_off;
+  EXPECT_EQ(seg::complete_objects(in, s.missions, off, &st_off).objects.size(), 4u);
+  EXPECT_EQ(st_off.connected, 0u);
+}
+
+TEST(SegmentComplete, ObjectsConnectedOnlyOverUnchangedPointsStayApart) {
+  // Two boxes taken off a bench that stays: the bench connects them, but B
+  // holds it, so they are two objects.
+  const TableScene s = make_table_scene();
+  const ObjectSet in = object_set({object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+                                     return p.x() >= 2.05f && p.x() <= 2.351f && p.z() > 0.45f && p.z() < 0.71f;
+                                   }),
+                                   object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
+                                     return p.x() >= 3.25f && p.x() <= 3.551f && p.z() > 0.45f && p.z() < 0.71f;
+                                   })});
+  ASSERT_LT(lista::geometry::box_gap(in.objects[0], in.objects[1]), 1.0f);
+  seg::CompletionStats st;
+  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  EXPECT_EQ(st.connected, 0u);
+  EXPECT_EQ(out.objects.size(), 2u);
+  bool refused = false;
+  for (const auto& note : st.object_notes)
+    refused |= note.rfind("objects 0 and 1: not joined, connected over points held unchanged elsewhere", 0) == 0;
+  EXPECT_TRUE(refused);
 }
