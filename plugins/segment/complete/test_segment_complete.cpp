@@ -33,6 +33,16 @@ struct Scene {
   PointSet cloud[2];
 };
 
+// A flat floor at z = 0 over [x0, x1] x [y0, y1], points kStep apart.
+void add_floor(PointSet& c, float x0, float x1, float y0, float y1) {
+  for (float x = x0; x <= x1; x += kStep)
+    for (float y = y0; y <= y1; y += kStep) {
+      c.xyz.emplace_back(x, y, 0.f);
+      c.scan.push_back(0);
+      c.index.push_back(uint32_t(c.index.size()));
+    }
+}
+
 // Floor z = 0 over [-1, 4] x [-1, 3]; the moved box [x0, x0 + 0.6] x [0, 0.4]
 // x [0, 0.8] (A: x0 = 1.0, B: x0 = 1.3); a static box [2.5, 3.0] x [0, 0.5] x
 // [0, 0.6] in both missions (0.6 m from the moved box in B).
@@ -43,12 +53,7 @@ Scene make_scene(float static_x = 2.5f, float static_h = 0.6f,
   Scene s;
   for (int m = 0; m < 2; ++m) {
     PointSet& c = s.cloud[m];
-    for (float x = -1.f; x <= 4.f; x += kStep)
-      for (float y = -1.f; y <= 3.f; y += kStep) {
-        c.xyz.emplace_back(x, y, 0.f);
-        c.scan.push_back(0);
-        c.index.push_back(uint32_t(c.index.size()));
-      }
+    add_floor(c, -1.f, 4.f, -1.f, 3.f);
     const float x0 = m == 0 ? 1.0f : 1.3f;
     add_box_surface(c, {x0, 0.f, 0.f}, {x0 + 0.6f, 0.4f, 0.8f}, kStep);
     add_box_surface(c, {static_x, 0.f, 0.f}, {static_x + 0.5f, 0.5f, static_h}, kStep);
@@ -732,24 +737,15 @@ TEST(SegmentComplete, ThinPatchesOfALargerSurfaceAreDropped) {
 
 namespace {
 
-// Floor z = 0 over [-1, 4] x [-1, 2] in missions A and B; in A only a table
-// (top [0, 1.2] x [0, 0.8] at 0.70-0.74 m, four 6 cm legs inset 5 cm) and two
-// boxes on a bench; the bench ([2.0, 3.6] x [0, 0.4], 0.4 m high) in both.
-struct TableScene {
-  MissionSet missions;
-  PointSet cloud[2];
-};
-
-TableScene make_table_scene() {
-  TableScene s;
+// A scene (Scene's layout) with a floor z = 0 over [-1, 4] x [-1, 2] in
+// missions A and B; in A only a table (top [0, 1.2] x [0, 0.8] at
+// 0.70-0.74 m, four 6 cm legs inset 5 cm) and two boxes on a bench; the
+// bench ([2.0, 3.6] x [0, 0.4], 0.4 m high) in both.
+Scene make_table_scene() {
+  Scene s;
   for (int m = 0; m < 2; ++m) {
     PointSet& c = s.cloud[m];
-    for (float x = -1.f; x <= 4.f; x += kStep)
-      for (float y = -1.f; y <= 2.f; y += kStep) {
-        c.xyz.emplace_back(x, y, 0.f);
-        c.scan.push_back(0);
-        c.index.push_back(0);
-      }
+    add_floor(c, -1.f, 4.f, -1.f, 2.f);
     add_box_surface(c, {2.0f, 0.f, 0.f}, {3.6f, 0.4f, 0.4f}, kStep);
     if (m == 0) {
       add_box_surface(c, {0.f, 0.f, 0.70f}, {1.2f, 0.8f, 0.74f}, kStep);
@@ -769,7 +765,7 @@ TableScene make_table_scene() {
 TEST(SegmentComplete, ObjectsConnectedOverChangedPointsAreJoined) {
   // The difference found the removed table's legs (10-60 cm) but not its
   // top: four clusters, joined over the top, which B does not hold.
-  const TableScene s = make_table_scene();
+  const Scene s = make_table_scene();
   std::vector<Object> legs;
   for (float x : {0.05f, 1.09f})
     for (float y : {0.05f, 0.69f})
@@ -800,7 +796,7 @@ TEST(SegmentComplete, ObjectsConnectedOverChangedPointsAreJoined) {
 TEST(SegmentComplete, ObjectsConnectedOnlyOverUnchangedPointsStayApart) {
   // Two boxes taken off a bench that stays: the bench connects them, but B
   // holds it, so they are two objects.
-  const TableScene s = make_table_scene();
+  const Scene s = make_table_scene();
   const ObjectSet in = object_set({object_where(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
                                      return p.x() >= 2.05f && p.x() <= 2.351f && p.z() > 0.45f && p.z() < 0.71f;
                                    }),
