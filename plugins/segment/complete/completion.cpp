@@ -459,7 +459,6 @@ size_t absorb_nested(ObjectSet& set, double share, float margin) {
 // whose voxels touch are left apart: segment.carve and segment.overlap cut
 // them so on purpose. Each component joins its largest member; returns how
 // many objects joined another (ids renumbered when any did).
-
 size_t join_connected(ObjectSet& set, const std::vector<std::tuple<float, size_t, size_t>>& candidates,
                       const std::vector<LocalCloud>& clouds, const std::vector<std::vector<size_t>>& neighbours,
                       const CompletionConfig& c, std::vector<std::string>& notes) {
@@ -517,7 +516,10 @@ size_t join_connected(ObjectSet& set, const std::vector<std::tuple<float, size_t
       continue;
     }
     const HeldElsewhere held(floor_region, neighbours[a.mission], clouds, c);
-    if (!held.valid) continue;
+    if (!held.valid) {
+      notes.push_back(which + ": not joined, a neighbouring mission has no floor there to compare with");
+      continue;
+    }
     size_t held_points = 0;
     for (uint32_t k : g.added) held_points += held.everywhere(cloud.voxel_of(cloud.points.xyz[k]));
     const double share = double(held_points) / double(g.added.size());
