@@ -45,12 +45,20 @@ def top1(features, labels):
 
 
 def main(folder):
-    index = json.load(open(folder + '/index.json'))
+    try:
+        index = json.load(open(folder + '/index.json'))
+    except (OSError, ValueError) as e:
+        sys.exit(f'extent_oracle.py: cannot read {folder}/index.json ({e}); give a lista-sim views folder')
+    if index.get('format') != 'lista-views/1':
+        sys.exit(f'extent_oracle.py: {folder}/index.json is not "lista-views/1"; give a lista-sim views folder')
     extent = {s['id']: s['extent'] for s in index['shapes']}
     views = [v for v in index['views'] if v.get('split', 'train') != 'train']
     measured, true, labels, sensors = [], [], [], []
     for v in views:
-        pts = read_xyz(folder + '/' + v['file'])
+        try:
+            pts = read_xyz(folder + '/' + v['file'])
+        except (OSError, ValueError, struct.error) as e:
+            sys.exit(f"extent_oracle.py: cannot read {folder}/{v['file']} ({e}): a binary PCD with x y z first")
         dx = max(p[0] for p in pts) - min(p[0] for p in pts)
         dy = max(p[1] for p in pts) - min(p[1] for p in pts)
         measured.append((sorted((dx, dy)), max(p[2] for p in pts)))  # views stand on z = 0
