@@ -126,6 +126,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     Eigen::Isometry3d g = Eigen::Isometry3d::Identity();
     g.linear() = Eigen::AngleAxisd(2.0 * M_PI * k / cfg.yaw_hypotheses, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     g.translation() = ct - g.linear() * cs;
+    if (std::isfinite(cfg.floor_lift)) g.translation().z() = cfg.floor_lift;  // base onto base
     guesses.push_back(g);
   }
 
@@ -306,6 +307,7 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
   // voxels (mostly the partial one) onto the other, then invert.
   if (dst->size() >= src->size()) return refine_pair(source, target, src, dst, cfg);
   IcpConfig reversed = cfg;
+  reversed.floor_lift = -cfg.floor_lift;
   if (cfg.admissible)
     reversed.admissible = [&cfg](const Eigen::Isometry3d& t) { return cfg.admissible(t.inverse()); };
   IcpResult r = refine_pair(target, source, dst, src, reversed);

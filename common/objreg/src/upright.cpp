@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace lista::registration {
 
@@ -14,6 +15,11 @@ bool stays_on_floor(const Object& a, const Object& b, const Eigen::Isometry3d& t
   }
   const double tilt = std::acos(std::clamp(t.linear()(2, 2), -1.0, 1.0)) * 180.0 / M_PI;
   return tilt <= max_tilt_deg;
+}
+
+double floor_lift(const Object& a, const Object& b) {
+  if (!std::isfinite(a.floor_z) || !std::isfinite(b.floor_z)) return std::numeric_limits<double>::quiet_NaN();
+  return double(b.floor_z) - double(a.floor_z);
 }
 
 }  // namespace lista::registration

@@ -68,10 +68,14 @@ class WeightedMatchStage : public Stage {
       const Object &oa = *pairs[k].first, &ob = *pairs[k].second;
       // Objects moved on the floor stay upright: the best upright pose is
       // the one judged, not a better-scoring one lying on its side.
-      if (upright_poses_)
+      // With the lift gate on, their yaw hypotheses start base on base (a
+      // view missing its top has its centroid low).
+      if (upright_poses_) {
         cfg.admissible = [&](const Eigen::Isometry3d& t) {
           return registration::stays_on_floor(oa, ob, t, max_lift_, max_tilt_);
         };
+        if (max_lift_ > 0.0) cfg.floor_lift = registration::floor_lift(oa, ob);
+      }
       registration::IcpResult r = registration::icp_refine(a, b, cfg);
       // Judged again on the surfaces, not the points: a sparse scanner's
       // views interleave their rings (registration::surface_share).
@@ -142,7 +146,7 @@ class WeightedMatchStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.7.0";
+  s.version = "1.8.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
@@ -161,7 +165,7 @@ StageInfo info() {
       "be explained; the other view at least in part); fit < min_shape_fit is no candidate, nor is a pair standing on floors in both missions (floor_z "
       "known) that the registration lifts by more than max_lift relative to the floors or tilts by more than "
       "max_tilt (a desk's top fitted onto a cabinet's is two things, not one moved); with upright_poses such a "
-      "pair is registered among the poses that keep it on its floor (the best of them is judged), without it "
+      "pair is registered among the poses that keep it on its floor, its yaw turns started floor on floor (the best of them is judged), without it "
       "the best pose of all is judged and refused when off the floor. Last, cost <= max_cost (< 0: alpha + beta + shape_weight x "
       "(1 - min_shape_fit)). shape_weight = 0 and min_shape_fit = 0 give the paper's two-term cost and skip "
       "the registration. The Hungarian algorithm picks the cheapest set "

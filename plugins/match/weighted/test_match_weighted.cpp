@@ -428,7 +428,9 @@ TEST(MatchWeighted, FloorGateMeasuresLiftFromTheFloorsAndTilt) {
   EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.0, 180.0));
   t.linear() = Eigen::AngleAxisd(2.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();  // any yaw
   EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.15, 20.0));
+  EXPECT_NEAR(registration::floor_lift(a, b), 0.2, 1e-6);  // where ICP starts a standing pair
   b.floor_z = std::nanf("");
+  EXPECT_TRUE(std::isnan(registration::floor_lift(a, b)));
   t.translation().z() = 5.0;
   EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.15, 20.0)) << "a floor unknown: no gate";
 }

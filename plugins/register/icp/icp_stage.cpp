@@ -41,10 +41,13 @@ class IcpStage : public Stage {
     int pairs = 0, ambiguous = 0;
     Matches out = register_matches(objects, matches, [&](const Object& s, const Object& t) {
       IcpConfig cfg = cfg_;
-      // Both standing on floors: moved on the floor, so upright poses only
-      // (match.weighted's floor gate judged the pair the same way).
-      if (max_lift_ > 0.0 || max_tilt_ < 180.0)
+      // Both standing on floors: moved on the floor, so upright poses only,
+      // searched from base on base while the lift is gated (match.weighted's
+      // floor gate judged the pair the same way).
+      if (max_lift_ > 0.0 || max_tilt_ < 180.0) {
         cfg.admissible = [&](const Eigen::Isometry3d& pose) { return stays_on_floor(s, t, pose, max_lift_, max_tilt_); };
+        if (max_lift_ > 0.0) cfg.floor_lift = floor_lift(s, t);
+      }
       const IcpResult r = icp_refine(s.points.xyz, t.points.xyz, cfg);
       std::lock_guard<std::mutex> lock(mutex);
       inlier_sum += r.inlier_ratio;
@@ -69,7 +72,7 @@ class IcpStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "register.icp";
-  s.version = "1.3.0";
+  s.version = "1.4.0";
   s.summary = "6-DoF transform of each moved object by (G)ICP from SVD and yaw hypotheses";
   s.doc =
       "For each matched pair: initial guesses are the SVD principal-frame transform (register.svd) with its "
@@ -89,7 +92,8 @@ StageInfo info() {
       "half-turn, a barrel's any turn). "
       "A pair standing on floors in both missions (floor_z known) is registered among upright poses only: lifted "
       "by at most max_lift relative to the floors and tilted by at most max_tilt (match.weighted's floor gate); "
-      "alternatives are upright too. "
+      "alternatives are upright too. With max_lift > 0 its yaw rotations start with its floor on the other's, not "
+      "centroid on centroid (a view missing its top has its centroid low). "
       "Records the mean inlier share as 'mean_inlier_ratio' and the pairs with alternatives as 'ambiguous_pairs'.";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a refined transform for every moved object"}};

@@ -229,6 +229,47 @@ TEST(IcpRefine, TheBestAdmissiblePoseWins) {
   EXPECT_TRUE(icp_refine(box, dst, none).transform.isApprox(icp_refine(box, dst, IcpConfig{}).transform, 1e-9));
 }
 
+// A 2.4 x 1.2 x 2.0 m box (four sides and the top) sampled at random; only
+// what lies below `cut` metres, as a view whose upper part the other mission
+// never saw free (the difference flags only the lower part).
+std::vector<Eigen::Vector3f> tall_box(uint64_t seed, float cut = 10.f) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  std::vector<Eigen::Vector3f> box;
+  for (int i = 0; i < 6000; ++i) {
+    const int face = i % 5;
+    const float a = u(rng), b = u(rng);
+    Eigen::Vector3f p;
+    if (face == 0) p = {0.0f, 1.2f * a, 2.0f * b};
+    else if (face == 1) p = {2.4f, 1.2f * a, 2.0f * b};
+    else if (face == 2) p = {2.4f * a, 0.0f, 2.0f * b};
+    else if (face == 3) p = {2.4f * a, 1.2f, 2.0f * b};
+    else p = {2.4f * a, 1.2f * b, 2.0f};
+    if (p.z() < cut) box.push_back(p);
+  }
+  return box;
+}
+
+// IcpConfig::floor_lift: a view holding only the lower 60 % of a box starts
+// base on base and is placed where it stands, in either direction; from the
+// centroids it starts 0.4 m too high and its sides hold it there.
+TEST(IcpRefine, AViewMissingItsTopIsPlacedOnItsFloor) {
+  const auto whole = tall_box(3);
+  const Eigen::Isometry3d truth = yaw_move(0.6, {1.5, -0.8, 0.0});
+  const auto lower = transformed(tall_box(4, 1.2f), truth, 0.003, 4);
+  IcpConfig on_floor;
+  on_floor.floor_lift = 0.0;
+  double e_m, e_deg;
+  errors(icp_refine(whole, lower, on_floor).transform, truth, e_m, e_deg);
+  EXPECT_LT(e_m, 0.03);
+  EXPECT_LT(e_deg, 2.0);
+  errors(icp_refine(lower, whole, on_floor).transform, truth.inverse(), e_m, e_deg);
+  EXPECT_LT(e_m, 0.03);
+  EXPECT_LT(e_deg, 2.0);
+  const IcpResult from_centroids = icp_refine(whole, lower, IcpConfig{});
+  EXPECT_GT(std::abs(from_centroids.transform.translation().z()), 0.1);
+}
+
 TEST(IcpRefine, StageListsTheAlternativesAtBothEndsAsInverses) {
   const Eigen::Isometry3d truth = yaw_move(0.1, {0.3, -0.2, 0.0});
   const Matches out = register_moved_pair(cabinet(7), transformed(cabinet(8), truth, 0.002, 8), {});

@@ -36,6 +36,7 @@
 
 #include <Eigen/Geometry>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,13 @@ struct IcpConfig {
   // listed as alternatives; if no refined pose is admissible the best one
   // is returned as without it. Empty: every pose.
   std::function<bool(const Eigen::Isometry3d&)> admissible;
+  // Height (m) a pose keeping both objects on their floors lifts the source
+  // by: the target's floor minus the source's (registration::floor_lift).
+  // When finite, the yaw hypotheses start at this height instead of at the
+  // centroids': a view missing its top (a container's upper metre the other
+  // mission never saw free) has its centroid lower than the whole object's,
+  // and ICP along vertical faces cannot pull it back down. NaN: centroids.
+  double floor_lift = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct IcpResult {

@@ -16,4 +16,8 @@ namespace lista::registration {
 bool stays_on_floor(const Object& a, const Object& b, const Eigen::Isometry3d& t, double max_lift,
                     double max_tilt_deg);
 
+// The height a move on the floor lifts `a` by to stand where `b` stands:
+// b.floor_z - a.floor_z; NaN when either floor is unknown.
+double floor_lift(const Object& a, const Object& b);
+
 }  // namespace lista::registration
