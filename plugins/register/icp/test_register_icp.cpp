@@ -33,22 +33,34 @@ std::vector<Eigen::Vector3f> chair(uint64_t seed, int n = 3000) {
   return p;
 }
 
-// A closed 0.8 x 0.4 x 1.2 m box sampled at random: four sides and the top
-// (the floor hides the bottom).
-std::vector<Eigen::Vector3f> cabinet(uint64_t seed) {
+// A closed box of `size` sampled at random with `n` points: four sides and
+// the top (the floor hides the bottom); only what lies below `cut` metres.
+std::vector<Eigen::Vector3f> box_surface(uint64_t seed, const Eigen::Vector3f& size, int n, float cut = 1e9f) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(0.f, 1.f);
   std::vector<Eigen::Vector3f> box;
-  for (int i = 0; i < 3000; ++i) {
+  for (int i = 0; i < n; ++i) {
     const int face = i % 5;
     const float a = u(rng), b = u(rng);
-    if (face == 0) box.emplace_back(0.0f, 0.4f * a, 1.2f * b);
-    else if (face == 1) box.emplace_back(0.8f, 0.4f * a, 1.2f * b);
-    else if (face == 2) box.emplace_back(0.8f * a, 0.0f, 1.2f * b);
-    else if (face == 3) box.emplace_back(0.8f * a, 0.4f, 1.2f * b);
-    else box.emplace_back(0.8f * a, 0.4f * b, 1.2f);
+    Eigen::Vector3f p;
+    if (face == 0) p = {0.0f, size.y() * a, size.z() * b};
+    else if (face == 1) p = {size.x(), size.y() * a, size.z() * b};
+    else if (face == 2) p = {size.x() * a, 0.0f, size.z() * b};
+    else if (face == 3) p = {size.x() * a, size.y(), size.z() * b};
+    else p = {size.x() * a, size.y() * b, size.z()};
+    if (p.z() < cut) box.push_back(p);
   }
   return box;
+}
+
+// A closed 0.8 x 0.4 x 1.2 m cabinet.
+std::vector<Eigen::Vector3f> cabinet(uint64_t seed) { return box_surface(seed, {0.8f, 0.4f, 1.2f}, 3000); }
+
+// A 2.4 x 1.2 x 2.0 m box; with `cut`, only what lies below it, as a view
+// whose upper part the other mission never saw free (the difference flags
+// only the lower part).
+std::vector<Eigen::Vector3f> tall_box(uint64_t seed, float cut = 1e9f) {
+  return box_surface(seed, {2.4f, 1.2f, 2.0f}, 6000, cut);
 }
 
 std::vector<Eigen::Vector3f> transformed(const std::vector<Eigen::Vector3f>& p, const Eigen::Isometry3d& t,
@@ -227,27 +239,6 @@ TEST(IcpRefine, TheBestAdmissiblePoseWins) {
   IcpConfig none;
   none.admissible = [](const Eigen::Isometry3d&) { return false; };
   EXPECT_TRUE(icp_refine(box, dst, none).transform.isApprox(icp_refine(box, dst, IcpConfig{}).transform, 1e-9));
-}
-
-// A 2.4 x 1.2 x 2.0 m box (four sides and the top) sampled at random; only
-// what lies below `cut` metres, as a view whose upper part the other mission
-// never saw free (the difference flags only the lower part).
-std::vector<Eigen::Vector3f> tall_box(uint64_t seed, float cut = 10.f) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0.f, 1.f);
-  std::vector<Eigen::Vector3f> box;
-  for (int i = 0; i < 6000; ++i) {
-    const int face = i % 5;
-    const float a = u(rng), b = u(rng);
-    Eigen::Vector3f p;
-    if (face == 0) p = {0.0f, 1.2f * a, 2.0f * b};
-    else if (face == 1) p = {2.4f, 1.2f * a, 2.0f * b};
-    else if (face == 2) p = {2.4f * a, 0.0f, 2.0f * b};
-    else if (face == 3) p = {2.4f * a, 1.2f, 2.0f * b};
-    else p = {2.4f * a, 1.2f * b, 2.0f};
-    if (p.z() < cut) box.push_back(p);
-  }
-  return box;
 }
 
 // IcpConfig::floor_lift: a view holding only the lower 60 % of a box starts
