@@ -72,7 +72,7 @@ class IcpStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "register.icp";
-  s.version = "1.4.0";
+  s.version = "1.5.0";
   s.summary = "6-DoF transform of each moved object by (G)ICP from SVD and yaw hypotheses";
   s.doc =
       "For each matched pair: initial guesses are the SVD principal-frame transform (register.svd) with its "
@@ -115,7 +115,7 @@ StageInfo info() {
       ParamSpec::integer("max_points", 2000,
                          "coarse pass: source points ICP iterates on from each hypothesis (evenly strided); 0 = all")
           .range(0, 100000000),
-      ParamSpec::integer("fine_max_points", 20000,
+      ParamSpec::integer("fine_max_points", 8000,
                          "fine pass on the best few: source points ICP iterates on (evenly strided; at least max_points); 0 = all")
           .range(0, 100000000),
       ParamSpec::integer("max_score_points", 10000,
