@@ -242,23 +242,28 @@ TEST(IcpRefine, TheBestAdmissiblePoseWins) {
 }
 
 // IcpConfig::floor_lift: a view holding only the lower 60 % of a box starts
-// base on base and is placed where it stands, in either direction; from the
-// centroids it starts 0.4 m too high and its sides hold it there.
+// base on base and is placed where it stands, in either direction (the
+// partial view moved, or the whole one, with the lift's sign turned); from
+// the centroids it starts 0.4 m too high and its sides hold it there. The
+// second floor is 0.3 m higher (a ramp, or drift), so a sign error shows.
 TEST(IcpRefine, AViewMissingItsTopIsPlacedOnItsFloor) {
+  const double lift = 0.3;
   const auto whole = tall_box(3);
-  const Eigen::Isometry3d truth = yaw_move(0.6, {1.5, -0.8, 0.0});
+  const Eigen::Isometry3d truth = yaw_move(0.6, {1.5, -0.8, lift});
   const auto lower = transformed(tall_box(4, 1.2f), truth, 0.003, 4);
-  IcpConfig on_floor;
-  on_floor.floor_lift = 0.0;
   double e_m, e_deg;
-  errors(icp_refine(whole, lower, on_floor).transform, truth, e_m, e_deg);
+  IcpConfig up;
+  up.floor_lift = lift;
+  errors(icp_refine(whole, lower, up).transform, truth, e_m, e_deg);
   EXPECT_LT(e_m, 0.03);
   EXPECT_LT(e_deg, 2.0);
-  errors(icp_refine(lower, whole, on_floor).transform, truth.inverse(), e_m, e_deg);
+  IcpConfig down;
+  down.floor_lift = -lift;
+  errors(icp_refine(lower, whole, down).transform, truth.inverse(), e_m, e_deg);
   EXPECT_LT(e_m, 0.03);
   EXPECT_LT(e_deg, 2.0);
   const IcpResult from_centroids = icp_refine(whole, lower, IcpConfig{});
-  EXPECT_GT(std::abs(from_centroids.transform.translation().z()), 0.1);
+  EXPECT_GT(std::abs(from_centroids.transform.translation().z() - lift), 0.1);
 }
 
 TEST(IcpRefine, StageListsTheAlternativesAtBothEndsAsInverses) {
