@@ -20,7 +20,7 @@ for b in "$run" "$eval_bin"; do
 done
 
 # branch name -> its stages after the shared read/align/difference (for timing)
-branches=(volumetric no_filters no_roi no_ground no_morphology plain_opening no_overlap no_complete no_carve no_recomplete full euclidean region_growing mls)
+branches=(volumetric no_filters no_roi no_ground no_morphology plain_opening no_overlap no_complete no_carve no_recomplete no_comove full euclidean region_growing mls)
 declare -A stages=(
   [volumetric]="segment_raw" [no_filters]="segment_raw"
   [no_roi]="ground_nr clean_nr segment_nr overlap_nr complete_no_roi"
@@ -30,7 +30,8 @@ declare -A stages=(
   [no_overlap]="roi ground clean segment complete_no_overlap" [no_complete]="roi ground clean segment overlap"
   [no_carve]="roi ground clean segment overlap complete"
   [no_recomplete]="roi ground clean segment overlap complete carve"
-  [full]="roi ground clean segment overlap complete carve recomplete"
+  [no_comove]="roi ground clean segment overlap complete carve recomplete"
+  [full]="roi ground clean segment overlap complete carve recomplete comove"
   [euclidean]="roi ground clean segment_eu overlap_eu complete_euclidean"
   [region_growing]="roi ground clean segment_rg overlap_rg complete_region_growing"
   [mls]="roi ground smooth clean_mls segment_mls overlap_mls complete_mls")

@@ -67,7 +67,7 @@ TEST(Pipelines, CopiesDifferFromTheDefaultOnlyInTheirOwnStages) {
       {"pipelines/ablations/diff-paper.toml", {"diff"}},
       {"pipelines/ablations/group-agglomerative.toml", {"group"}},
       {"pipelines/ablations/match-paper.toml", {"match"}},
-      {"pipelines/ablations/history-off.toml", {"history", "report", "html"}},  // report reads recomplete, group, refine
+      {"pipelines/ablations/history-off.toml", {"history", "report", "html"}},  // report reads comove, group, refine
       {"pipelines/ablations/register-svd.toml", {"refine", "history"}},  // no refine: history reads register
       {"pipelines/ablations/volumetric-octomap.toml", {"diff"}},
       {"examples/describe-extent/pipeline.toml", {"describe"}},

@@ -1,0 +1,81 @@
+// segment.comove: joins the pieces of one object that moved together
+// (rule in comove_rule.hpp).
+#include "comove_rule.hpp"
+
+#include <lista/data.hpp>
+#include <lista/plugin.hpp>
+
+namespace lista::seg {
+namespace {
+
+class ComoveStage : public Stage {
+ public:
+  explicit ComoveStage(const Params& p) {
+    c_.slender_ratio = p.get<double>("slender_ratio");
+    c_.join_gap = p.get<double>("join_gap");
+    c_.position_tolerance = p.get<double>("position_tolerance");
+    c_.cover_radius = p.get<double>("cover_radius");
+    c_.cover_share = p.get<double>("cover_share");
+    c_.max_extent = p.get<double>("max_extent");
+  }
+
+  static StageInfo info() {
+    StageInfo i;
+    i.name = "segment.comove";
+    i.version = "1.0.0";
+    i.summary = "Joins the pieces of one object that moved together (a table seen as its legs)";
+    i.doc =
+        "A sparse scanner at table height sees a table as its legs; nothing the difference finds "
+        "connects them, so a moved table becomes three or four moved legs. For each pair of "
+        "consecutive missions, among the slender pieces of each (height at least slender_ratio "
+        "times the short side of the footprint) changed against the other: two pieces of one "
+        "mission at most join_gap apart (box to box) and two of the other whose centroid distances "
+        "agree within position_tolerance give a yaw and a translation (a motion under "
+        "position_tolerance and 10 degrees is no move and is skipped). A piece is covered when at "
+        "least cover_share of its points, moved by it, lie within cover_radius of the other "
+        "mission's slender pieces; the four seeds must be, and every covered piece within join_gap "
+        "of the set joins it, on both sides. Sets of two or more pieces on each side whose joined "
+        "footprint is at most max_extent long are taken by their total points, most first, each "
+        "piece once; each side becomes one object (lowest floor_z). A leg the other mission did "
+        "not see has no evidence and stays apart. Ids are renumbered 0..n-1 when anything joined.";
+    i.inputs = {{"objects", "objects", "per-mission change clusters"}};
+    i.outputs = {{"objects", "objects", "clusters, pieces that moved together joined"}};
+    i.params = {
+        ParamSpec::real("slender_ratio", 2.0, "a piece takes part when its height is at least this times its footprint's short side; 0 = every piece")
+            .range(0, 100),
+        ParamSpec::real("join_gap", 2.0, "largest box-to-box gap between pieces of one object").range(0, 10).unit("m"),
+        ParamSpec::real("position_tolerance", 0.25, "agreement of the seed pairs' centroid distances; a smaller move is none")
+            .range(0.01, 2)
+            .unit("m"),
+        ParamSpec::real("cover_radius", 0.15, "a moved point this near the other mission's pieces is covered")
+            .range(0.01, 1)
+            .unit("m"),
+        ParamSpec::real("cover_share", 0.5, "share of a piece's points covered for it to join").range(0.01, 1),
+        ParamSpec::real("max_extent", 3.0, "longest footprint side of a joined object").range(0.1, 50).unit("m"),
+    };
+    return i;
+  }
+
+  Outputs run(const Inputs& in, Context& context) override {
+    ComoveStats st;
+    ObjectSet objects = join_comoving(in.get<ObjectSet>("objects"), c_, &st);
+    context.record("joins", double(st.joins));
+    context.record("joined_pieces", double(st.joined));
+    context.record("objects", double(objects.objects.size()));
+    Outputs out;
+    out.put("objects", std::move(objects));
+    return out;
+  }
+
+ private:
+  ComoveConfig c_;
+};
+
+void register_stages(Registrar& r) {
+  r.add(ComoveStage::info(), [](const Params& p) { return std::make_unique<ComoveStage>(p); });
+}
+
+}  // namespace
+}  // namespace lista::seg
+
+LISTA_PLUGIN(lista::seg::register_stages)
