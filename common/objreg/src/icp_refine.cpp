@@ -6,6 +6,7 @@
 #include "voxel_cloud.hpp"
 
 #include <lista/error.hpp>
+#include <lista_geometry/bounding_rectangle.hpp>
 #include <lista_pcl/fast_kdtree.hpp>
 #include <lista_pcl/quiet.hpp>
 
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace lista::registration {
 
@@ -46,6 +48,80 @@ double one_way(const Cloud& from, const pcl_search::FastKdTree& to_tree, const E
 // Powers of a symmetry tried for further alternatives: up to S^7 (an
 // octagon's turns; a round shape's list stops there).
 constexpr int kMaxSymmetryPower = 8;
+
+// Footprints whose sides agree within this (m) are views of the same extent:
+// no corner starts.
+constexpr double kCornerSlack = 0.1;
+// A coarse pose placing this share of the moved view within the inlier
+// distance of the other explains it: no corner starts are tried.
+constexpr double kExplainedShare = 0.9;
+
+// The footprint's minimum-perimeter rectangle: centre, unit long axis and
+// corners (counter-clockwise from the low end of both axes).
+struct Footprint {
+  Eigen::Vector2d centre, axis, corner[4];
+  double long_side = 0.0, short_side = 0.0;
+};
+
+std::optional<Footprint> footprint_of(const std::vector<Eigen::Vector3f>& pts) {
+  const geometry::BoundingRectangle r = geometry::min_perimeter_rectangle(pts);
+  if (!r.valid) return std::nullopt;
+  Footprint f;
+  f.axis = r.long_axis;
+  const Eigen::Vector2d v(-f.axis.y(), f.axis.x());
+  double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY;
+  for (const auto& p : pts) {
+    const Eigen::Vector2d q = p.head<2>().cast<double>();
+    lo_u = std::min(lo_u, q.dot(f.axis)), hi_u = std::max(hi_u, q.dot(f.axis));
+    lo_v = std::min(lo_v, q.dot(v)), hi_v = std::max(hi_v, q.dot(v));
+  }
+  const double us[4] = {lo_u, hi_u, hi_u, lo_u}, vs[4] = {lo_v, lo_v, hi_v, hi_v};
+  for (int k = 0; k < 4; ++k) f.corner[k] = us[k] * f.axis + vs[k] * v;
+  f.centre = 0.5 * (lo_u + hi_u) * f.axis + 0.5 * (lo_v + hi_v) * v;
+  f.long_side = hi_u - lo_u, f.short_side = hi_v - lo_v;
+  return f;
+}
+
+// Starts that put a corner of the source's footprint on a corner of the
+// target's, the rectangles' sides parallel (four quarter turns x four
+// corners): a partial view (half a table, two faces of a container) shares
+// a corner with the whole, not its centre. Empty when the footprints agree
+// in size within `slack` (then the centroid starts cover it); of one turn's
+// starts less than `slack` apart only the first is kept.
+std::vector<Eigen::Isometry3d> corner_starts(const std::vector<Eigen::Vector3f>& source,
+                                             const std::vector<Eigen::Vector3f>& target, double lift, double slack) {
+  const auto fs = footprint_of(source), ft = footprint_of(target);
+  if (!fs || !ft) return {};
+  if (std::abs(fs->long_side - ft->long_side) <= slack && std::abs(fs->short_side - ft->short_side) <= slack) return {};
+  std::vector<Eigen::Isometry3d> out;
+  const double base = std::atan2(ft->axis.y(), ft->axis.x()) - std::atan2(fs->axis.y(), fs->axis.x());
+  for (int quarter = 0; quarter < 4; ++quarter) {
+    const Eigen::Matrix2d r = Eigen::Rotation2Dd(base + quarter * M_PI / 2).toRotationMatrix();
+    size_t n_this_turn = 0;
+    for (const Eigen::Vector2d& tc : ft->corner) {
+      // The source corner lying, once turned, in the same quadrant of its
+      // rectangle as tc does in the target's.
+      int best = 0;
+      double best_dot = -INFINITY;
+      for (int k = 0; k < 4; ++k)
+        if (const double d = (r * (fs->corner[k] - fs->centre)).dot(tc - ft->centre); d > best_dot) best_dot = d, best = k;
+      const Eigen::Vector2d t = tc - r * fs->corner[best];
+      // Footprints of one length along an axis put two corners at nearly
+      // the same start: one is enough.
+      if (std::any_of(out.end() - int(n_this_turn), out.end(), [&](const Eigen::Isometry3d& g) {
+            return (g.translation().head<2>() - t).norm() <= slack;
+          }))
+        continue;
+      Eigen::Isometry3d g = Eigen::Isometry3d::Identity();
+      g.linear().topLeftCorner<2, 2>() = r;
+      g.translation().head<2>() = t;
+      g.translation().z() = lift;
+      out.push_back(g);
+      ++n_this_turn;
+    }
+  }
+  return out;
+}
 
 struct Candidate {
   Eigen::Isometry3d t;
@@ -188,10 +264,21 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
 
   // Coarse pass from every hypothesis with the wide correspondence distance.
   std::vector<Candidate> coarse;
-  for (const Eigen::Isometry3d& guess : guesses) {
+  auto coarse_from = [&](const Eigen::Isometry3d& guess) {
     Candidate c{refine(guess, cfg.max_correspondence), 0.0, 0.0, 0.0};
     c.score = score_of(c.t, c.in_source, c.in_target);
     coarse.push_back(c);
+  };
+  for (const Eigen::Isometry3d& guess : guesses) coarse_from(guess);
+  // Corner starts only where no centroid start explained the moved view
+  // (the one covering fewer voxels): they cost as much again.
+  const bool explained = std::any_of(coarse.begin(), coarse.end(), [](const Candidate& c) { return c.in_source >= kExplainedShare; });
+  if (cfg.corner_hypotheses && !explained) {
+    const double lift = std::isfinite(cfg.floor_lift) ? cfg.floor_lift : ct.z() - cs.z();
+    for (const Eigen::Isometry3d& g : corner_starts(source, target, lift, kCornerSlack)) {
+      guesses.push_back(g);
+      coarse_from(g);
+    }
   }
   std::stable_sort(coarse.begin(), coarse.end(), [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
 

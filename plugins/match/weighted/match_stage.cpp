@@ -46,6 +46,7 @@ class WeightedMatchStage : public Stage {
     shape_.max_points = 400;
     shape_.max_score_points = 2000;
     shape_.svd_flips = false;  // objects stand on floors: the yaw turns suffice here
+    shape_.corner_hypotheses = p.get<bool>("corner_hypotheses");
     shape_.list_alternatives = false;  // the check needs the fit, not the other poses (scoring them cost ~10 %)
     surface_.voxel = shape_.voxel;
     surface_.inlier = shape_.inlier_distance;
@@ -146,7 +147,7 @@ class WeightedMatchStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.8.0";
+  s.version = "1.9.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
@@ -159,7 +160,8 @@ StageInfo info() {
       "(height and footprint-rectangle sides within max(max_size_change x the larger, size_slack)), "
       "max_descriptor_distance (if > 0), then fit as one rigid object: each surviving pair is registered "
       "(lista::objreg multi-hypothesis ICP on shape_voxel-downsampled points, the view covering fewer voxels "
-      "moved onto the other) and shape fit = 0.75 x the larger + 0.25 x the smaller share of points on the other "
+      "moved onto the other; started from yaw turns about the centroids and, with corner_hypotheses, when the "
+      "footprints differ in size, corner on corner: a partial view shares a corner with the whole) and shape fit = 0.75 x the larger + 0.25 x the smaller share of points on the other "
       "object's surface: within shape_distance of one of its points, or, between a sparse scanner's rings, "
       "within shape_distance / 2 of the plane its points within shape_gap span around it (a partial view must "
       "be explained; the other view at least in part); fit < min_shape_fit is no candidate, nor is a pair standing on floors in both missions (floor_z "
@@ -230,6 +232,11 @@ StageInfo info() {
                          "floor gate: a pair standing on floors in both missions is registered among upright poses "
                          "only (max_lift, max_tilt), so a better-scoring pose lying on its side does not refuse it; "
                          "false = register freely, refuse the pair when that pose is off the floor"),
+      ParamSpec::boolean("corner_hypotheses", true,
+                         "shape check: views whose footprints differ in size (a side by more than 0.1 m) that no yaw "
+                         "turn explains (90 % of the moved view within shape_distance) are also registered from the "
+                         "(up to 16) poses that put a corner of one footprint on a corner of the other (half a table "
+                         "seen shares a corner with the whole, not its centre)"),
   };
   return s;
 }

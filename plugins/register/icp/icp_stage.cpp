@@ -22,6 +22,7 @@ class IcpStage : public Stage {
     cfg_.max_iterations = p.get<int>("max_iterations");
     cfg_.yaw_hypotheses = p.get<int>("yaw_hypotheses");
     cfg_.svd_flips = p.get<bool>("svd_flips");
+    cfg_.corner_hypotheses = p.get<bool>("corner_hypotheses");
     cfg_.inlier_distance = p.get<double>("inlier_distance");
     cfg_.symmetry_tolerance = p.get<double>("symmetry_tolerance");
     cfg_.distinct_degrees = p.get<double>("distinct_degrees");
@@ -72,11 +73,15 @@ class IcpStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "register.icp";
-  s.version = "1.5.0";
+  s.version = "1.6.0";
   s.summary = "6-DoF transform of each moved object by (G)ICP from SVD and yaw hypotheses";
   s.doc =
       "For each matched pair: initial guesses are the SVD principal-frame transform (register.svd) with its "
-      "four proper axis flips and yaw_hypotheses rotations about the vertical through the centroids. "
+      "four proper axis flips and yaw_hypotheses rotations about the vertical through the centroids; with "
+      "corner_hypotheses, when the two footprints (minimum-perimeter rectangles) differ in a side by more than "
+      "0.1 m and no coarse pose from those starts placed 90 % of the moved view within inlier_distance, also "
+      "the (up to 16) poses that put a corner of one footprint on a corner of the other, sides parallel "
+      "(a partial view shares a corner with the whole object, not its centre). "
       "Each is refined with PCL Generalized ICP (method = gicp; plain ICP below 30 points or with "
       "method = icp) on voxel-downsampled points and scored by the symmetric truncated mean squared "
       "nearest-neighbour distance (truncated at inlier_distance); the three best and the least turned are refined again with the "
@@ -104,6 +109,8 @@ StageInfo info() {
       ParamSpec::integer("max_iterations", 50, "ICP iterations per hypothesis").range(1, 10000),
       ParamSpec::integer("yaw_hypotheses", 8, "initial rotations about the vertical; 0 = none").range(0, 360),
       ParamSpec::boolean("svd_flips", true, "also start from the four axis flips of the SVD guess"),
+      ParamSpec::boolean("corner_hypotheses", true,
+                         "views whose footprints differ in size, unexplained from the other starts, also start corner on corner (a partial view shares a corner with the whole, not its centre)"),
       ParamSpec::real("inlier_distance", 0.05, "score truncation distance").range(0.001, 10.0).unit("m"),
       ParamSpec::real("symmetry_tolerance", 0.1, "relative score margin within which the smallest rotation wins")
           .range(0.0, 10.0),

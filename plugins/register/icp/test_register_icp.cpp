@@ -266,6 +266,66 @@ TEST(IcpRefine, AViewMissingItsTopIsPlacedOnItsFloor) {
   EXPECT_GT(std::abs(from_centroids.transform.translation().z() - lift), 0.1);
 }
 
+TEST(IcpRefine, HalfATableIsPlacedCornerOnCornerOnTheWhole) {
+  // A 1.6 x 0.9 m table (top and four legs); the other mission saw its
+  // half x < 0.85 m only. Started centroid on centroid the half sits in the
+  // middle of the whole; a corner of its footprint is a corner of the
+  // whole's, and starting there finds the pose.
+  auto table = [](uint64_t seed, float keep_x) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    std::vector<Eigen::Vector3f> p;
+    const float legs[4][2] = {{0.f, 0.f}, {1.55f, 0.f}, {1.55f, 0.85f}, {0.f, 0.85f}};
+    for (int i = 0; i < 3000; ++i) {
+      Eigen::Vector3f q;
+      if (i % 3 == 0) {
+        const auto& l = legs[(i / 3) % 4];
+        q = {l[0] + 0.05f * u(rng), l[1] + 0.05f * u(rng), 0.72f * u(rng)};
+      } else if (i % 3 == 1) {
+        q = {1.6f * u(rng), 0.9f * u(rng), 0.75f};
+      } else {  // the top's edge band
+        const float a = u(rng), h = 0.72f + 0.03f * u(rng);
+        const int side = (i / 3) % 4;
+        q = side == 0 ? Eigen::Vector3f(1.6f * a, 0.f, h) : side == 1 ? Eigen::Vector3f(1.6f * a, 0.9f, h)
+            : side == 2 ? Eigen::Vector3f(0.f, 0.9f * a, h) : Eigen::Vector3f(1.6f, 0.9f * a, h);
+      }
+      if (q.x() < keep_x) p.push_back(q);
+    }
+    return p;
+  };
+  const auto whole = table(5, 1e9f);
+  const Eigen::Isometry3d truth = yaw_move(1.1, {2.0, 1.0, 0.0});
+  const auto half = transformed(table(6, 0.85f), truth, 0.003, 6);
+  IcpConfig on_floor;
+  on_floor.floor_lift = 0.0;
+  double e_m, e_deg;
+  errors(icp_refine(whole, half, on_floor).transform, truth, e_m, e_deg);
+  EXPECT_LT(e_m, 0.03);
+  EXPECT_LT(e_deg, 2.0);
+  IcpConfig centroids_only = on_floor;
+  centroids_only.corner_hypotheses = false;
+  const IcpResult without = icp_refine(whole, half, centroids_only);
+  errors(without.transform, truth, e_m, e_deg);
+  EXPECT_GT(e_m, 0.1);  // what the corner starts are for
+  EXPECT_GT(icp_refine(whole, half, on_floor).hypotheses, without.hypotheses);
+}
+
+TEST(IcpRefine, CornerStartsOnlyWhereNoOtherStartExplainsTheView) {
+  // Footprints of one size: no corner starts. A cabinet against the same
+  // cabinet with a 0.3 m box beside it (footprints differ): the centroid
+  // starts already explain the cabinet, so none either.
+  const Eigen::Isometry3d truth = yaw_move(0.4, {1.0, 0.5, 0.0});
+  const auto a = cabinet(11);
+  const IcpResult same = icp_refine(a, transformed(cabinet(12), truth, 0.002, 12), IcpConfig{});
+  auto bigger = cabinet(13);
+  for (const auto& p : box_surface(14, {0.3f, 0.4f, 0.5f}, 800)) bigger.push_back(p + Eigen::Vector3f(0.8f, 0.f, 0.f));
+  const IcpResult wider = icp_refine(a, transformed(bigger, truth, 0.002, 13), IcpConfig{});
+  EXPECT_EQ(same.hypotheses, wider.hypotheses);
+  double e_m, e_deg;
+  errors(wider.transform, truth, e_m, e_deg);
+  EXPECT_LT(e_m, 0.03);
+}
+
 TEST(IcpRefine, StageListsTheAlternativesAtBothEndsAsInverses) {
   const Eigen::Isometry3d truth = yaw_move(0.1, {0.3, -0.2, 0.0});
   const Matches out = register_moved_pair(cabinet(7), transformed(cabinet(8), truth, 0.002, 8), {});

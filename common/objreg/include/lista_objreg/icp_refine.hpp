@@ -2,7 +2,13 @@
 //
 // Hypotheses: the SVD principal-frame guess with its four proper axis flips
 // (what symmetric shapes leave undecided) and `yaw_hypotheses` rotations about
-// the vertical through the centroids (objects are mostly moved on the floor).
+// the vertical through the centroids (objects are mostly moved on the floor);
+// with corner_hypotheses, when the two footprints (minimum-perimeter
+// rectangles) differ in a side by more than 0.1 m and no coarse pose from
+// those starts placed 90 % of the moved view within inlier_distance, also
+// the (up to 16) poses that put a corner of one footprint on a corner of
+// the other, sides parallel: a partial view (half a table, two faces of a
+// container) shares a corner with the whole object, not its centre.
 // Each is refined with PCL's Generalized ICP (or point-to-point ICP) and
 // scored by the truncated mean squared distance of the moved source points to
 // the target, min(d^2, inlier^2), computed both ways so that a partial view
@@ -49,6 +55,7 @@ struct IcpConfig {
   int max_iterations = 50;
   int yaw_hypotheses = 8;             // 0 = none
   bool svd_flips = true;              // try the SVD guess's four axis flips
+  bool corner_hypotheses = true;      // footprints of different sizes: also start corner on corner
   double inlier_distance = 0.05;      // m: truncation of the score
   double symmetry_tolerance = 0.1;    // poses within this share of the best score tie; smallest rotation wins
   double distinct_degrees = 10.0;     // a tying pose turned at least this far from the winner is an alternative
