@@ -138,6 +138,27 @@ TEST(SegmentComove, PiecesOnlyJoinWhenTheyChangedAgainstEachOther) {
   EXPECT_EQ(lista::seg::join_comoving(in, {}).objects.size(), 8u);
 }
 
+TEST(SegmentComove, NothingToJoinLeavesTheSetAsItWas) {
+  // One mission, an empty set, and ids that are not 0..n-1: kept as given.
+  auto one = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0})}, 1);
+  for (auto& o : one.objects) o.id += 10;
+  const auto out = lista::seg::join_comoving(one, {});
+  ASSERT_EQ(out.objects.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) EXPECT_EQ(out.objects[k].id, one.objects[k].id);
+  EXPECT_TRUE(lista::seg::join_comoving(make({}, 2), {}).objects.empty());
+}
+
+TEST(SegmentComove, AJoinedObjectTakesTheLowestKnownFloor) {
+  auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.7f, {3.f, 1.f})});
+  in.objects[0].floor_z = std::numeric_limits<float>::quiet_NaN();
+  in.objects[1].floor_z = -0.02f;
+  in.objects[4].floor_z = std::numeric_limits<float>::quiet_NaN();
+  const auto out = lista::seg::join_comoving(in, {});
+  ASSERT_EQ(out.objects.size(), 2u);
+  EXPECT_EQ(out.objects[0].floor_z, -0.02f);
+  EXPECT_EQ(out.objects[1].floor_z, 0.f);
+}
+
 TEST(SegmentComove, DoesNotTrustStaleBounds) {
   // Bounds and centroids left at zero by an upstream stage: recomputed.
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.7f, {3.f, 1.f})});
