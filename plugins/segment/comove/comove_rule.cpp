@@ -14,7 +14,7 @@
 namespace lista::seg {
 namespace {
 
-constexpr size_t kSample = 200;            // points of a piece judged (strided)
+constexpr size_t kSample = 200;                     // points of a piece judged (strided)
 constexpr double kLeastTurn = 10.0 * M_PI / 180.0;  // with position_tolerance: smaller is no move
 
 // A yaw and a translation (objects stand on floors), plus the floors' height
@@ -40,7 +40,7 @@ struct Motion {
 // within the radius".
 class PointGrid {
  public:
-  PointGrid(double radius) : radius_(radius) {}
+  explicit PointGrid(double radius) : radius_(radius) {}
   void add(const Eigen::Vector3f& p) { cells_[geometry::voxel_key_of(p.cast<double>(), radius_)].push_back(p); }
   bool near(const Eigen::Vector3d& q) const {
     const Eigen::Vector3i c = (q / radius_).array().floor().cast<int>();
@@ -112,28 +112,43 @@ struct Hypothesis {
   size_t points = 0;
 };
 
+// Coverage tests (of at most kSample points each) one mission pair may
+// spend: a regular grid of posts (rack uprights) offers a hypothesis for
+// every pair of pairs; the search stops there, and the stage says so.
+constexpr size_t kBudget = 30000;
+
 // Grows a side from its two seeds: every covered piece within join_gap of
-// the set joins, until none does. Empty when a seed is not covered.
+// the set joins, until none does, as long as the set's horizontal bounding
+// box stays within a diagonal of sqrt(2) x max_extent (no longer footprint
+// could pass the final check). Empty when a seed is not covered or the
+// budget ran out (`spent` counts coverage tests).
 std::vector<size_t> grow(const ObjectSet& set, const std::vector<Piece>& pieces, size_t s0, size_t s1,
-                         const Motion& m, const PointGrid& other, const ComoveConfig& c) {
+                         const Motion& m, const PointGrid& other, const ComoveConfig& c, size_t& spent) {
   std::vector<std::optional<bool>> cover(pieces.size());
   auto is_covered = [&](size_t k) {
-    if (!cover[k]) cover[k] = covered(pieces[k], m, other, c.cover_share);
+    if (!cover[k]) cover[k] = covered(pieces[k], m, other, c.cover_share), ++spent;
     return *cover[k];
   };
   if (!is_covered(s0) || !is_covered(s1)) return {};
   std::vector<size_t> in = {s0, s1};
   std::vector<bool> taken(pieces.size(), false);
   taken[s0] = taken[s1] = true;
+  auto box_of = [&](size_t k) { return Eigen::AlignedBox2f(set.objects[pieces[k].object].bbox_min.head<2>(),
+                                                           set.objects[pieces[k].object].bbox_max.head<2>()); };
+  Eigen::AlignedBox2f box = box_of(s0).merged(box_of(s1));
+  const float widest = float(std::sqrt(2.0) * c.max_extent);
   for (bool grew = true; grew;) {
     grew = false;
     for (size_t k = 0; k < pieces.size(); ++k) {
       if (taken[k]) continue;
+      if (spent >= kBudget) return {};
+      const Eigen::AlignedBox2f with = box.merged(box_of(k));
+      if (with.diagonal().norm() > widest) continue;
       const Object& o = set.objects[pieces[k].object];
       const bool near = std::any_of(in.begin(), in.end(), [&](size_t j) {
         return geometry::box_gap(o, set.objects[pieces[j].object]) <= c.join_gap;
       });
-      if (near && is_covered(k)) in.push_back(k), taken[k] = grew = true;
+      if (near && is_covered(k)) in.push_back(k), taken[k] = grew = true, box = with;
     }
   }
   std::vector<size_t> objects;
@@ -148,8 +163,9 @@ bool fits_extent(const ObjectSet& set, const std::vector<size_t>& members, doubl
   return geometry::horizontal_extents(pts).x() <= max_extent;
 }
 
-// The joins of one consecutive pair, as groups of object indices.
-std::vector<Hypothesis> joins_between(const ObjectSet& set, uint32_t m, const ComoveConfig& c) {
+// The joins of one consecutive pair, as groups of object indices; `cut`
+// set when the search ran out of budget.
+std::vector<Hypothesis> joins_between(const ObjectSet& set, uint32_t m, const ComoveConfig& c, bool& cut) {
   const std::vector<Piece> a = pieces_of(set, m, changed_against_next, c);
   const std::vector<Piece> b = pieces_of(set, m + 1, changed_against_previous, c);
   if (a.size() < 2 || b.size() < 2) return {};
@@ -173,7 +189,12 @@ std::vector<Hypothesis> joins_between(const ObjectSet& set, uint32_t m, const Co
 
   std::vector<Hypothesis> found;
   std::set<std::pair<std::vector<size_t>, std::vector<size_t>>> seen;
+  size_t spent = 0;
   for (const auto& [i, j] : pairs_a) {
+    if (spent >= kBudget) {
+      cut = true;
+      break;
+    }
     if (in_place[i] && in_place[j]) continue;
     const double da = (a[j].centroid - a[i].centroid).norm();
     for (const auto& [k0, l0] : pairs_b) {
@@ -185,9 +206,9 @@ std::vector<Hypothesis> joins_between(const ObjectSet& set, uint32_t m, const Co
         mo.dz = 0.5 * (floor_of(set.objects[b[k].object]) + floor_of(set.objects[b[l].object]) -
                        floor_of(set.objects[a[i].object]) - floor_of(set.objects[a[j].object]));
         Hypothesis h;
-        h.first = grow(set, a, i, j, mo, grid_b, c);
+        h.first = grow(set, a, i, j, mo, grid_b, c, spent);
         if (h.first.empty()) continue;
-        h.second = grow(set, b, k, l, mo.inverse(), grid_a, c);
+        h.second = grow(set, b, k, l, mo.inverse(), grid_a, c, spent);
         if (h.second.empty()) continue;
         if (!seen.insert({h.first, h.second}).second) continue;
         if (!fits_extent(set, h.first, c.max_extent) || !fits_extent(set, h.second, c.max_extent)) continue;
@@ -228,20 +249,24 @@ ObjectSet join_comoving(const ObjectSet& given, const ComoveConfig& config, Como
   const size_t n = in.objects.size();
   std::vector<size_t> parent(n);
   std::iota(parent.begin(), parent.end(), size_t(0));
-  for (uint32_t m = 0; m + 1 < in.missions.size(); ++m)
-    for (const Hypothesis& h : joins_between(in, m, config))
+  ComoveStats st;
+  for (uint32_t m = 0; m + 1 < in.missions.size(); ++m) {
+    bool cut = false;
+    const std::vector<Hypothesis> joins = joins_between(in, m, config, cut);
+    if (cut) st.searches_cut.push_back(m);
+    for (const Hypothesis& h : joins)
       for (const auto* side : {&h.first, &h.second})
         for (size_t o : *side) {
           // The lowest index roots the group, so the joined object takes its place.
           const size_t x = root(parent, (*side)[0]), y = root(parent, o);
           if (x != y) parent[std::max(x, y)] = std::min(x, y);
         }
+  }
 
   ObjectSet out;
   out.missions = in.missions;
   std::vector<long> slot(n, -1);
   std::vector<bool> grown(n, false);  // roots that took another piece
-  ComoveStats st;
   for (size_t i = 0; i < n; ++i) {
     const size_t r = root(parent, i);
     if (r == i) {

@@ -27,6 +27,9 @@
 //  3. Choice. Hypotheses with at least two pieces on each side and a joined
 //     footprint of at most max_extent are taken by their total points, most
 //     first, each piece in at most one.
+// The search spends at most a fixed number of coverage tests per mission
+// pair (a regular grid of posts offers hypotheses without end) and says
+// when it stopped (ComoveStats::searches_cut).
 // A piece the other mission did not see (an occluded leg) has no evidence
 // and stays apart. Joined pieces become one object (points in id order, the
 // lowest floor_z); objects of different missions are never joined, and
@@ -37,6 +40,8 @@
 #include <lista/objects.hpp>
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 namespace lista::seg {
 
@@ -52,6 +57,10 @@ struct ComoveConfig {
 struct ComoveStats {
   size_t joins = 0;   // joined objects made
   size_t joined = 0;  // pieces that went into them
+  // Missions m whose search with m+1 stopped at its budget (a regular grid
+  // of slender pieces offers hypotheses without end): some joins there may
+  // be missing.
+  std::vector<uint32_t> searches_cut;
 };
 
 ObjectSet join_comoving(const ObjectSet& in, const ComoveConfig& config, ComoveStats* stats = nullptr);

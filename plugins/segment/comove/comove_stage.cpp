@@ -60,6 +60,11 @@ class ComoveStage : public Stage {
   Outputs run(const Inputs& in, Context& context) override {
     ComoveStats st;
     ObjectSet objects = join_comoving(in.get<ObjectSet>("objects"), c_, &st);
+    for (uint32_t m : st.searches_cut)
+      context.warn("segment.comove: the search between missions " + objects.missions[m] + " and " +
+                   objects.missions[m + 1] +
+                   " stopped at its budget (too many slender pieces in a regular layout); some pieces that moved "
+                   "together may stay apart");
     context.record("joins", double(st.joins));
     context.record("joined_pieces", double(st.joined));
     context.record("objects", double(objects.objects.size()));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <lista_geometry/object_geometry.hpp>
 
 using namespace test_support;
 
@@ -157,6 +158,27 @@ TEST(SegmentComove, AJoinedObjectTakesTheLowestKnownFloor) {
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(out.objects[0].floor_z, -0.02f);
   EXPECT_EQ(out.objects[1].floor_z, 0.f);
+}
+
+TEST(SegmentComove, AGridOfPostsEndsTheSearchAtItsBudget) {
+  // 12 x 12 posts 0.8 m apart in each mission, the second grid shifted by
+  // half a step: every pair of pairs is a hypothesis. The search stops at
+  // its budget and says so; what it joined keeps to max_extent.
+  auto grid = [](uint32_t m, float shift) {
+    std::vector<lista::Object> posts;
+    for (int i = 0; i < 12; ++i)
+      for (int j = 0; j < 12; ++j) {
+        const Eigen::Vector3f lo(0.8f * i + shift, 0.8f * j + shift, 0.f);
+        posts.push_back(piece(m, lo, lo + Eigen::Vector3f(0.06f, 0.06f, 1.0f), 0.f, {0, 0}));
+      }
+    return posts;
+  };
+  auto in = make({grid(0, 0.f), grid(1, 0.4f)});
+  lista::seg::ComoveStats st;
+  const auto out = lista::seg::join_comoving(in, {}, &st);
+  EXPECT_EQ(st.searches_cut, std::vector<uint32_t>{0});
+  for (const auto& o : out.objects)
+    EXPECT_LE(lista::geometry::horizontal_extents(o.points.xyz).x(), 3.0f + 1e-3f);
 }
 
 TEST(SegmentComove, DoesNotTrustStaleBounds) {
