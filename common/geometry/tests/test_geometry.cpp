@@ -61,3 +61,34 @@ TEST(VoxelKey, UnpacksToTheVoxelItWasPackedFromAndSortsByXThenYThenZ) {
   EXPECT_EQ(lista::geometry::voxel_of_key(lista::geometry::voxel_key_of({-0.01, 0.19, 0.21}, 0.1)),
             Eigen::Vector3i(-1, 1, 2));
 }
+
+TEST(BoundingRectangle, CornersAndCentreFollowTheTurnedRectangle) {
+  // A 2 x 1 m rectangle's outline, turned by 30 degrees about (5, 3).
+  const double yaw = 0.5235987755982988;
+  const Eigen::Rotation2Dd r(yaw);
+  std::vector<Eigen::Vector3f> pts;
+  for (int k = 0; k <= 40; ++k) {
+    const double a = -1.0 + 2.0 * k / 40, b = -0.5 + 1.0 * k / 40;
+    for (const Eigen::Vector2d& q : {Eigen::Vector2d(a, -0.5), Eigen::Vector2d(a, 0.5), Eigen::Vector2d(-1.0, b), Eigen::Vector2d(1.0, b)}) {
+      const Eigen::Vector2d w = r * q + Eigen::Vector2d(5, 3);
+      pts.emplace_back(float(w.x()), float(w.y()), 0.f);
+    }
+  }
+  const auto rect = lista::geometry::min_perimeter_rectangle(pts);
+  ASSERT_TRUE(rect.valid);
+  EXPECT_NEAR(rect.centre.x(), 5.0, 1e-5);
+  EXPECT_NEAR(rect.centre.y(), 3.0, 1e-5);
+  // Every true corner is one of the four, and they go round.
+  const auto c = rect.corners();
+  for (const Eigen::Vector2d& q : {Eigen::Vector2d(-1, -0.5), Eigen::Vector2d(1, -0.5), Eigen::Vector2d(1, 0.5), Eigen::Vector2d(-1, 0.5)}) {
+    const Eigen::Vector2d w = r * q + Eigen::Vector2d(5, 3);
+    double nearest = 1e9;
+    for (const auto& k : c) nearest = std::min(nearest, (k - w).norm());
+    EXPECT_LT(nearest, 1e-5);
+  }
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2d e0 = c[(k + 1) % 4] - c[k], e1 = c[(k + 2) % 4] - c[(k + 1) % 4];
+    EXPECT_GT(e0.x() * e1.y() - e0.y() * e1.x(), 0.0);  // counter-clockwise
+  }
+  EXPECT_NEAR((c[1] - c[0]).norm(), 2.0, 1e-5);  // first side along the long axis
+}

@@ -16,7 +16,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 
 namespace lista::registration {
 
@@ -56,32 +55,6 @@ constexpr double kCornerSlack = 0.1;
 // distance of the other explains it: no corner starts are tried.
 constexpr double kExplainedShare = 0.9;
 
-// The footprint's minimum-perimeter rectangle: centre, unit long axis and
-// corners (counter-clockwise from the low end of both axes).
-struct Footprint {
-  Eigen::Vector2d centre, axis, corner[4];
-  double long_side = 0.0, short_side = 0.0;
-};
-
-std::optional<Footprint> footprint_of(const std::vector<Eigen::Vector3f>& pts) {
-  const geometry::BoundingRectangle r = geometry::min_perimeter_rectangle(pts);
-  if (!r.valid) return std::nullopt;
-  Footprint f;
-  f.axis = r.long_axis;
-  const Eigen::Vector2d v(-f.axis.y(), f.axis.x());
-  double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY;
-  for (const auto& p : pts) {
-    const Eigen::Vector2d q = p.head<2>().cast<double>();
-    lo_u = std::min(lo_u, q.dot(f.axis)), hi_u = std::max(hi_u, q.dot(f.axis));
-    lo_v = std::min(lo_v, q.dot(v)), hi_v = std::max(hi_v, q.dot(v));
-  }
-  const double us[4] = {lo_u, hi_u, hi_u, lo_u}, vs[4] = {lo_v, lo_v, hi_v, hi_v};
-  for (int k = 0; k < 4; ++k) f.corner[k] = us[k] * f.axis + vs[k] * v;
-  f.centre = 0.5 * (lo_u + hi_u) * f.axis + 0.5 * (lo_v + hi_v) * v;
-  f.long_side = hi_u - lo_u, f.short_side = hi_v - lo_v;
-  return f;
-}
-
 // Starts that put a corner of the source's footprint on a corner of the
 // target's, the rectangles' sides parallel (four quarter turns x four
 // corners): a partial view (half a table, two faces of a container) shares
@@ -90,22 +63,24 @@ std::optional<Footprint> footprint_of(const std::vector<Eigen::Vector3f>& pts) {
 // starts less than `slack` apart only the first is kept.
 std::vector<Eigen::Isometry3d> corner_starts(const std::vector<Eigen::Vector3f>& source,
                                              const std::vector<Eigen::Vector3f>& target, double lift, double slack) {
-  const auto fs = footprint_of(source), ft = footprint_of(target);
-  if (!fs || !ft) return {};
-  if (std::abs(fs->long_side - ft->long_side) <= slack && std::abs(fs->short_side - ft->short_side) <= slack) return {};
+  const geometry::BoundingRectangle rs = geometry::min_perimeter_rectangle(source),
+                                    rt = geometry::min_perimeter_rectangle(target);
+  if (!rs.valid || !rt.valid) return {};
+  const std::array<Eigen::Vector2d, 4> source_corners = rs.corners(), target_corners = rt.corners();
+  if (std::abs(rs.long_side - rt.long_side) <= slack && std::abs(rs.short_side - rt.short_side) <= slack) return {};
   std::vector<Eigen::Isometry3d> out;
-  const double base = std::atan2(ft->axis.y(), ft->axis.x()) - std::atan2(fs->axis.y(), fs->axis.x());
+  const double base = std::atan2(rt.long_axis.y(), rt.long_axis.x()) - std::atan2(rs.long_axis.y(), rs.long_axis.x());
   for (int quarter = 0; quarter < 4; ++quarter) {
     const Eigen::Matrix2d r = Eigen::Rotation2Dd(base + quarter * M_PI / 2).toRotationMatrix();
     size_t n_this_turn = 0;
-    for (const Eigen::Vector2d& tc : ft->corner) {
+    for (const Eigen::Vector2d& tc : target_corners) {
       // The source corner lying, once turned, in the same quadrant of its
       // rectangle as tc does in the target's.
       int best = 0;
       double best_dot = -INFINITY;
       for (int k = 0; k < 4; ++k)
-        if (const double d = (r * (fs->corner[k] - fs->centre)).dot(tc - ft->centre); d > best_dot) best_dot = d, best = k;
-      const Eigen::Vector2d t = tc - r * fs->corner[best];
+        if (const double d = (r * (source_corners[k] - rs.centre)).dot(tc - rt.centre); d > best_dot) best_dot = d, best = k;
+      const Eigen::Vector2d t = tc - r * source_corners[best];
       // Footprints of one length along an axis put two corners at nearly
       // the same start: one is enough.
       if (std::any_of(out.end() - int(n_this_turn), out.end(), [&](const Eigen::Isometry3d& g) {

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -20,7 +21,15 @@ struct BoundingRectangle {
   // perpendicular). Its sign is arbitrary; callers fix it.
   Eigen::Vector2d long_axis = Eigen::Vector2d::UnitX();
   double long_side = 0.0, short_side = 0.0;  // metres
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   bool valid = false;  // false when the points span no area (fewer than 3 hull corners)
+
+  // The four corners, counter-clockwise from the low end of both the long
+  // axis and its perpendicular (-long_axis.y(), long_axis.x()).
+  std::array<Eigen::Vector2d, 4> corners() const {
+    const Eigen::Vector2d u = 0.5 * long_side * long_axis, v = 0.5 * short_side * Eigen::Vector2d(-long_axis.y(), long_axis.x());
+    return {centre - u - v, centre + u - v, centre + u + v, centre - u + v};
+  }
 };
 
 namespace detail {
@@ -111,6 +120,7 @@ inline BoundingRectangle min_perimeter_rectangle(const std::vector<Eigen::Vector
       best.long_axis = su >= sv ? u : v;
       best.long_side = std::max(su, sv);
       best.short_side = std::min(su, sv);
+      best.centre = 0.5 * (lo_u + hi_u) * u + 0.5 * (lo_v + hi_v) * v;
     }
   }
   return best;
