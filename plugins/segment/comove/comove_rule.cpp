@@ -9,6 +9,7 @@
 #include <numeric>
 #include <optional>
 #include <set>
+#include <tuple>
 #include <unordered_map>
 
 namespace lista::seg {
@@ -124,6 +125,7 @@ constexpr size_t kBudget = 30000;
 // budget ran out (`spent` counts coverage tests).
 std::vector<size_t> grow(const ObjectSet& set, const std::vector<Piece>& pieces, size_t s0, size_t s1,
                          const Motion& m, const PointGrid& other, const ComoveConfig& c, size_t& spent) {
+  if (spent >= kBudget) return {};
   std::vector<std::optional<bool>> cover(pieces.size());
   auto is_covered = [&](size_t k) {
     if (!cover[k]) cover[k] = covered(pieces[k], m, other, c.cover_share), ++spent;
