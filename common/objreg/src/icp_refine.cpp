@@ -246,8 +246,11 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   };
   for (const Eigen::Isometry3d& guess : guesses) coarse_from(guess);
   // Corner starts only where no centroid start explained the moved view
-  // (the one covering fewer voxels): they cost as much again.
-  const bool explained = std::any_of(coarse.begin(), coarse.end(), [](const Candidate& c) { return c.in_source >= kExplainedShare; });
+  // (the one covering fewer voxels) in a pose the caller accepts: they
+  // cost as much again.
+  const bool explained = std::any_of(coarse.begin(), coarse.end(), [&](const Candidate& c) {
+    return c.in_source >= kExplainedShare && (!cfg.admissible || cfg.admissible(c.t));
+  });
   if (cfg.corner_hypotheses && !explained) {
     const double lift = std::isfinite(cfg.floor_lift) ? cfg.floor_lift : ct.z() - cs.z();
     for (const Eigen::Isometry3d& g : corner_starts(source, target, lift, kCornerSlack)) {
