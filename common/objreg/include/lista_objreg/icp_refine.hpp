@@ -5,7 +5,8 @@
 // the vertical through the centroids (objects are mostly moved on the floor);
 // with corner_hypotheses, when the two footprints (minimum-perimeter
 // rectangles) differ in a side by more than 0.1 m and no coarse pose from
-// those starts placed 90 % of the moved view within inlier_distance, also
+// those starts placed 90 % of the moved view within inlier_distance (in an
+// admissible pose, when `admissible` is set), also
 // the (up to 16) poses that put a corner of one footprint on a corner of
 // the other, sides parallel: a partial view (half a table, two faces of a
 // container) shares a corner with the whole object, not its centre.
