@@ -66,8 +66,8 @@ std::vector<Eigen::Isometry3d> corner_starts(const std::vector<Eigen::Vector3f>&
   const geometry::BoundingRectangle rs = geometry::min_perimeter_rectangle(source),
                                     rt = geometry::min_perimeter_rectangle(target);
   if (!rs.valid || !rt.valid) return {};
-  const std::array<Eigen::Vector2d, 4> source_corners = rs.corners(), target_corners = rt.corners();
   if (std::abs(rs.long_side - rt.long_side) <= slack && std::abs(rs.short_side - rt.short_side) <= slack) return {};
+  const std::array<Eigen::Vector2d, 4> source_corners = rs.corners(), target_corners = rt.corners();
   std::vector<Eigen::Isometry3d> out;
   const double base = std::atan2(rt.long_axis.y(), rt.long_axis.x()) - std::atan2(rs.long_axis.y(), rs.long_axis.x());
   for (int quarter = 0; quarter < 4; ++quarter) {

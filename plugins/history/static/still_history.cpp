@@ -2,13 +2,12 @@
 
 #include <lista/error.hpp>
 #include <lista/parallel.hpp>
-#include <lista_geometry/voxel_key.hpp>
+#include <lista_geometry/radius_grid.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <deque>
 #include <map>
-#include <unordered_map>
 
 namespace lista::history {
 
@@ -21,51 +20,10 @@ struct Box {
   }
 };
 
-// Points hashed by cells of the search radius: a neighbour within the radius
-// lies in one of the 27 cells around a point's own.
-class Grid {
- public:
-  explicit Grid(float cell) : inv_(1.f / cell), r2_(cell * cell) {}
-
-  void add(const Eigen::Vector3f& p, uint32_t i) { cells_[geometry::voxel_key(cell_of(p))].push_back(i); }
-
-  template <class F>
-  void for_near(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& p, F&& f) const {
-    visit(xyz, p, [&](uint32_t i) { f(i); return false; });
-  }
-
-  bool any_near(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& p) const {
-    return visit(xyz, p, [](uint32_t) { return true; });
-  }
-
- private:
-  // Calls f on every point within the radius of p until f returns true;
-  // says whether it did.
-  template <class F>
-  bool visit(const std::vector<Eigen::Vector3f>& xyz, const Eigen::Vector3f& p, F&& f) const {
-    const Eigen::Vector3i c = cell_of(p);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          auto it = cells_.find(geometry::voxel_key(c + Eigen::Vector3i(dx, dy, dz)));
-          if (it == cells_.end()) continue;
-          for (uint32_t i : it->second)
-            if ((xyz[i] - p).squaredNorm() <= r2_ && f(i)) return true;
-        }
-    return false;
-  }
-
-  Eigen::Vector3i cell_of(const Eigen::Vector3f& p) const {
-    return (p * inv_).array().floor().cast<int>();
-  }
-  float inv_, r2_;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
-};
-
 // A mission's points near the changed objects (common frame), hashed.
 struct Cloud {
   PointSet points;
-  Grid grid;
+  geometry::RadiusGrid grid;
   explicit Cloud(float r) : grid(r) {}
   void add(const PointSet& from, size_t i, const Eigen::Vector3f& p) {
     points.push_back_from(from, i);

@@ -1,7 +1,7 @@
 #include "comove_rule.hpp"
 
 #include <lista_geometry/object_geometry.hpp>
-#include <lista_geometry/voxel_key.hpp>
+#include <lista_geometry/radius_grid.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -10,7 +10,6 @@
 #include <optional>
 #include <set>
 #include <tuple>
-#include <unordered_map>
 
 namespace lista::seg {
 namespace {
@@ -24,9 +23,9 @@ struct Motion {
   Eigen::Matrix2d r = Eigen::Matrix2d::Identity();
   Eigen::Vector2d t = Eigen::Vector2d::Zero();
   double dz = 0.0;
-  Eigen::Vector3d apply(const Eigen::Vector3f& p) const {
+  Eigen::Vector3f apply(const Eigen::Vector3f& p) const {
     const Eigen::Vector2d xy = r * p.head<2>().cast<double>() + t;
-    return {xy.x(), xy.y(), double(p.z()) + dz};
+    return Eigen::Vector3d(xy.x(), xy.y(), double(p.z()) + dz).cast<float>();
   }
   Motion inverse() const {
     Motion m;
@@ -39,27 +38,14 @@ struct Motion {
 
 // The points of one mission's candidate pieces, hashed for "is anything
 // within the radius".
-class PointGrid {
- public:
-  explicit PointGrid(double radius) : radius_(radius) {}
-  void add(const Eigen::Vector3f& p) { cells_[geometry::voxel_key_of(p.cast<double>(), radius_)].push_back(p); }
-  bool near(const Eigen::Vector3d& q) const {
-    const Eigen::Vector3i c = (q / radius_).array().floor().cast<int>();
-    const double r2 = radius_ * radius_;
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find(geometry::voxel_key(c + Eigen::Vector3i(dx, dy, dz)));
-          if (it == cells_.end()) continue;
-          for (const auto& p : it->second)
-            if ((p.cast<double>() - q).squaredNorm() <= r2) return true;
-        }
-    return false;
+struct PieceCloud {
+  std::vector<Eigen::Vector3f> xyz;
+  geometry::RadiusGrid grid;
+  PieceCloud(const ObjectSet& set, const std::vector<size_t>& objects, double radius) : grid(float(radius)) {
+    for (size_t o : objects)
+      for (const auto& p : set.objects[o].points.xyz) grid.add(p, uint32_t(xyz.size())), xyz.push_back(p);
   }
-
- private:
-  double radius_;
-  std::unordered_map<uint64_t, std::vector<Eigen::Vector3f>> cells_;
+  bool near(const Eigen::Vector3f& q) const { return grid.any_near(xyz, q); }
 };
 
 struct Piece {
@@ -102,7 +88,7 @@ Motion motion_from(const Eigen::Vector2d& a0, const Eigen::Vector2d& a1, const E
   return m;
 }
 
-bool covered(const Piece& p, const Motion& m, const PointGrid& other, double share) {
+bool covered(const Piece& p, const Motion& m, const PieceCloud& other, double share) {
   size_t hits = 0;
   for (const auto& q : p.sample) hits += other.near(m.apply(q)) ? 1 : 0;
   return double(hits) >= share * double(p.sample.size());
@@ -124,7 +110,7 @@ constexpr size_t kBudget = 30000;
 // could pass the final check). Empty when a seed is not covered or the
 // budget ran out (`spent` counts coverage tests).
 std::vector<size_t> grow(const ObjectSet& set, const std::vector<Piece>& pieces, size_t s0, size_t s1,
-                         const Motion& m, const PointGrid& other, const ComoveConfig& c, size_t& spent) {
+                         const Motion& m, const PieceCloud& other, const ComoveConfig& c, size_t& spent) {
   if (spent >= kBudget) return {};
   std::vector<std::optional<bool>> cover(pieces.size());
   auto is_covered = [&](size_t k) {
@@ -171,11 +157,12 @@ std::vector<Hypothesis> joins_between(const ObjectSet& set, uint32_t m, const Co
   const std::vector<Piece> a = pieces_of(set, m, changed_against_next, c);
   const std::vector<Piece> b = pieces_of(set, m + 1, changed_against_previous, c);
   if (a.size() < 2 || b.size() < 2) return {};
-  PointGrid grid_a(c.cover_radius), grid_b(c.cover_radius);
-  for (const auto& p : a)
-    for (const auto& q : set.objects[p.object].points.xyz) grid_a.add(q);
-  for (const auto& p : b)
-    for (const auto& q : set.objects[p.object].points.xyz) grid_b.add(q);
+  auto objects_of = [](const std::vector<Piece>& s) {
+    std::vector<size_t> out;
+    for (const auto& p : s) out.push_back(p.object);
+    return out;
+  };
+  const PieceCloud grid_a(set, objects_of(a), c.cover_radius), grid_b(set, objects_of(b), c.cover_radius);
   auto close_pairs = [&](const std::vector<Piece>& s) {
     std::vector<std::pair<size_t, size_t>> out;
     for (size_t i = 0; i < s.size(); ++i)
