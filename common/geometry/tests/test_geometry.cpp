@@ -1,9 +1,12 @@
 // lista::geometry: box gaps and the yaw-invariant footprint.
 #include <lista_geometry/object_geometry.hpp>
+#include <lista_geometry/radius_grid.hpp>
 #include <lista_geometry/voxel_key.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 namespace {
 
@@ -91,4 +94,16 @@ TEST(BoundingRectangle, CornersAndCentreFollowTheTurnedRectangle) {
     EXPECT_GT(e0.x() * e1.y() - e0.y() * e1.x(), 0.0);  // counter-clockwise
   }
   EXPECT_NEAR((c[1] - c[0]).norm(), 2.0, 1e-5);  // first side along the long axis
+}
+
+TEST(RadiusGrid, FindsExactlyThePointsWithinTheRadiusAcrossCells) {
+  std::vector<Eigen::Vector3f> xyz = {{0.09f, 0.f, 0.f}, {0.11f, 0.f, 0.f}, {-0.05f, 0.05f, 0.05f}, {0.3f, 0.f, 0.f}};
+  lista::geometry::RadiusGrid grid(0.1f);
+  for (uint32_t i = 0; i < xyz.size(); ++i) grid.add(xyz[i], i);
+  std::vector<uint32_t> found;
+  grid.for_near(xyz, Eigen::Vector3f(0.f, 0.f, 0.f), [&](uint32_t i) { found.push_back(i); });
+  std::sort(found.begin(), found.end());
+  EXPECT_EQ(found, (std::vector<uint32_t>{0, 2}));  // 0.09 and 0.087 m; 0.11 m is out
+  EXPECT_TRUE(grid.any_near(xyz, Eigen::Vector3f(0.25f, 0.f, 0.f)));
+  EXPECT_FALSE(grid.any_near(xyz, Eigen::Vector3f(0.f, 0.5f, 0.f)));
 }
