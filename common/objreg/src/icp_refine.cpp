@@ -54,6 +54,10 @@ constexpr double kCornerSlack = 0.1;
 // A coarse pose placing this share of the moved view within the inlier
 // distance of the other explains it: no corner starts are tried.
 constexpr double kExplainedShare = 0.9;
+// Of the (up to 16) corner starts, only this many, the best scored as they
+// stand, get a coarse ICP run: the right corner already lays the view on
+// the other's surface, and each run costs as much as a whole centroid start.
+constexpr size_t kCornerStartsRegistered = 4;
 
 // Starts that put a corner of the source's footprint on a corner of the
 // target's, the rectangles' sides parallel (four quarter turns x four
@@ -253,7 +257,14 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   });
   if (cfg.corner_hypotheses && !explained) {
     const double lift = std::isfinite(cfg.floor_lift) ? cfg.floor_lift : ct.z() - cs.z();
+    std::vector<std::pair<double, Eigen::Isometry3d>> starts;
     for (const Eigen::Isometry3d& g : corner_starts(source, target, lift, kCornerSlack)) {
+      double in_a = 0.0, in_b = 0.0;
+      starts.emplace_back(score_of(g, in_a, in_b), g);
+    }
+    std::stable_sort(starts.begin(), starts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    if (starts.size() > kCornerStartsRegistered) starts.resize(kCornerStartsRegistered);
+    for (const auto& [start_score, g] : starts) {
       guesses.push_back(g);
       coarse_from(g);
     }

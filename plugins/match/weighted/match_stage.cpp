@@ -147,7 +147,7 @@ class WeightedMatchStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.9.0";
+  s.version = "1.9.1";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
@@ -235,8 +235,9 @@ StageInfo info() {
       ParamSpec::boolean("corner_hypotheses", true,
                          "shape check: views whose footprints differ in size (a side by more than 0.1 m) that no yaw "
                          "turn explains (90 % of the moved view within shape_distance) are also registered from the "
-                         "(up to 16) poses that put a corner of one footprint on a corner of the other (half a table "
-                         "seen shares a corner with the whole, not its centre)"),
+                         "poses that put a corner of one footprint on a corner of the other (half a table "
+                         "seen shares a corner with the whole, not its centre): the 4 of them (of up to 16) that "
+                         "score best as they stand"),
   };
   return s;
 }

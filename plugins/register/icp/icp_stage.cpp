@@ -73,15 +73,16 @@ class IcpStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "register.icp";
-  s.version = "1.6.0";
+  s.version = "1.6.1";
   s.summary = "6-DoF transform of each moved object by (G)ICP from SVD and yaw hypotheses";
   s.doc =
       "For each matched pair: initial guesses are the SVD principal-frame transform (register.svd) with its "
       "four proper axis flips and yaw_hypotheses rotations about the vertical through the centroids; with "
       "corner_hypotheses, when the two footprints (minimum-perimeter rectangles) differ in a side by more than "
       "0.1 m and no coarse pose from those starts placed 90 % of the moved view within inlier_distance, also "
-      "the (up to 16) poses that put a corner of one footprint on a corner of the other, sides parallel "
-      "(a partial view shares a corner with the whole object, not its centre). "
+      "the poses that put a corner of one footprint on a corner of the other, sides parallel "
+      "(a partial view shares a corner with the whole object, not its centre): of those (up to 16) the 4 "
+      "scoring best as they stand. "
       "Each is refined with PCL Generalized ICP (method = gicp; plain ICP below 30 points or with "
       "method = icp) on voxel-downsampled points and scored by the symmetric truncated mean squared "
       "nearest-neighbour distance (truncated at inlier_distance); the three best and the least turned are refined again with the "

@@ -6,10 +6,11 @@
 // with corner_hypotheses, when the two footprints (minimum-perimeter
 // rectangles) differ in a side by more than 0.1 m and no coarse pose from
 // those starts placed 90 % of the moved view within inlier_distance (in an
-// admissible pose, when `admissible` is set), also the (up to 16) poses
-// that put a corner of one footprint on a corner of the other, sides
-// parallel: a partial view (half a table, two faces of a container) shares
-// a corner with the whole object, not its centre.
+// admissible pose, when `admissible` is set), also poses that put a corner
+// of one footprint on a corner of the other, sides parallel: a partial view
+// (half a table, two faces of a container) shares a corner with the whole
+// object, not its centre. Of those (up to 16) the 4 scoring best as they
+// stand are registered.
 // Each is refined with PCL's Generalized ICP (or point-to-point ICP) and
 // scored by the truncated mean squared distance of the moved source points to
 // the target, min(d^2, inlier^2), computed both ways so that a partial view
