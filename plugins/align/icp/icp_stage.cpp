@@ -7,6 +7,7 @@
 #include <lista/lista.hpp>
 #include <lista_alignkit/cloud_ops.hpp>
 #include <lista/parallel.hpp>
+#include <lista_alignkit/level.hpp>
 #include <lista_alignkit/registration.hpp>
 #include <lista_alignkit/trajectory_error.hpp>
 
@@ -39,7 +40,8 @@ class IcpStage : public Stage {
       : voxel_(p.get<double>("voxel")),
         max_range_(p.get<double>("max_range")),
         initial_(p.get<std::string>("initial")),
-        min_overlap_(p.get<double>("min_overlap")) {
+        min_overlap_(p.get<double>("min_overlap")),
+        level_max_tilt_(p.get<double>("level_max_tilt")) {
     reg_.method = p.get<std::string>("registration");
     reg_.voxel = voxel_;
     reg_.coarse_distance = p.get<double>("coarse_distance");
@@ -77,6 +79,7 @@ class IcpStage : public Stage {
                     "); the maps must overlap and start roughly aligned");
       out.missions[m].to_common = reference * r.transform;
     }
+    level_common_frame(out, level_max_tilt_, ctx);
     if (const auto after = trajectory_error(out)) {
       ctx.record("ate_after_m", after->rmse);
       // One ICP per mission finds the nearest fit: maps that start turned
@@ -93,6 +96,7 @@ class IcpStage : public Stage {
   double voxel_, max_range_;
   std::string initial_;
   double min_overlap_;
+  double level_max_tilt_;
   RegistrationOptions reg_;
 };
 
@@ -101,7 +105,7 @@ class IcpStage : public Stage {
 StageInfo icp_stage_info() {
   StageInfo s;
   s.name = "align.icp";
-  s.version = "1.0.1";
+  s.version = "1.1.0";
   s.summary = "Baseline: one ICP/GICP per mission between whole mission maps";
   s.doc =
       "Builds each mission's map (every scan at its poses.txt pose, points within max_range of the sensor, "
@@ -122,6 +126,11 @@ StageInfo icp_stage_info() {
       ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::integer("iterations", 60, "iterations per stage").range(1, 10000),
       ParamSpec::real("min_overlap", 0.3, "share of a map's points with a partner after registration").range(0, 1),
+      ParamSpec::real("level_max_tilt", 20.0,
+                      "last step: the common frame turned so that its z is up, where its floors and walls say it is "
+                      "tilted by 0.5 deg up to this (a SLAM map started on a slope, a handheld scanner's); 0 = never")
+          .range(0.0, 90.0)
+          .unit("deg"),
   };
   return s;
 }

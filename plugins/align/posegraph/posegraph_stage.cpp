@@ -5,6 +5,7 @@
 #include "joint_alignment.hpp"
 
 #include <lista/lista.hpp>
+#include <lista_alignkit/level.hpp>
 #include <lista_alignkit/trajectory_error.hpp>
 
 #include <chrono>
@@ -81,13 +82,14 @@ JointAlignmentOptions options_from(const Params& p) {
 
 class PoseGraphStage : public Stage {
  public:
-  explicit PoseGraphStage(const Params& p) : options_(options_from(p)) {}
+  explicit PoseGraphStage(const Params& p) : options_(options_from(p)), level_max_tilt_(p.get<double>("level_max_tilt")) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& missions = in.get<MissionSet>("missions");
     if (const auto before = trajectory_error(missions)) ctx.record("ate_before_m", before->rmse);
     JointAlignmentReport report;
     MissionSet aligned = align_missions(missions, options_, ctx, report);
+    level_common_frame(aligned, level_max_tilt_, ctx);
     ctx.record("keyframes", static_cast<double>(report.keyframes));
     ctx.record("candidates", static_cast<double>(report.candidates));
     ctx.record("closures_verified", static_cast<double>(report.verified));
@@ -120,6 +122,7 @@ class PoseGraphStage : public Stage {
 
  private:
   JointAlignmentOptions options_;
+  double level_max_tilt_;
 };
 
 }  // namespace
@@ -127,7 +130,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.6.0";
+  s.version = "1.7.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
@@ -203,6 +206,11 @@ StageInfo posegraph_stage_info() {
       ParamSpec::text("loss", "cauchy", "robust loss on loop closures").one_of({"cauchy", "huber", "none"}),
       ParamSpec::real("loss_scale", 2.0, "robust loss scale, in standard deviations").range(0.01, 1000),
       ParamSpec::integer("solver_iterations", 100, "Ceres iterations per solve").range(1, 10000),
+      ParamSpec::real("level_max_tilt", 20.0,
+                      "last step: the common frame turned so that its z is up, where its floors and walls say it is "
+                      "tilted by 0.5 deg up to this (a SLAM map started on a slope, a handheld scanner's); 0 = never")
+          .range(0.0, 90.0)
+          .unit("deg"),
       ParamSpec::text("fix_reference", "first_pose",
                       "gauge: only the first mission's first pose fixed (its drift is corrected too), or the whole "
                       "first mission held as it is (the paper's choice)")

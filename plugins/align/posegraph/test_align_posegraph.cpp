@@ -10,6 +10,7 @@
 #include <lista/data.hpp>
 #include <lista/parallel.hpp>
 #include <lista_alignkit/cloud_ops.hpp>
+#include <lista_alignkit/level.hpp>
 #include <lista_alignkit/registration.hpp>
 #include <lista_alignkit/synthetic_scene.hpp>
 #include <lista_alignkit/trajectory_error.hpp>
@@ -300,6 +301,145 @@ TEST(AlignPosegraph, SingleMissionPassesThrough) {
   ASSERT_EQ(out.missions.size(), 1u);
   EXPECT_TRUE(out.missions[0].to_common.isApprox(Eigen::Isometry3d::Identity()));
   EXPECT_TRUE(out.missions[0].scans[2].pose.isApprox(route[2]));
+}
+
+namespace {
+
+// Roll `roll_deg` about x, then pitch `pitch_deg` about y.
+Eigen::Isometry3d tilt(double roll_deg, double pitch_deg) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = (Eigen::AngleAxisd(roll_deg * M_PI / 180, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(pitch_deg * M_PI / 180, Eigen::Vector3d::UnitY()))
+                   .toRotationMatrix();
+  return t;
+}
+
+double degrees_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * 180 / M_PI;
+}
+
+// Up as the estimator reads it from a 16-ring sensor's scans of a furnished
+// hall along its loop, every point put through `frame` first.
+LevelEstimate hall_up(const Eigen::Isometry3d& frame) {
+  const Scene hall = make_hall(kHallX, kHallY, 30, 5);
+  std::mt19937 rng(3);
+  UpEstimator est;
+  for (const Eigen::Isometry3d& pose : loop_route(kHallX, kHallY, 4.0, 6.0, 0.0)) {
+    const PointSet scan = cast_scan(hall, pose, 0, rng);
+    for (const Eigen::Vector3f& p : scan.xyz) est.add(frame * pose * p.cast<double>());
+  }
+  return est.estimate();
+}
+
+}  // namespace
+
+TEST(Level, ATiltedHallIsReadFromItsFloorsAndWalls) {
+  const LevelEstimate level = hall_up(Eigen::Isometry3d::Identity());
+  ASSERT_TRUE(level.determined);
+  EXPECT_LT(level.tilt_deg, 0.1);
+  const Eigen::Isometry3d t = tilt(4.0, -3.0);
+  const LevelEstimate tilted = hall_up(t);
+  ASSERT_TRUE(tilted.determined);
+  EXPECT_GT(tilted.floor_patches, 100u);
+  EXPECT_GT(tilted.wall_patches, 100u);
+  EXPECT_LT(degrees_between(tilted.up, t.linear() * Eigen::Vector3d::UnitZ()), 0.15);
+  EXPECT_NEAR(tilted.tilt_deg, degrees_between(t.linear() * Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ()), 0.15);
+  // The levelling rotation takes that up to z.
+  EXPECT_LT(degrees_between(levelling_rotation(tilted.up).linear() * tilted.up, Eigen::Vector3d::UnitZ()), 1e-9);
+}
+
+TEST(Level, WallsAloneDecideOnlyWhenTheyFaceTwoWays) {
+  // Two walls, no floor, tilted: up is the direction along both. One wall
+  // leaves a turn about its normal free: nothing is said.
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(0.0, 10.0), h(0.0, 3.0);
+  const Eigen::Isometry3d t = tilt(-5.0, 2.0);
+  UpEstimator both, one;
+  for (int i = 0; i < 40000; ++i) {
+    both.add(t * Eigen::Vector3d(u(rng), 0.0, h(rng)));
+    both.add(t * Eigen::Vector3d(0.0, u(rng), h(rng)));
+    one.add(t * Eigen::Vector3d(u(rng), 0.0, h(rng)));
+  }
+  const LevelEstimate e = both.estimate();
+  ASSERT_TRUE(e.determined);
+  EXPECT_EQ(e.floor_patches, 0u);
+  EXPECT_LT(degrees_between(e.up, t.linear() * Eigen::Vector3d::UnitZ()), 0.05);
+  EXPECT_FALSE(one.estimate().determined);
+}
+
+TEST(Level, LinesAndScatterAreNoPatches) {
+  // One ring of a sparse scanner is a line in every cell it crosses; a
+  // cloud of scatter has no thin direction. Neither says where up is.
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  UpEstimator est;
+  for (int i = 0; i < 40000; ++i) est.add(Eigen::Vector3d(10.0 * u(rng), 0.0003 * u(rng), 0.5));  // 100 m, 200 cells
+  for (int i = 0; i < 20000; ++i) est.add(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+  EXPECT_FALSE(est.estimate().determined);
+}
+
+TEST(Level, ANoisyTiltedFloorIsBinnedAgainInItsLevelledFrame) {
+  // A dense scanner's floor with 1.5 cm of noise, tilted 5 deg in the
+  // frame: cells cut level with the frame take slanted slices of the noisy
+  // slab, which lean towards the frame's z. Binned again in the frame the
+  // first estimate levels, the cuts run along the floor.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> x(0.0, 20.0), y(0.0, 15.0), h(0.0, 3.0);
+  std::normal_distribution<double> noise(0.0, 0.015);
+  const Eigen::Isometry3d t = tilt(4.0, -3.0);
+  auto scan = std::make_shared<PointSet>();
+  auto put = [&](const Eigen::Vector3d& p) { scan->xyz.push_back((t * p).cast<float>()); };
+  for (int i = 0; i < 400000; ++i) put({x(rng), y(rng), noise(rng)});
+  for (int i = 0; i < 50000; ++i) {
+    put({x(rng), 0.0, h(rng)});
+    put({0.0, y(rng), h(rng)});
+  }
+  MissionSet set;
+  set.missions.emplace_back();
+  set.missions[0].scans.emplace_back();
+  set.missions[0].scans[0].points = scan;
+  const Eigen::Vector3d truth = t.linear() * Eigen::Vector3d::UnitZ();
+  const LevelEstimate e = estimate_common_up(set);
+  ASSERT_TRUE(e.determined);
+  EXPECT_LT(degrees_between(e.up, truth), 0.05);
+  UpEstimator one_pass;
+  for (const Eigen::Vector3f& p : scan->xyz) one_pass.add(p.cast<double>());
+  EXPECT_GT(degrees_between(one_pass.estimate().up, truth), 0.1);  // what the second binning is for
+}
+
+TEST(AlignPosegraph, ATiltedFirstMissionGivesALevelCommonFrame) {
+  // Mission a's map frame tilted by 3.6 deg (a SLAM run started on a
+  // slope): without levelling the common frame, taken from a's, is tilted
+  // as much; levelled, z is up again.
+  MissionSet set = drifted_pair();
+  const Eigen::Isometry3d t = tilt(3.0, 2.0);
+  for (Scan& s : set.missions[0].scans) s.pose = t * s.pose;
+  auto up_error = [&](const MissionSet& out) {  // the world's up, in the common frame
+    const Eigen::Isometry3d world_to_common = out.missions[0].to_common * t;
+    return degrees_between(world_to_common.linear() * Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ());
+  };
+  BasicContext ctx("align", 2, 0);
+  const Outputs levelled = run_stage(set, ctx);
+  EXPECT_LT(up_error(levelled.at("missions").as<MissionSet>()), 0.2);
+  EXPECT_EQ(ctx.info.metrics["align"].at("levelled"), 1.0);
+  EXPECT_NEAR(ctx.info.metrics["align"].at("level_tilt_deg"), 3.6, 0.2);
+  const auto after = trajectory_error(levelled.at("missions").as<MissionSet>());
+  ASSERT_TRUE(after);
+  EXPECT_LT(after->rmse, 0.05);
+
+  Params off = light();
+  off.set("level_max_tilt", 0.0);
+  BasicContext ctx_off("align", 2, 0);
+  EXPECT_GT(up_error(run_stage(set, ctx_off, off).at("missions").as<MissionSet>()), 3.0);
+  // A tilt above level_max_tilt is said and left.
+  Params low = light();
+  low.set("level_max_tilt", 2.0);
+  BasicContext ctx_low("align", 2, 0);
+  EXPECT_GT(up_error(run_stage(set, ctx_low, low).at("missions").as<MissionSet>()), 3.0);
+  EXPECT_EQ(ctx_low.info.metrics["align"].at("levelled"), 0.0);
+  bool warned = false;
+  for (const auto& m : ctx_low.messages) warned |= m.find("level_max_tilt") != std::string::npos;
+  EXPECT_TRUE(warned);
 }
 
 TEST(CloudOps, LevelledFrameKeepsHeadingOnly) {
