@@ -33,7 +33,7 @@ std::vector<lista::sim::Shape> furniture_from(const std::string& folder, const c
 
 int run_dataset(const std::string& preset_name, const std::string& out, uint64_t seed, int missions,
                 int scans, const std::string& sensor_name, int threads, bool overwrite, const std::string& furniture,
-                bool body, double drift) {
+                bool body, double drift, double map_tilt) {
   using namespace lista::sim;
   Preset preset = make_preset(preset_name);
   // Real furniture beside the procedural classes: about a third of the
@@ -43,6 +43,7 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
   if (scans > 0) preset.route.scans = scans;
   preset.route.drift_per_m *= drift;
   preset.route.yaw_drift_deg_per_m *= drift;
+  preset.route.map_tilt_deg = map_tilt;
   int columns = preset.columns;
   if (!sensor_name.empty() && sensor_name != preset.sensor) {
     preset.sensor = sensor_name;
@@ -103,6 +104,11 @@ int main(int argc, char** argv) {
                  "odometry drift, times the presets' (0.2 % of distance and 0.01 deg/m of heading, biased; "
                  "a legged robot's is several times that)")
       ->check(CLI::Range(0.0, 100.0));
+  double map_tilt = 0.0;
+  app.add_option("--map-tilt", map_tilt,
+                 "each mission's map frame tilted by this many degrees in a random direction (a SLAM run started "
+                 "on a slope, a handheld scanner); 0 = level, as the presets")
+      ->check(CLI::Range(0.0, 45.0));
   std::string scene_furniture;
   app.add_option("--furniture", scene_furniture,
                  "also place Sweet Home 3D furniture from this folder, about a third of the objects "
@@ -151,7 +157,7 @@ int main(int argc, char** argv) {
       std::cerr << "lista-sim: --preset and --out are required (or use the 'views' subcommand); see --help\n";
       return 2;
     }
-    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, drift);
+    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, drift, map_tilt);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;

@@ -275,6 +275,13 @@ void plan_route(const Scenario& sc, MissionPlan& m, int index, const RouteParams
   const Iso& first = m.poses_true.front();
   m.map_to_world = floor_pose(first.translation().head<2>(), yaw_of(first));
   m.map_to_world.translation().z() = first.translation().z();
+  // Drawn only when asked: level datasets keep their random sequence.
+  if (p.map_tilt_deg > 0.0) {
+    const double direction = rng.uniform(-M_PI, M_PI);
+    const Eigen::Vector3d axis(std::cos(direction), std::sin(direction), 0.0);
+    m.map_to_world.linear() = m.map_to_world.linear() *
+                              Eigen::AngleAxisd(-p.map_tilt_deg * M_PI / 180.0, axis).toRotationMatrix();
+  }
 
   // Odometry drift: a biased random walk in translation and heading, about the
   // start point, growing with distance travelled.

@@ -43,6 +43,9 @@ struct RouteParams {
   double deviation = 0.12;     // max lateral deviation of later missions from the first, m
   double drift_per_m = 0.002;  // translation drift rate (fraction of distance)
   double yaw_drift_deg_per_m = 0.01;
+  // Each mission's map frame tilted by this in a random direction (a SLAM
+  // run started on a slope, a handheld scanner's first frame); 0 = level.
+  double map_tilt_deg = 0.0;
 };
 
 struct Person {
