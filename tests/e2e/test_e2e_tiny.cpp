@@ -268,6 +268,34 @@ TEST_F(TinyScene, FloorErrorScriptMeasuresEveryReportedFloor) {
 // report.json marks a complete run: an earlier run's report is gone as soon
 // as a new run into the same folder starts, so a run that then fails leaves
 // none, and neither does one whose own report was written before it failed.
+// bench/scripts/tilt_map.py tilts a mission's map frame of any dataset
+// (mission A here, 4 deg roll and -3 deg pitch: 5.0 deg) and keeps the
+// truth: the run on the copy is levelled by as much and scores as the run
+// on the original.
+TEST_F(TinyScene, TiltMapScriptTiltsAMissionAndKeepsTheTruth) {
+  require_run();
+  if (e2e::python3().empty()) GTEST_SKIP() << "no Python 3 interpreter found by CMake";
+  const std::string tilted = (dir_->path() / "tilted-data").string(), out = (dir_->path() / "tilted-out").string();
+  const e2e::Result t =
+      e2e::run(e2e::python3() + " " + e2e::source("bench/scripts/tilt_map.py") + " " + data_ + " " + tilted + " A 4 -3 2>&1");
+  ASSERT_EQ(t.status, 0) << t.output;
+  const e2e::Result again =
+      e2e::run(e2e::python3() + " " + e2e::source("bench/scripts/tilt_map.py") + " " + data_ + " " + tilted + " A 4 -3 2>&1");
+  EXPECT_NE(again.status, 0);
+  EXPECT_NE(again.output.find("exists"), std::string::npos) << again.output;
+  const e2e::Result r = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                                 tilted + " --out " + out + " --threads 2 -q 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const json align = json::parse(e2e::read_file(out + "/report.json")).at("metrics").at("align");
+  EXPECT_NEAR(align.at("level_tilt_deg").get<double>(), 5.0, 0.3);
+  auto f1 = [](const std::string& data, const std::string& run) {
+    const e2e::Result ev = e2e::run(e2e::bin("lista-eval") + " --dataset " + data + " --run " + run + " --json 2>/dev/null");
+    EXPECT_EQ(ev.status, 0) << ev.output;
+    return json::parse(ev.output).at("points").at("f1").get<double>();
+  };
+  EXPECT_NEAR(f1(tilted, out), f1(data_, out_), 0.03);
+}
+
 TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   require_run();
   const std::filesystem::path out = dir_->path() / "rerun";
