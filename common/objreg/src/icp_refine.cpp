@@ -35,8 +35,10 @@ double one_way(const Cloud& from, const pcl_search::FastKdTree& to_tree, const E
                           ? static_cast<double>(from.size()) / max_points : 1.0;
   for (double k = 0.0; k < static_cast<double>(from.size()); k += step, ++used) {
     const Eigen::Vector3f q = tf * from[static_cast<size_t>(k)].getVector3fMap();
-    const float d2 = to_tree.nearest_sqr_distance(pcl::PointXYZ(q.x(), q.y(), q.z()));
-    const double d = d2 < 0.0f ? cap : std::min<double>(d2, cap);
+    // Farther than the inlier distance counts as the cap: searched no farther.
+    float d2 = 0.0f;
+    const double d = to_tree.nearest(pcl::PointXYZ(q.x(), q.y(), q.z()), d2, static_cast<float>(cap)) < 0
+                         ? cap : std::min<double>(d2, cap);
     if (d < cap) ++inliers;
     sum += d;
   }
@@ -193,15 +195,17 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   // points' covariances once, not once per hypothesis.
   pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
   pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+  // Their target trees answer correspondence queries only within the gate.
+  const auto gicp_target = std::make_shared<pcl_search::FastKdTree>(), icp_target = std::make_shared<pcl_search::FastKdTree>();
   if (gicp_method) {
     gicp.setSearchMethodSource(std::make_shared<pcl_search::FastKdTree>());
-    gicp.setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
+    gicp.setSearchMethodTarget(gicp_target);
     gicp.setInputSource(src_icp);
     gicp.setInputTarget(dst);
   }
   // Point-to-point ICP always: the method itself, or GICP's final polish.
   icp.setSearchMethodSource(std::make_shared<pcl_search::FastKdTree>());
-  icp.setSearchMethodTarget(std::make_shared<pcl_search::FastKdTree>());
+  icp.setSearchMethodTarget(icp_target);
   icp.setInputSource(src_icp);
   icp.setInputTarget(dst);
   // The fine pass switches both registrations to src_fine once (GICP then
@@ -217,6 +221,9 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     Eigen::Isometry3d t = guess;
     auto run = [&](auto& reg) {
       reg.setMaxCorrespondenceDistance(max_correspondence);
+      const float gate = static_cast<float>(max_correspondence * max_correspondence);
+      gicp_target->set_nearest_bound(gate);
+      icp_target->set_nearest_bound(gate);
       reg.setMaximumIterations(cfg.max_iterations);
       reg.setTransformationEpsilon(1e-8);
       {

@@ -65,6 +65,13 @@ int FastKdTree::nearestKSearch(const pcl::PointXYZ& point, int k, pcl::Indices& 
   k_indices.clear();
   k_sqr_distances.clear();
   if (!index_->tree || k <= 0 || !searchable(point)) return 0;
+  if (k == 1 && nearest_bound_ < std::numeric_limits<float>::max()) {
+    float d2 = std::numeric_limits<float>::max();
+    const int i = nearest(point, d2, nearest_bound_);
+    k_indices.push_back(i >= 0 ? i : index_->to_cloud.front());
+    k_sqr_distances.push_back(i >= 0 ? d2 : std::numeric_limits<float>::max());
+    return 1;
+  }
   k = std::min<int>(k, static_cast<int>(index_->to_cloud.size()));
   std::vector<int> idx(static_cast<size_t>(k));
   k_sqr_distances.resize(static_cast<size_t>(k));

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
 
 #include <random>
@@ -153,6 +154,63 @@ TEST(FastKdTree, ServesAsIcpSearchMethod) {
   EXPECT_NEAR(t.x(), -0.03f, 1e-3);
   EXPECT_NEAR(t.y(), 0.02f, 1e-3);
   EXPECT_NEAR(t.z(), -0.01f, 1e-3);
+}
+
+TEST(FastKdTree, BoundedOneNearestAnswersAsUnboundedWithinTheBound) {
+  Trees t(7);
+  t.fast.set_nearest_bound(0.05f * 0.05f);
+  const Cloud::Ptr queries = random_cloud(500, 8);
+  int near = 0;
+  for (const auto& q : *queries) {
+    pcl::Indices bi, si;
+    std::vector<float> bd, sd;
+    ASSERT_EQ(t.fast.nearestKSearch(q, 1, bi, bd), 1);
+    t.stock.nearestKSearch(q, 1, si, sd);
+    if (sd[0] < 0.05f * 0.05f) {
+      EXPECT_EQ(bi[0], si[0]);
+      EXPECT_FLOAT_EQ(bd[0], sd[0]);
+      ++near;
+    } else {
+      EXPECT_EQ(bd[0], std::numeric_limits<float>::max());  // beyond the bound: skipped by ICP
+    }
+  }
+  EXPECT_GT(near, 10);
+  EXPECT_LT(near, 490);
+  // k > 1 is not bounded.
+  pcl::Indices bi;
+  std::vector<float> bd;
+  EXPECT_EQ(t.fast.nearestKSearch(pcl::PointXYZ(5.f, 5.f, 5.f), 3, bi, bd), 3);
+}
+
+TEST(FastKdTree, BoundedTreesLeaveIcpAndGicpWhereUnboundedOnesDo) {
+  // Half the source has no partner (a partial view): the gate rejects it
+  // either way; with the bound its queries stop early.
+  const Cloud::Ptr target = random_cloud(1500, 9);
+  Eigen::Affine3f shift = Eigen::Affine3f::Identity();
+  shift.translation() << 0.03f, -0.02f, 0.01f;
+  Cloud::Ptr source(new Cloud);
+  pcl::transformPointCloud(*target, *source, shift);
+  for (auto& p : *random_cloud(700, 10)) source->push_back(pcl::PointXYZ(p.x + 3.f, p.y, p.z));
+  auto register_with = [&](auto& reg, float bound) {
+    auto tree = std::make_shared<lista::pcl_search::FastKdTree>();
+    tree->set_nearest_bound(bound);
+    reg.setSearchMethodTarget(tree);
+    reg.setInputSource(source);
+    reg.setInputTarget(target);
+    reg.setMaxCorrespondenceDistance(0.2);
+    reg.setMaximumIterations(30);
+    Cloud aligned;
+    reg.align(aligned);
+    EXPECT_TRUE(reg.hasConverged());
+    return Eigen::Matrix4f(reg.getFinalTransformation());
+  };
+  pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp_a, icp_b;
+  pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp_a, gicp_b;
+  const float unbounded = std::numeric_limits<float>::max();
+  EXPECT_TRUE(register_with(icp_a, unbounded).isApprox(register_with(icp_b, 0.2f * 0.2f), 1e-6f));
+  const Eigen::Matrix4f g = register_with(gicp_b, 0.2f * 0.2f);
+  EXPECT_TRUE(register_with(gicp_a, unbounded).isApprox(g, 1e-6f));
+  EXPECT_NEAR(g(0, 3), -0.03f, 2e-3);
 }
 
 }  // namespace

@@ -49,9 +49,18 @@ class FastKdTree : public pcl::search::KdTree<pcl::PointXYZ> {
   int nearest(const pcl::PointXYZ& point, float& sqr_distance,
               float max_sqr_distance = std::numeric_limits<float>::max()) const;
 
+  // Bounds the 1-NN queries of nearestKSearch (k = 1) that PCL's ICP and
+  // GICP make for correspondences: set to their max correspondence
+  // distance squared, a query with no point that near is answered at once
+  // with one point at distance FLT_MAX, which they skip as too far (GICP
+  // stops on an empty answer, so one is always given). The rest of their
+  // correspondences are the same. FLT_MAX (the default) = unbounded.
+  void set_nearest_bound(float max_sqr_distance) { nearest_bound_ = max_sqr_distance; }
+
  private:
   struct Index;
   std::unique_ptr<Index> index_;
+  float nearest_bound_ = std::numeric_limits<float>::max();
 };
 
 }  // namespace lista::pcl_search
