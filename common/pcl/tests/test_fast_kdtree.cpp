@@ -190,7 +190,8 @@ TEST(FastKdTree, BoundedTreesLeaveIcpAndGicpWhereUnboundedOnesDo) {
   shift.translation() << 0.03f, -0.02f, 0.01f;
   Cloud::Ptr source(new Cloud);
   pcl::transformPointCloud(*target, *source, shift);
-  for (auto& p : *random_cloud(700, 10)) source->push_back(pcl::PointXYZ(p.x + 3.f, p.y, p.z));
+  const Cloud::Ptr unpartnered = random_cloud(700, 10);
+  for (const auto& p : *unpartnered) source->push_back(pcl::PointXYZ(p.x + 3.f, p.y, p.z));
   auto register_with = [&](auto& reg, float bound) {
     auto tree = std::make_shared<lista::pcl_search::FastKdTree>();
     tree->set_nearest_bound(bound);
