@@ -28,9 +28,12 @@ uint64_t cell_key(const Eigen::Vector3d& p, double voxel) {
 
 void UpEstimator::add(const Eigen::Vector3d& p) {
   Cell& c = cells_[cell_key(p, o_.voxel)];
+  // Sums about the cell's corner: far from zero, E[pp^T] - mm^T would lose
+  // the few millimetres a surface is thick.
+  const Eigen::Vector3d local = p - o_.voxel * (p / o_.voxel).array().floor().matrix();
   ++c.n;
-  c.sum += p;
-  c.sum_sq += p * p.transpose();
+  c.sum += local;
+  c.sum_sq += local * local.transpose();
 }
 
 LevelEstimate UpEstimator::estimate() const {
