@@ -124,3 +124,23 @@ TEST(AlignIcp, AFitFarFromPosesGtIsWarnedAbout) {
   EXPECT_NE(all.find("from poses_gt.txt: the alignment has probably failed"), std::string::npos) << all;
   EXPECT_NE(all.find("align.posegraph does not"), std::string::npos) << all;
 }
+
+TEST(AlignIcp, ATiltedFirstMapGivesALevelCommonFrame) {
+  // Mission a's map frame tilted 4 deg about x (a SLAM run started on a
+  // slope), b's level: the common frame, a's, is levelled after the ICP.
+  MissionSet set = hall_twice(Eigen::Isometry3d::Identity());
+  Eigen::Isometry3d tilt = Eigen::Isometry3d::Identity();
+  tilt.linear() = Eigen::AngleAxisd(4.0 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  for (Scan& s : set.missions[0].scans) s.pose = tilt * s.pose;
+  BasicContext ctx("align", 2, 0);
+  Outputs out;
+  const MissionSet& aligned = run(set, ctx, out);
+  // The world's up in the common frame, through either mission.
+  for (const Mission& m : aligned.missions) {
+    const Eigen::Isometry3d world_to_common = m.to_common * (m.name == "a" ? tilt : Eigen::Isometry3d::Identity());
+    const Eigen::Vector3d up = world_to_common.linear() * Eigen::Vector3d::UnitZ();
+    EXPECT_LT(std::acos(std::min(1.0, up.z())) * 180 / M_PI, 0.2) << m.name;
+  }
+  EXPECT_EQ(ctx.info.metrics["align"].at("levelled"), 1.0);
+  EXPECT_NEAR(ctx.info.metrics["align"].at("level_tilt_deg"), 4.0, 0.2);
+}
