@@ -48,18 +48,21 @@ double one_way(const Cloud& src, const Cloud& dst, const pcl_search::FastKdTree&
   const double step = cfg.max_points > 0 && src.size() > size_t(cfg.max_points)
                           ? double(src.size()) / cfg.max_points : 1.0;
   const float inlier2 = float(cfg.inlier * cfg.inlier);
+  // Nothing beyond the inlier distance or the gap counts: searched no farther.
+  const float reach2 = std::max(inlier2, float(cfg.gap * cfg.gap));
   pcl::Indices near;
   std::vector<float> d2;
   size_t used = 0, on = 0;
   for (double k = 0.0; k < double(src.size()); k += step, ++used) {
     const Eigen::Vector3f q = tf * src[size_t(k)].getVector3fMap();
     const pcl::PointXYZ p(q.x(), q.y(), q.z());
-    const float nearest = tree.nearest_sqr_distance(p);
-    if (nearest >= 0.0f && nearest < inlier2) {
+    float nearest = 0.0f;
+    const bool found = tree.nearest(p, nearest, reach2) >= 0;
+    if (found && nearest < inlier2) {
       ++on;
       continue;
     }
-    if (cfg.gap <= cfg.inlier || nearest < 0.0f || nearest > float(cfg.gap * cfg.gap)) continue;
+    if (cfg.gap <= cfg.inlier || !found) continue;
     tree.radiusSearch(p, cfg.gap, near, d2, 64);
     if (between_samples(q, dst, near, 0.5 * cfg.inlier)) ++on;
   }

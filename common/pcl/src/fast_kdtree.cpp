@@ -108,17 +108,6 @@ int FastKdTree::radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Ind
   return static_cast<int>(k_indices.size());
 }
 
-float FastKdTree::nearest_sqr_distance(const pcl::PointXYZ& point) const {
-  if (!index_->tree || !searchable(point)) return -1.0f;
-  int idx = 0;
-  float d2 = 0.0f;
-  float q[3] = {point.x, point.y, point.z};
-  flann::Matrix<int> mi(&idx, 1, 1);
-  flann::Matrix<float> md(&d2, 1, 1);
-  index_->tree->knnSearch(flann::Matrix<float>(q, 1, 3), mi, md, 1, flann::SearchParams(-1, 0.0f, false));
-  return d2;
-}
-
 namespace {
 // FLANN result set for the one nearest point within a bound: the bound
 // prunes the search from the start, where an unbounded 1-NN query walks

@@ -43,7 +43,9 @@ TEST(FastKdTree, KnnMatchesKdTreeFlann) {
     ASSERT_EQ(stock.nearestKSearch(q, 5, si, sd), 5);
     EXPECT_EQ(fi, si);
     for (size_t k = 0; k < 5; ++k) EXPECT_FLOAT_EQ(fd[k], sd[k]);
-    EXPECT_FLOAT_EQ(fast.nearest_sqr_distance(q), sd[0]);
+    float nearest = -1.0f;
+    EXPECT_EQ(fast.nearest(q, nearest), si[0]);
+    EXPECT_FLOAT_EQ(nearest, sd[0]);
   }
 }
 
@@ -117,7 +119,8 @@ TEST(FastKdTree, EmptyTreeFindsNothing) {
   std::vector<float> d2;
   EXPECT_EQ(fast.nearestKSearch(pcl::PointXYZ(0, 0, 0), 3, idx, d2), 0);
   EXPECT_EQ(fast.radiusSearch(pcl::PointXYZ(0, 0, 0), 1.0, idx, d2), 0);
-  EXPECT_LT(fast.nearest_sqr_distance(pcl::PointXYZ(0, 0, 0)), 0.0f);
+  float nearest = 0.0f;
+  EXPECT_EQ(fast.nearest(pcl::PointXYZ(0, 0, 0), nearest), -1);
 }
 
 // A query so far out that its squared distances overflow float (a stray
@@ -131,7 +134,8 @@ TEST(FastKdTree, OverflowingQueryFindsNoNeighbour) {
     EXPECT_EQ(t.fast.nearestKSearch(far, 3, idx, d2), 0);
     EXPECT_TRUE(idx.empty() && d2.empty());
     EXPECT_EQ(t.fast.radiusSearch(far, 1.0, idx, d2), 0);
-    EXPECT_LT(t.fast.nearest_sqr_distance(far), 0.0f);
+    float nearest = 0.0f;
+    EXPECT_EQ(t.fast.nearest(far, nearest), -1);
   }
   EXPECT_EQ(t.fast.nearestKSearch(pcl::PointXYZ(0, 0, 0), 3, idx, d2), 3) << "near queries unchanged";
 }

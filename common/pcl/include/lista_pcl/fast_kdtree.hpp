@@ -37,10 +37,6 @@ class FastKdTree : public pcl::search::KdTree<pcl::PointXYZ> {
   int radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Indices& k_indices,
                    std::vector<float>& k_sqr_distances, unsigned int max_nn = 0) const override;
 
-  // The nearest point's squared distance, or -1 for an empty tree: the
-  // allocation-free form of a 1-NN query.
-  float nearest_sqr_distance(const pcl::PointXYZ& point) const;
-
   // The nearest point closer than sqrt(max_sqr_distance) (its index in the
   // input cloud) and its squared distance, allocation-free; -1 when there is
   // none, the tree is empty or the query too far out to search
