@@ -15,6 +15,8 @@ constexpr double kDeg = M_PI / 180.0;
 // Below this the frame is level within what the patches tell: left as is.
 constexpr double kMinTilt = 0.5;
 
+double tilt_of(const Eigen::Vector3d& up) { return std::acos(std::clamp(up.z(), -1.0, 1.0)) / kDeg; }
+
 uint64_t cell_key(const Eigen::Vector3d& p, double voxel) {
   // 21 bits a coordinate: +-1 048 576 cells, +-524 km at 0.5 m.
   auto bits = [&](double v) {
@@ -28,12 +30,9 @@ uint64_t cell_key(const Eigen::Vector3d& p, double voxel) {
 
 void UpEstimator::add(const Eigen::Vector3d& p) {
   Cell& c = cells_[cell_key(p, o_.voxel)];
-  // Sums about the cell's corner: far from zero, E[pp^T] - mm^T would lose
-  // the few millimetres a surface is thick.
-  const Eigen::Vector3d local = p - o_.voxel * (p / o_.voxel).array().floor().matrix();
   ++c.n;
-  c.sum += local;
-  c.sum_sq += local * local.transpose();
+  c.sum += p;
+  c.sum_sq += p * p.transpose();
 }
 
 LevelEstimate UpEstimator::estimate() const {
@@ -79,7 +78,7 @@ LevelEstimate UpEstimator::estimate() const {
   }
   e.up = up;
   e.floor_patches = floor_patches, e.wall_patches = wall_patches;
-  e.tilt_deg = std::acos(std::clamp(up.z(), -1.0, 1.0)) / kDeg;
+  e.tilt_deg = tilt_of(up);
   return e;
 }
 
@@ -106,7 +105,7 @@ LevelEstimate estimate_common_up(const MissionSet& missions, const LevelOptions&
     if (!r.determined) return pass == 0 ? r : e;
     e = r;
     e.up = (frame.linear().transpose() * r.up).normalized();
-    e.tilt_deg = std::acos(std::clamp(e.up.z(), -1.0, 1.0)) / kDeg;
+    e.tilt_deg = tilt_of(e.up);
     // Level within what is left as is (a level frame costs one pass), or
     // levelled frame and estimate agree.
     if ((pass == 0 && r.tilt_deg < 0.5 * kMinTilt) || (pass > 0 && r.tilt_deg < 0.01)) break;
