@@ -269,11 +269,67 @@ TEST(Sensor, BeamTablesMatchTheDatasheets) {
     make_sensor("lidar9000");
     ADD_FAILURE() << "an unknown sensor was accepted";
   } catch (const lista::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("use one of os0-128, xt32, vlp16, os1-64, hdl32"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("use one of os0-128, xt32, vlp16, os1-64, hdl32, mid360, avia"), std::string::npos)
         << e.what();
   }
   for (const auto& name : all_sensor_names()) EXPECT_EQ(make_sensor(name).name, name);
   EXPECT_EQ(sensor_names(), (std::vector<std::string>{"os0-128", "xt32", "vlp16"}));  // the default draw
+}
+
+// Livox scanners have no rings: every sweep spreads its rays evenly over
+// the field of view, from a start of its own, so two sweeps from one spot
+// see different points while one key always gives the same sweep.
+TEST(Sensor, NonRepetitiveScannersCoverTheirFieldOfViewAndNeverRepeat) {
+  RayScene room;  // a closed 20 m box around the sensor: every ray hits
+  TriMesh box;
+  box.add_box({-10.0f, -10.0f, -10.0f}, {10.0f, 10.0f, -9.9f});
+  box.add_box({-10.0f, -10.0f, 9.9f}, {10.0f, 10.0f, 10.0f});
+  box.add_box({-10.0f, -10.0f, -10.0f}, {-9.9f, 10.0f, 10.0f});
+  box.add_box({9.9f, -10.0f, -10.0f}, {10.0f, 10.0f, 10.0f});
+  box.add_box({-10.0f, -10.0f, -10.0f}, {10.0f, -9.9f, 10.0f});
+  box.add_box({-10.0f, 9.9f, -10.0f}, {10.0f, 10.0f, 10.0f});
+  room.add(box, Eigen::Isometry3f::Identity(), 0, 0.8f);
+  room.commit();
+  auto degrees = [](double rad) { return rad * 180.0 / M_PI; };
+  for (const std::string name : {"mid360", "avia"}) {
+    SCOPED_TRACE(name);
+    SensorModel s = make_sensor(name);
+    ASSERT_TRUE(s.non_repetitive());
+    EXPECT_TRUE(s.elevations.empty());
+    s.dropout = 0.0;
+    s.range_sigma = 0.0;
+    SweepOptions so;
+    so.threads = 2;
+    so.key = 7;
+    const lista::PointSet a = sweep(room, nullptr, s, Eigen::Isometry3d::Identity(), so);
+    a.check_consistent();
+    ASSERT_GT(a.size(), s.rays() * 99 / 100);  // grazing incidence loses a few
+    std::vector<int> azimuth_bins(36, 0), elevation_bins(10, 0);
+    for (const auto& p : a.xyz) {
+      const double elevation = std::asin(p.z() / p.norm()), azimuth = std::atan2(p.y(), p.x());
+      ASSERT_GE(elevation, s.elevation_min - 1e-5);
+      ASSERT_LE(elevation, s.elevation_max + 1e-5);
+      ASSERT_LE(std::abs(azimuth), s.azimuth_fov / 2 + 1e-5);
+      ++azimuth_bins[std::min(35, int((azimuth + s.azimuth_fov / 2) / s.azimuth_fov * 36))];
+      ++elevation_bins[std::min(9, int((elevation - s.elevation_min) / (s.elevation_max - s.elevation_min) * 10))];
+    }
+    for (int n : azimuth_bins) EXPECT_NEAR(n, a.size() / 36.0, a.size() / 36.0 * 0.05);
+    // Even per solid angle: the lowest and highest tenth hold about what cos(elevation) says.
+    const double lo = degrees(s.elevation_min), hi = degrees(s.elevation_max);
+    EXPECT_LT(elevation_bins[9], elevation_bins[0] * std::cos((hi - (hi - lo) / 20) * M_PI / 180) /
+                                     std::cos((lo + (hi - lo) / 20) * M_PI / 180) * 1.1);
+    const lista::PointSet again = sweep(room, nullptr, s, Eigen::Isometry3d::Identity(), so);
+    EXPECT_EQ(again.xyz, a.xyz);
+    so.key = 8;
+    const lista::PointSet other = sweep(room, nullptr, s, Eigen::Isometry3d::Identity(), so);
+    ASSERT_EQ(other.size(), a.size());
+    size_t same = 0;
+    for (size_t i = 0; i < a.size(); ++i) same += (other.xyz[i] - a.xyz[i]).norm() < 1e-3f;
+    EXPECT_LT(same, a.size() / 100);
+  }
+  EXPECT_NEAR(degrees(make_sensor("mid360").elevation_min), -7.0, 1e-9);
+  EXPECT_NEAR(degrees(make_sensor("avia").azimuth_fov), 70.4, 1e-9);
+  EXPECT_THROW(make_sensor("mid360", 900), lista::Error);  // no columns to set
 }
 
 TEST(RayScene, HitsAWallAtTheRightRangeWithItsLabel) {

@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed (same seed, same dataset)");
   app.add_option("--missions", missions, "number of missions (default: the preset's)")->check(CLI::Range(1, 100))->default_str("preset");
   app.add_option("--scans", scans, "scans per mission (default: the preset's)")->check(CLI::Range(1, 100000))->default_str("preset");
-  app.add_option("--sensor", sensor, "os0-128, xt32, vlp16, os1-64 or hdl32 (default: the preset's)");
+  app.add_option("--sensor", sensor, "os0-128, xt32, vlp16, os1-64, hdl32, or the non-repetitive mid360 or avia (default: the preset's)");
   app.add_option("--threads", threads, "worker threads")->check(lista::cli::at_least(1));
   app.add_flag("--overwrite", overwrite, "replace a dataset already in --out");
   bool body = false;
@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
                         "sweeps merged into each view, 1 m apart along a pass by the object (as a mission map sees it)")
       ->check(lista::cli::at_least(1));
   views_cmd->add_option("--sensors", views.sensors,
-                        "sensors each view draws from (default os0-128,xt32,vlp16; also os1-64, hdl32)")
+                        "sensors each view draws from (default os0-128,xt32,vlp16; also os1-64, hdl32, mid360, avia)")
       ->delimiter(',');
   views_cmd->add_option("--seed", views.seed, "random seed");
   views.threads = default_threads();

@@ -38,12 +38,45 @@ Hit body_hit(const Eigen::Vector3f& dir_s) {
   return h;
 }
 
+// Sensor-frame unit directions of one sweep, in ray order.
+std::vector<Eigen::Vector3f> ray_directions(const SensorModel& sensor, uint64_t key) {
+  std::vector<Eigen::Vector3f> dirs(sensor.rays());
+  if (sensor.non_repetitive()) {
+    // The R2 sequence (Roberts 2018), started at a point drawn from the
+    // sweep's key: evenly spread within a sweep, never the same twice.
+    constexpr double kPlastic = 1.32471795724474602596;
+    constexpr double a1 = 1.0 / kPlastic, a2 = 1.0 / (kPlastic * kPlastic);
+    const double u0 = hash_uniform(hash_combine(key, 0x11)), v0 = hash_uniform(hash_combine(key, 0x12));
+    const double z_lo = std::sin(sensor.elevation_min), z_hi = std::sin(sensor.elevation_max);
+    for (size_t r = 0; r < dirs.size(); ++r) {
+      const double u = std::fmod(u0 + a1 * double(r), 1.0), v = std::fmod(v0 + a2 * double(r), 1.0);
+      const double az = (u - 0.5) * sensor.azimuth_fov;
+      const double z = z_lo + (z_hi - z_lo) * v;  // uniform in sin(elevation): even per solid angle
+      const double c = std::sqrt(std::max(0.0, 1.0 - z * z));
+      dirs[r] = Eigen::Vector3d(c * std::cos(az), c * std::sin(az), z).cast<float>();
+    }
+    return dirs;
+  }
+  const size_t beams = sensor.elevations.size();
+  std::vector<float> cos_e(beams), sin_e(beams);
+  for (size_t b = 0; b < beams; ++b) {
+    cos_e[b] = float(std::cos(sensor.elevations[b]));
+    sin_e[b] = float(std::sin(sensor.elevations[b]));
+  }
+  for (int c = 0; c < sensor.columns; ++c) {
+    const double az = 2.0 * M_PI * c / sensor.columns;
+    const float ca = float(std::cos(az)), sa = float(std::sin(az));
+    for (size_t b = 0; b < beams; ++b) dirs[size_t(c) * beams + b] = Eigen::Vector3f(cos_e[b] * ca, cos_e[b] * sa, sin_e[b]);
+  }
+  return dirs;
+}
+
 }  // namespace
 
 PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const SensorModel& sensor,
                const Eigen::Isometry3d& T_world_sensor, const SweepOptions& options) {
-  const int beams = int(sensor.elevations.size());
-  const size_t rays = sensor.rays();
+  const std::vector<Eigen::Vector3f> directions = ray_directions(sensor, options.key);
+  const size_t rays = directions.size();
   // One slot per ray, compacted afterwards in ray order: the output does not
   // depend on how the threads split the work.
   std::vector<Eigen::Vector3f> xyz(rays);
@@ -53,49 +86,39 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
 
   const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f origin = T_world_sensor.translation().cast<float>();
-  std::vector<float> cos_e(beams), sin_e(beams);
-  for (int b = 0; b < beams; ++b) {
-    cos_e[b] = float(std::cos(sensor.elevations[b]));
-    sin_e[b] = float(std::sin(sensor.elevations[b]));
-  }
 
-#pragma omp parallel for schedule(dynamic, 16) num_threads(std::max(1, options.threads))
-  for (int c = 0; c < sensor.columns; ++c) {
-    const double az = 2.0 * M_PI * c / sensor.columns;
-    const float ca = float(std::cos(az)), sa = float(std::sin(az));
-    for (int b = 0; b < beams; ++b) {
-      const size_t r = size_t(c) * beams + b;
-      const Eigen::Vector3f dir_s(cos_e[b] * ca, cos_e[b] * sa, sin_e[b]);
-      const Eigen::Vector3f dir = R * dir_s;
-      Hit hit = scene.intersect(origin, dir, float(sensor.min_range), float(sensor.max_range));
-      if (dynamic_scene) {
-        const float tmax = hit.t > 0 ? hit.t : float(sensor.max_range);
-        const Hit h2 = dynamic_scene->intersect(origin, dir, float(sensor.min_range), tmax);
-        if (h2.t > 0) hit = h2;
-      }
-      if (options.body) {
-        Hit b = body_hit(dir_s);
-        if (b.t >= float(sensor.min_range) && (hit.t < 0 || b.t < hit.t)) {
-          b.normal = R * b.normal;
-          hit = b;
-        }
-      }
-      if (hit.t < 0) continue;
-      const uint64_t h = hash_combine(options.key, r);
-      const float cos_inc = std::abs(hit.normal.dot(dir));
-      // Returns get lost at random and more often at grazing incidence.
-      double p_drop = sensor.dropout;
-      if (cos_inc < 0.15f) p_drop += 0.5 * (0.15 - cos_inc) / 0.15;
-      if (hash_uniform(h) < p_drop) continue;
-      const double range = hit.t + sensor.range_sigma * hash_normal(mix64(h + 1));
-      if (range < sensor.min_range || range > sensor.max_range) continue;
-      // Calibrated reflectivity: Lambertian in the incidence angle, 5% noise.
-      const double value = 255.0 * hit.reflectivity * std::max(0.05f, cos_inc) * (1.0 + 0.05 * hash_normal(mix64(h + 2)));
-      xyz[r] = dir_s * float(range);
-      intensity[r] = float(std::clamp(value, 0.0, 255.0));
-      label[r] = hit.label;
-      valid[r] = 1;
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(std::max(1, options.threads))
+  for (size_t r = 0; r < rays; ++r) {
+    const Eigen::Vector3f& dir_s = directions[r];
+    const Eigen::Vector3f dir = R * dir_s;
+    Hit hit = scene.intersect(origin, dir, float(sensor.min_range), float(sensor.max_range));
+    if (dynamic_scene) {
+      const float tmax = hit.t > 0 ? hit.t : float(sensor.max_range);
+      const Hit h2 = dynamic_scene->intersect(origin, dir, float(sensor.min_range), tmax);
+      if (h2.t > 0) hit = h2;
     }
+    if (options.body) {
+      Hit b = body_hit(dir_s);
+      if (b.t >= float(sensor.min_range) && (hit.t < 0 || b.t < hit.t)) {
+        b.normal = R * b.normal;
+        hit = b;
+      }
+    }
+    if (hit.t < 0) continue;
+    const uint64_t h = hash_combine(options.key, r);
+    const float cos_inc = std::abs(hit.normal.dot(dir));
+    // Returns get lost at random and more often at grazing incidence.
+    double p_drop = sensor.dropout;
+    if (cos_inc < 0.15f) p_drop += 0.5 * (0.15 - cos_inc) / 0.15;
+    if (hash_uniform(h) < p_drop) continue;
+    const double range = hit.t + sensor.range_sigma * hash_normal(mix64(h + 1));
+    if (range < sensor.min_range || range > sensor.max_range) continue;
+    // Calibrated reflectivity: Lambertian in the incidence angle, 5% noise.
+    const double value = 255.0 * hit.reflectivity * std::max(0.05f, cos_inc) * (1.0 + 0.05 * hash_normal(mix64(h + 2)));
+    xyz[r] = dir_s * float(range);
+    intensity[r] = float(std::clamp(value, 0.0, 255.0));
+    label[r] = hit.label;
+    valid[r] = 1;
   }
 
   PointSet out;

@@ -29,6 +29,21 @@ const Sheet kSheets[] = {
     {"hdl32", 32, -30.67, 10.67, 2170, 1.0, 100.0, 0.02, 0.003},   // Velodyne HDL-32E, 1.33 deg spacing, 10 Hz
 };
 
+// Non-repetitive scanners: points per 100 ms sweep (10 Hz), field of view.
+struct LivoxSheet {
+  const char* name;
+  size_t rays;
+  double lowest_deg, highest_deg, azimuth_fov_deg;
+  double min_range, max_range, range_sigma, dropout;
+};
+const LivoxSheet kLivoxSheets[] = {
+    // Livox Mid-360: 200 000 points/s, 360 x 59 deg looking mostly up, 40 m
+    // at 10 % reflectivity, 2 cm (1 sigma) at 10 m.
+    {"mid360", 20000, -7.0, 52.0, 360.0, 0.1, 40.0, 0.02, 0.005},
+    // Livox Avia: 240 000 points/s, 70.4 x 77.2 deg looking ahead, 1 m blind zone.
+    {"avia", 24000, -38.6, 38.6, 70.4, 1.0, 190.0, 0.02, 0.003},
+};
+
 }  // namespace
 
 const std::vector<std::string>& sensor_names() {
@@ -40,12 +55,30 @@ const std::vector<std::string>& all_sensor_names() {
   static const std::vector<std::string> n = [] {
     std::vector<std::string> names;
     for (const Sheet& s : kSheets) names.push_back(s.name);
+    for (const LivoxSheet& s : kLivoxSheets) names.push_back(s.name);
     return names;
   }();
   return n;
 }
 
 SensorModel make_sensor(const std::string& name, int columns) {
+  if (columns < 0) throw Error("lista-sim: sensor columns must be > 0");
+  for (const LivoxSheet& l : kLivoxSheets) {
+    if (name != l.name) continue;
+    if (columns > 0) throw Error("lista-sim: sensor '" + name + "' scans no columns (a non-repetitive pattern)");
+    SensorModel s;
+    s.name = name;
+    s.rays_per_sweep = l.rays;
+    s.elevation_min = l.lowest_deg * M_PI / 180.0;
+    s.elevation_max = l.highest_deg * M_PI / 180.0;
+    s.azimuth_fov = l.azimuth_fov_deg * M_PI / 180.0;
+    s.min_range = l.min_range;
+    s.max_range = l.max_range;
+    s.range_sigma = l.range_sigma;
+    s.dropout = l.dropout;
+    s.columns = 0;
+    return s;
+  }
   const Sheet* sheet = nullptr;
   for (const Sheet& s : kSheets)
     if (name == s.name) sheet = &s;
@@ -62,7 +95,6 @@ SensorModel make_sensor(const std::string& name, int columns) {
   s.max_range = sheet->max_range;
   s.range_sigma = sheet->range_sigma;
   s.dropout = sheet->dropout;
-  if (columns < 0) throw Error("lista-sim: sensor columns must be > 0");
   if (columns > 0) s.columns = columns;
   return s;
 }
