@@ -353,6 +353,15 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
 
   const std::vector<Keyframe> kf = make_keyframes(set, o.keyframes, threads);
   report.keyframes = kf.size();
+  report.submap_distance = kf.empty() ? o.keyframes.submap_distance : kf.front().submap_distance;
+  if (report.submap_distance > o.keyframes.submap_distance + 1e-9) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "keyframe submaps grown to %.1f m of path either side: at %.1f m the median one held under %zu "
+                  "points (sparse scans)",
+                  report.submap_distance, o.keyframes.submap_distance, o.keyframes.submap_min_points);
+    ctx.info(text);
+  }
   ctx.throw_if_cancelled();
   const std::vector<Candidate> candidates = find_candidates(kf, n, o.candidates, threads);
   report.candidates = candidates.size();

@@ -42,6 +42,7 @@ struct JointAlignmentOptions {
 };
 
 struct JointAlignmentReport {
+  double submap_distance = 0.0;  // m either side the keyframe submaps span (grown: KeyframeOptions::submap_min_points)
   size_t keyframes = 0, candidates = 0, verified = 0, consistent = 0, proximity = 0, final_closures = 0;
   size_t intra = 0;  // consistent closures within one mission
   size_t global = 0;  // closures found by the whole-map search

@@ -57,23 +57,38 @@ std::vector<Keyframe> make_keyframes(const MissionSet& set, const KeyframeOption
     }
   }
   const double max_r = o.scan_context.max_radius;
-  parallel_for(keyframes.size(), threads, [&](size_t i) {
-    Keyframe& k = keyframes[i];
-    const Mission& m = set.missions[k.mission];
-    const auto [lo, hi] = submap_span(m, k.scan, o.submap_distance);
-    Cloud local;
-    const Eigen::Isometry3d frame_inv = k.frame.inverse();
-    for (size_t s = lo; s <= hi; ++s) {
-      if (!m.scans[s].points) continue;
-      const Eigen::Isometry3f t = (frame_inv * m.scans[s].pose).cast<float>();
-      for (const auto& p : m.scans[s].points->xyz) {
-        const Eigen::Vector3f q = t * p;
-        if (q.head<2>().squaredNorm() < max_r * max_r) local.push_back(q);
+  auto build = [&](double distance) {
+    parallel_for(keyframes.size(), threads, [&](size_t i) {
+      Keyframe& k = keyframes[i];
+      const Mission& m = set.missions[k.mission];
+      const auto [lo, hi] = submap_span(m, k.scan, distance);
+      Cloud local;
+      const Eigen::Isometry3d frame_inv = k.frame.inverse();
+      for (size_t s = lo; s <= hi; ++s) {
+        if (!m.scans[s].points) continue;
+        const Eigen::Isometry3f t = (frame_inv * m.scans[s].pose).cast<float>();
+        for (const auto& p : m.scans[s].points->xyz) {
+          const Eigen::Vector3f q = t * p;
+          if (q.head<2>().squaredNorm() < max_r * max_r) local.push_back(q);
+        }
       }
-    }
-    k.descriptor = make_scan_context(local, o.scan_context);
-    k.submap = voxel_downsample(local, o.voxel);
-  });
+      k.descriptor = make_scan_context(local, o.scan_context);
+      k.submap = voxel_downsample(local, o.voxel);
+      k.submap_distance = distance;
+    });
+  };
+  // One span for every keyframe: a grown submap beside an ungrown one
+  // overlaps it too little both ways to pass verification.
+  for (double distance = o.submap_distance;; distance += o.submap_distance) {
+    build(distance);
+    if (keyframes.empty() || o.submap_min_points == 0 || o.submap_distance <= 0.0 ||
+        distance + o.submap_distance > o.submap_max_distance + 1e-9)
+      break;
+    std::vector<size_t> sizes;
+    for (const Keyframe& k : keyframes) sizes.push_back(k.submap.size());
+    std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(sizes.size() / 2), sizes.end());
+    if (sizes[sizes.size() / 2] >= o.submap_min_points) break;
+  }
   return keyframes;
 }
 

@@ -19,6 +19,12 @@ struct KeyframeOptions {
   double keyframe_distance = 1.0;  // m travelled between keyframes
   double keyframe_angle = 0.5;     // rad turned between keyframes
   double submap_distance = 2.0;    // m of trajectory either side joined into the submap
+  // While the median submap holds under submap_min_points (after the
+  // voxel), every submap grows by submap_distance, up to
+  // submap_max_distance either side: a sparse scanner's few scans (a Livox
+  // outdoors) register loosely.
+  size_t submap_min_points = 0;    // 0: fixed spans
+  double submap_max_distance = 10.0;
   double voxel = 0.2;              // m, submap downsampling
   ScanContextOptions scan_context;
 };
@@ -26,6 +32,7 @@ struct KeyframeOptions {
 struct Keyframe {
   size_t mission = 0, scan = 0;
   double travelled = 0.0;   // m of trajectory from the mission's first scan
+  double submap_distance = 0.0;  // m of path either side its submap spans (KeyframeOptions: grown when sparse)
   Eigen::Isometry3d frame;  // levelled frame at the scan, in the mission's map frame
   Cloud submap;             // points around it, in `frame`, downsampled
   ScanContext descriptor;

@@ -22,6 +22,10 @@ JointAlignmentOptions options_from(const Params& p) {
   o.keyframes.keyframe_distance = p.get<double>("keyframe_distance");
   o.keyframes.keyframe_angle = p.get<double>("keyframe_angle") * kDeg;
   o.keyframes.submap_distance = p.get<double>("submap_distance");
+  o.keyframes.submap_min_points = static_cast<size_t>(p.get<int>("submap_min_points"));
+  o.keyframes.submap_max_distance = p.get<double>("submap_max_distance");
+  if (o.keyframes.submap_max_distance < o.keyframes.submap_distance)
+    throw Error("submap_max_distance must be at least submap_distance");
   o.keyframes.voxel = p.get<double>("voxel");
   o.keyframes.scan_context.rings = p.get<int>("rings");
   o.keyframes.scan_context.sectors = p.get<int>("sectors");
@@ -91,6 +95,7 @@ class PoseGraphStage : public Stage {
     MissionSet aligned = align_missions(missions, options_, ctx, report);
     level_common_frame(aligned, level_max_tilt_, ctx);
     ctx.record("keyframes", static_cast<double>(report.keyframes));
+    ctx.record("submap_distance_m", report.submap_distance);
     ctx.record("candidates", static_cast<double>(report.candidates));
     ctx.record("closures_verified", static_cast<double>(report.verified));
     ctx.record("closures_consistent", static_cast<double>(report.consistent));
@@ -130,7 +135,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.7.0";
+  s.version = "1.8.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
@@ -172,6 +177,10 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("keyframe_angle", 30.0, "turn that also starts a keyframe").range(1, 360).unit("deg"),
       ParamSpec::real("submap_distance", 2.0, "path length either side of a keyframe joined into its submap")
           .range(0, 100).unit("m"),
+      ParamSpec::integer("submap_min_points", 8000, "while the median keyframe submap holds fewer points (after the voxel), all grow by submap_distance, up to submap_max_distance: sparse scans (a Livox outdoors) register loosely on a few; 0 = fixed spans")
+          .range(0, 10000000),
+      ParamSpec::real("submap_max_distance", 10.0, "the most path either side a sparse submap grows to")
+          .range(0, 100).unit("m"),
       ParamSpec::real("voxel", 0.2, "submap downsampling for registration").range(0.01, 5).unit("m"),
       ParamSpec::integer("rings", 20, "Scan Context rings").range(2, 200),
       ParamSpec::integer("sectors", 60, "Scan Context sectors (yaw resolution 360/sectors deg)").range(8, 720),
@@ -185,7 +194,7 @@ StageInfo posegraph_stage_info() {
       ParamSpec::real("intra_min_travel", 0.0,
                       "loops within a mission: trajectory between the two keyframes at least this (0: none)")
           .range(0, 1e5).unit("m"),
-      ParamSpec::text("registration", "gicp", "registration method of every scan, submap and map pair: gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
+      ParamSpec::text("registration", "gicp_gn", "registration method of every scan, submap and map pair: gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; nearer the truth, and faster, than PCL's), gicp (PCL's Generalized ICP, the default before 1.8.0) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
       ParamSpec::real("coarse_distance", 2.0, "max correspondence distance, coarse stage").range(0.05, 50).unit("m"),
       ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::integer("icp_iterations", 40, "iterations per registration stage").range(1, 1000),

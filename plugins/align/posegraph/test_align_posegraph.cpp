@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace lista;
@@ -494,6 +495,59 @@ TEST(LoopClosures, IntraMissionCandidatesOnlyFarBackAlongThePath) {
   }
   EXPECT_GT(second_lap, lap / 4);
   EXPECT_GE(near * 3, second_lap) << near << " of " << second_lap;
+}
+
+// Sparse scans make thin submaps: while the median one holds under
+// submap_min_points, every submap grows by submap_distance (one span for
+// all, so two submaps compared cover alike), up to submap_max_distance.
+TEST(LoopClosures, SparseSubmapsGrowTogetherAlongThePath) {
+  const MissionSet set = drifted_pair();
+  KeyframeOptions ko;
+  ko.keyframe_distance = 2.0;
+  const auto fixed = make_keyframes(set, ko, 2);
+  std::vector<size_t> sizes;
+  for (const auto& k : fixed) {
+    EXPECT_EQ(k.submap_distance, ko.submap_distance);
+    sizes.push_back(k.submap.size());
+  }
+  std::sort(sizes.begin(), sizes.end());
+  const size_t median = sizes[sizes.size() / 2];
+
+  ko.submap_min_points = median;  // already held: nothing grows
+  for (const auto& k : make_keyframes(set, ko, 2)) EXPECT_EQ(k.submap_distance, ko.submap_distance);
+
+  ko.submap_min_points = 2 * median;
+  const auto grown = make_keyframes(set, ko, 2);
+  ASSERT_EQ(grown.size(), fixed.size());
+  const double span = grown.front().submap_distance;
+  EXPECT_GT(span, ko.submap_distance);
+  EXPECT_LE(span, ko.submap_max_distance);
+  std::vector<size_t> grown_sizes;
+  for (size_t i = 0; i < grown.size(); ++i) {
+    EXPECT_EQ(grown[i].submap_distance, span);
+    EXPECT_GE(grown[i].submap.size(), fixed[i].submap.size());
+    grown_sizes.push_back(grown[i].submap.size());
+  }
+  std::sort(grown_sizes.begin(), grown_sizes.end());
+  // It stopped at the first span whose median holds enough, or at the cap.
+  EXPECT_TRUE(grown_sizes[grown_sizes.size() / 2] >= ko.submap_min_points || span == ko.submap_max_distance);
+
+  ko.submap_min_points = 100 * median;  // never reached: capped
+  ko.submap_max_distance = 5.0;
+  for (const auto& k : make_keyframes(set, ko, 2)) EXPECT_EQ(k.submap_distance, 4.0);  // 2, 4; 6 is past the cap
+}
+
+TEST(AlignPosegraph, ASubmapCapBelowTheSpanIsAnError) {
+  const StageInfo info = posegraph_stage_info();
+  Params p = Params::defaults(info.params);
+  p.set("submap_max_distance", 1.0);  // under submap_distance (2 m)
+  try {
+    make_posegraph_stage(p);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("submap_max_distance must be at least submap_distance"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(AlignPosegraph, ScanEdgesRemoveAScaleErrorBothMissionsShare) {
