@@ -61,6 +61,7 @@ TEST(Pipelines, CopiesDifferFromTheDefaultOnlyInTheirOwnStages) {
       {"pipelines/demo.toml", {}},
       {"pipelines/ablations/align-ground-truth.toml", {"align"}},
       {"pipelines/ablations/align-icp.toml", {"align"}},
+      {"pipelines/ablations/align-pcl-gicp.toml", {"align"}},
       {"pipelines/ablations/describe-esf.toml", {"describe"}},
       {"pipelines/ablations/describe-rift.toml", {"describe"}},
       {"pipelines/ablations/describe-shot.toml", {"describe"}},
