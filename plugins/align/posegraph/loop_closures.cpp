@@ -57,11 +57,13 @@ std::vector<Keyframe> make_keyframes(const MissionSet& set, const KeyframeOption
     }
   }
   const double max_r = o.scan_context.max_radius;
+  std::vector<char> whole(keyframes.size(), 0);  // the span already holds the keyframe's whole mission
   auto build = [&](double distance) {
     parallel_for(keyframes.size(), threads, [&](size_t i) {
       Keyframe& k = keyframes[i];
       const Mission& m = set.missions[k.mission];
       const auto [lo, hi] = submap_span(m, k.scan, distance);
+      whole[i] = lo == 0 && hi + 1 == m.scans.size();
       Cloud local;
       const Eigen::Isometry3d frame_inv = k.frame.inverse();
       for (size_t s = lo; s <= hi; ++s) {
@@ -82,7 +84,8 @@ std::vector<Keyframe> make_keyframes(const MissionSet& set, const KeyframeOption
   for (double distance = o.submap_distance;; distance += o.submap_distance) {
     build(distance);
     if (keyframes.empty() || o.submap_min_points == 0 || o.submap_distance <= 0.0 ||
-        distance + o.submap_distance > o.submap_max_distance + 1e-9)
+        distance + o.submap_distance > o.submap_max_distance + 1e-9 ||
+        std::all_of(whole.begin(), whole.end(), [](char w) { return w != 0; }))
       break;
     std::vector<size_t> sizes;
     for (const Keyframe& k : keyframes) sizes.push_back(k.submap.size());

@@ -140,7 +140,8 @@ StageInfo posegraph_stage_info() {
   s.doc =
       "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
       "trajectory; each gets a local submap (scans within submap_distance of path, in a gravity-levelled "
-      "frame) and a Scan Context descriptor (max height per ring x sector bin, heights relative to the "
+      "frame; while the median submap holds under submap_min_points, all grow by submap_distance up to "
+      "submap_max_distance) and a Scan Context descriptor (max height per ring x sector bin, heights relative to the "
       "sensor in [min_height, max_height] so indoor ceilings do not fill every bin). For every keyframe the "
       "ring keys of each earlier mission (and of its own mission more than intra_min_travel back along the "
       "path, for loops within a mission) are searched with a k-d tree (FLANN); the nearest are compared "

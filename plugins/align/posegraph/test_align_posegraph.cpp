@@ -535,6 +535,10 @@ TEST(LoopClosures, SparseSubmapsGrowTogetherAlongThePath) {
   ko.submap_min_points = 100 * median;  // never reached: capped
   ko.submap_max_distance = 5.0;
   for (const auto& k : make_keyframes(set, ko, 2)) EXPECT_EQ(k.submap_distance, 4.0);  // 2, 4; 6 is past the cap
+
+  MissionSet short_set = set;  // two scans about 1 m apart a mission: 2 m either side holds each whole
+  for (auto& m : short_set.missions) m.scans.resize(2);
+  for (const auto& k : make_keyframes(short_set, ko, 2)) EXPECT_EQ(k.submap_distance, 2.0);
 }
 
 TEST(AlignPosegraph, ASubmapCapBelowTheSpanIsAnError) {
