@@ -1,7 +1,7 @@
 // lista-bench-registration: lista_alignkit's GICP solved by Gauss-Newton
-// ("gicp_gn", opt-in in align.posegraph and align.icp) against the same cost
-// through PCL's GICP and its BFGS ("gicp", their default), side by side in
-// one run.
+// ("gicp_gn": align.posegraph's default since 1.8.0, opt-in in align.icp)
+// against the same cost through PCL's GICP and its BFGS ("gicp"), side by
+// side in one run.
 //
 // Scan pairs of a synthetic hall (ray-cast, 16 / 32 / 64 rings), each pair
 // one step of the route apart, registered from the true relative pose
