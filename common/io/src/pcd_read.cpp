@@ -8,6 +8,7 @@
 #include <lista/error.hpp>
 #include <lista_io/pcd.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -15,9 +16,16 @@
 namespace lista::io {
 namespace detail {
 
+// Case-insensitive: PDAL and CloudCompare write "X", "Intensity".
 int PcdData::find(const std::string& name) const {
+  auto same = [&](const std::string& field) {
+    return field.size() == name.size() &&
+           std::equal(field.begin(), field.end(), name.begin(), [](char a, char b) {
+             return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+           });
+  };
   for (size_t f = 0; f < fields.size(); ++f)
-    if (fields[f].name == name) return static_cast<int>(f);
+    if (same(fields[f].name)) return static_cast<int>(f);
   return -1;
 }
 

@@ -7,6 +7,7 @@
 #include <lista/error.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 
 namespace lista::io::detail {
@@ -129,14 +130,17 @@ ScanFile read_ply(const std::string& path, uint32_t scan_id) {
   if (vi == elements.size()) throw Error(path + ": PLY file has no vertex element");
   const PlyElement& v = elements[vi];
   int ix = -1, iy = -1, iz = -1, ii = -1, il = -1;
+  int intensity_rank = 3;  // intensity before scalar_intensity before reflectivity, as PCD files
   for (size_t k = 0; k < v.props.size(); ++k) {
     if (v.props[k].list) throw Error(path + ": list property '" + v.props[k].name + "' in vertex element");
-    const std::string& n = v.props[k].name;
-    if (n == "x") ix = int(k);
-    else if (n == "y") iy = int(k);
-    else if (n == "z") iz = int(k);
-    else if (n == "intensity") ii = int(k);
-    else if (n == "label") il = int(k);
+    std::string n = v.props[k].name;  // case-insensitive: PDAL and CloudCompare write "X", "Intensity"
+    std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const int rank = n == "intensity" ? 0 : n == "scalar_intensity" ? 1 : n == "reflectivity" ? 2 : 3;
+    if (n == "x" && ix < 0) ix = int(k);
+    else if (n == "y" && iy < 0) iy = int(k);
+    else if (n == "z" && iz < 0) iz = int(k);
+    else if (rank < intensity_rank) ii = int(k), intensity_rank = rank;
+    else if (n == "label" && il < 0) il = int(k);
   }
   if (ix < 0 || iy < 0 || iz < 0) throw Error(path + ": PLY vertex element lacks one of x, y, z");
   ScanFile s;

@@ -61,7 +61,12 @@ ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id, bool map_frame
   detail::load_pcd(path, d);
   const int fx = d.find("x"), fy = d.find("y"), fz = d.find("z");
   if (fx < 0 || fy < 0 || fz < 0) throw Error(path + ": PCD file lacks one of the fields x, y, z");
-  const int fi = d.find("intensity"), fl = d.find("label");
+  // Intensity under the names exporters give it: PCL's, CloudCompare's
+  // scalar field, or a LiDAR's calibrated reflectivity when that is all.
+  int fi = d.find("intensity");
+  if (fi < 0) fi = d.find("scalar_intensity");
+  if (fi < 0) fi = d.find("reflectivity");
+  const int fl = d.find("label");
   ScanFile s;
   const size_t n = d.points;
   s.points_in_file = static_cast<uint32_t>(n);

@@ -135,6 +135,27 @@ TEST(PcdRead, AsciiWithRgbPaddingCountsAndNonFinite) {
   EXPECT_FALSE(s.viewpoint.has_value());
 }
 
+// Exporters name fields their own way: PDAL and CloudCompare capitalise
+// ("X", "Intensity"); a LiDAR driver may give only its reflectivity. Field
+// names are matched case-insensitively, and intensity is taken from
+// intensity, else scalar_intensity, else reflectivity.
+TEST(PcdRead, FieldNamesOfOtherExporters) {
+  const auto dir = temp_dir("pcd");
+  const std::string rows = "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n1 2 3 40 7\n4 5 6 50 8\n";
+  write_text(dir / "caps.pcd", "FIELDS X Y Z Intensity Reflectivity\nSIZE 4 4 4 4 4\nTYPE F F F F F\n" + rows);
+  write_text(dir / "refl.pcd", "FIELDS x y z ring reflectivity\nSIZE 4 4 4 4 4\nTYPE F F F F F\n" + rows);
+  write_text(dir / "none.pcd", "FIELDS x y z ring range\nSIZE 4 4 4 4 4\nTYPE F F F F F\n" + rows);
+  const ScanFile caps = read_scan((dir / "caps.pcd").string(), 0);
+  ASSERT_EQ(caps.points.size(), 2u);
+  EXPECT_EQ(caps.points.xyz[1], Eigen::Vector3f(4, 5, 6));
+  ASSERT_TRUE(caps.points.has_intensity());
+  EXPECT_EQ(caps.points.intensity[0], 40.f);  // Intensity, not Reflectivity
+  const ScanFile refl = read_scan((dir / "refl.pcd").string(), 0);
+  ASSERT_TRUE(refl.points.has_intensity());
+  EXPECT_EQ(refl.points.intensity[1], 8.f);
+  EXPECT_FALSE(read_scan((dir / "none.pcd").string(), 0).points.has_intensity());
+}
+
 TEST(PcdRead, BinaryWithMixedSizes) {
   const auto dir = temp_dir("pcd");
   std::string head = "FIELDS x y z _ label\nSIZE 4 4 8 2 2\nTYPE F F F U U\nCOUNT 1 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary\n";

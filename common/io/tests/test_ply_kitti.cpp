@@ -36,6 +36,21 @@ TEST(Ply, AsciiWithFaceElementAfterVertices) {
   EXPECT_EQ(s.points.label[0], 4u);
 }
 
+// CloudCompare's export: capitalised coordinates, intensity as a scalar
+// field, which wins over a reflectivity property (PcdRead's rule).
+TEST(Ply, FieldNamesOfOtherExporters) {
+  const auto dir = temp_dir("ply");
+  write_text(dir / "cc.ply",
+             "ply\nformat ascii 1.0\nelement vertex 2\nproperty float reflectivity\nproperty double X\n"
+             "property double Y\nproperty double Z\nproperty float scalar_Intensity\nend_header\n"
+             "9 1 2 3 40\n9 4 5 6 50\n");
+  const ScanFile s = read_scan((dir / "cc.ply").string(), 0);
+  ASSERT_EQ(s.points.size(), 2u);
+  EXPECT_EQ(s.points.xyz[1], Eigen::Vector3f(4, 5, 6));
+  ASSERT_TRUE(s.points.has_intensity());
+  EXPECT_EQ(s.points.intensity[0], 40.f);
+}
+
 class PlyBinary : public ::testing::TestWithParam<bool> {};
 
 TEST_P(PlyBinary, BothEndiannessesWithSkippedElement) {
