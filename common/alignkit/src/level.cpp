@@ -152,4 +152,13 @@ void level_common_frame(MissionSet& missions, double max_tilt_deg, Context& ctx,
   ctx.info(line);
 }
 
+ParamSpec level_max_tilt_param() {
+  return ParamSpec::real("level_max_tilt", 20.0,
+                         "last step: the common frame turned so that its z is up, where its floors and walls say it "
+                         "is tilted by 0.5 deg up to this (a SLAM map started on a slope, a handheld scanner's); 0 = "
+                         "never")
+      .range(0.0, 90.0)
+      .unit("deg");
+}
+
 }  // namespace lista::align

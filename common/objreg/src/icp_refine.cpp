@@ -271,9 +271,9 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
     }
     std::stable_sort(starts.begin(), starts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     if (starts.size() > kCornerStartsRegistered) starts.resize(kCornerStartsRegistered);
-    for (const auto& [start_score, g] : starts) {
-      guesses.push_back(g);
-      coarse_from(g);
+    for (const auto& start : starts) {
+      guesses.push_back(start.second);
+      coarse_from(start.second);
     }
   }
   std::stable_sort(coarse.begin(), coarse.end(), [](const Candidate& a, const Candidate& b) { return a.score < b.score; });

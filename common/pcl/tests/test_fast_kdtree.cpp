@@ -21,6 +21,15 @@ Cloud::Ptr random_cloud(size_t n, unsigned seed) {
   return c;
 }
 
+// `cloud` moved by (0.03, -0.02, 0.01): the source the ICP tests register back.
+Cloud::Ptr shifted(const Cloud& cloud) {
+  Eigen::Affine3f shift = Eigen::Affine3f::Identity();
+  shift.translation() << 0.03f, -0.02f, 0.01f;
+  Cloud::Ptr moved(new Cloud);
+  pcl::transformPointCloud(cloud, *moved, shift);
+  return moved;
+}
+
 // Both trees over the same random cloud.
 struct Trees {
   explicit Trees(unsigned seed) : cloud(random_cloud(2000, seed)) {
@@ -142,10 +151,7 @@ TEST(FastKdTree, OverflowingQueryFindsNoNeighbour) {
 
 TEST(FastKdTree, ServesAsIcpSearchMethod) {
   const Cloud::Ptr target = random_cloud(1500, 6);
-  Eigen::Affine3f shift = Eigen::Affine3f::Identity();
-  shift.translation() << 0.03f, -0.02f, 0.01f;
-  Cloud::Ptr source(new Cloud);
-  pcl::transformPointCloud(*target, *source, shift);
+  const Cloud::Ptr source = shifted(*target);
   pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
   icp.setSearchMethodTarget(std::make_shared<lista::pcl_search::FastKdTree>());
   icp.setInputSource(source);
@@ -190,10 +196,7 @@ TEST(FastKdTree, BoundedTreesLeaveIcpAndGicpWhereUnboundedOnesDo) {
   // Half the source has no partner (a partial view): the gate rejects it
   // either way; with the bound its queries stop early.
   const Cloud::Ptr target = random_cloud(1500, 9);
-  Eigen::Affine3f shift = Eigen::Affine3f::Identity();
-  shift.translation() << 0.03f, -0.02f, 0.01f;
-  Cloud::Ptr source(new Cloud);
-  pcl::transformPointCloud(*target, *source, shift);
+  const Cloud::Ptr source = shifted(*target);
   const Cloud::Ptr unpartnered = random_cloud(700, 10);
   for (const auto& p : *unpartnered) source->push_back(pcl::PointXYZ(p.x + 3.f, p.y, p.z));
   auto register_with = [&](auto& reg, float bound) {

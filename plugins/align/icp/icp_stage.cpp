@@ -126,11 +126,7 @@ StageInfo icp_stage_info() {
       ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
       ParamSpec::integer("iterations", 60, "iterations per stage").range(1, 10000),
       ParamSpec::real("min_overlap", 0.3, "share of a map's points with a partner after registration").range(0, 1),
-      ParamSpec::real("level_max_tilt", 20.0,
-                      "last step: the common frame turned so that its z is up, where its floors and walls say it is "
-                      "tilted by 0.5 deg up to this (a SLAM map started on a slope, a handheld scanner's); 0 = never")
-          .range(0.0, 90.0)
-          .unit("deg"),
+      level_max_tilt_param(),
   };
   return s;
 }

@@ -216,11 +216,7 @@ StageInfo posegraph_stage_info() {
       ParamSpec::text("loss", "cauchy", "robust loss on loop closures").one_of({"cauchy", "huber", "none"}),
       ParamSpec::real("loss_scale", 2.0, "robust loss scale, in standard deviations").range(0.01, 1000),
       ParamSpec::integer("solver_iterations", 100, "Ceres iterations per solve").range(1, 10000),
-      ParamSpec::real("level_max_tilt", 20.0,
-                      "last step: the common frame turned so that its z is up, where its floors and walls say it is "
-                      "tilted by 0.5 deg up to this (a SLAM map started on a slope, a handheld scanner's); 0 = never")
-          .range(0.0, 90.0)
-          .unit("deg"),
+      level_max_tilt_param(),
       ParamSpec::text("fix_reference", "first_pose",
                       "gauge: only the first mission's first pose fixed (its drift is corrected too), or the whole "
                       "first mission held as it is (the paper's choice)")

@@ -16,6 +16,7 @@
 
 #include <lista/context.hpp>
 #include <lista/missions.hpp>
+#include <lista/params.hpp>
 
 #include <Eigen/Geometry>
 
@@ -71,5 +72,9 @@ Eigen::Isometry3d levelling_rotation(const Eigen::Vector3d& up);
 // and left; so is a georeferenced set (origin set: its z is up already).
 // max_tilt_deg = 0 turns it off. Records level_tilt_deg and levelled (0/1).
 void level_common_frame(MissionSet& missions, double max_tilt_deg, Context& ctx, const LevelOptions& o = {});
+
+// The `level_max_tilt` parameter (deg) of every align.* stage that levels:
+// one declaration, so its default, range and doc cannot drift apart.
+ParamSpec level_max_tilt_param();
 
 }  // namespace lista::align
