@@ -356,6 +356,42 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
 }
 
+// The same input and seed give the same report: byte for byte, but for the
+// timings and provenance, on the same thread count; on another, the same
+// objects, statuses, matches, transforms and alignment (the pose graph
+// solver sums its cost per thread, so the recorded cost's last digits may
+// differ).
+TEST_F(TinyScene, TheSameInputGivesTheSameReport) {
+  require_run();
+  auto strip = [](json r) {
+    r.erase("timings_s");
+    r.erase("provenance");
+    return r;
+  };
+  const json first = strip(report());
+  for (int threads : {2, 1}) {
+    const std::filesystem::path again = dir_->path() / ("again-" + std::to_string(threads));
+    const auto rerun = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                                data_ + " --out " + again.string() + " --threads " + std::to_string(threads) +
+                                " --quiet 2>&1");
+    ASSERT_EQ(rerun.status, 0) << rerun.output;
+    size_t compared = 0;
+    for (const auto& f : std::filesystem::directory_iterator(std::filesystem::path(out_) / "changes")) {
+      EXPECT_EQ(e2e::read_file(f.path()), e2e::read_file(again / "changes" / f.path().filename()))
+          << f.path().filename() << " with " << threads << " thread(s)";
+      ++compared;
+    }
+    EXPECT_EQ(compared, 2u);
+    json second = strip(json::parse(e2e::read_file(again / "report.json")));
+    json expected = first;
+    if (threads == 1) {
+      second.erase("metrics");
+      expected.erase("metrics");
+    }
+    EXPECT_EQ(second, expected) << "with " << threads << " thread(s)";
+  }
+}
+
 // Georeferenced poses (UTM-like, here 300 km east): the same scene moved far
 // from zero gives the same report, its coordinates moved by the same amount
 // (io.missions works near zero, io.report adds the offset back). Float

@@ -6,8 +6,10 @@
 
 #include <lista/lista.hpp>
 
-#include <atomic>
+#include <algorithm>
 #include <mutex>
+#include <numeric>
+#include <vector>
 
 namespace lista::registration {
 
@@ -38,8 +40,8 @@ class IcpStage : public Stage {
     const auto& objects = in.get<ObjectSet>("objects");
     const auto& matches = in.get<Matches>("matches");
     std::mutex mutex;
-    double inlier_sum = 0.0;
-    int pairs = 0, ambiguous = 0;
+    std::vector<double> inlier_ratios;  // in the order the pairs finish
+    int ambiguous = 0;
     Matches out = register_matches(objects, matches, [&](const Object& s, const Object& t) {
       IcpConfig cfg = cfg_;
       // Both standing on floors: moved on the floor, so upright poses only,
@@ -51,14 +53,18 @@ class IcpStage : public Stage {
       }
       const IcpResult r = icp_refine(s.points.xyz, t.points.xyz, cfg);
       std::lock_guard<std::mutex> lock(mutex);
-      inlier_sum += r.inlier_ratio;
-      ++pairs;
+      inlier_ratios.push_back(r.inlier_ratio);
       if (!r.alternatives.empty()) ++ambiguous;
       return PairPose{r.transform, r.alternatives};
     }, ctx);
     out.method = matches.method + "+register.icp";
-    if (pairs > 0) ctx.record("mean_inlier_ratio", inlier_sum / pairs);
-    ctx.record("pairs", pairs);
+    // Summed in sorted order: the pairs finish in any order across threads,
+    // and a float sum in that order differs in the last bit between runs.
+    std::sort(inlier_ratios.begin(), inlier_ratios.end());
+    const size_t pairs = inlier_ratios.size();
+    if (pairs > 0)
+      ctx.record("mean_inlier_ratio", std::accumulate(inlier_ratios.begin(), inlier_ratios.end(), 0.0) / double(pairs));
+    ctx.record("pairs", double(pairs));
     ctx.record("ambiguous_pairs", ambiguous);
     Outputs o;
     o.put("matches", std::move(out));

@@ -1,0 +1,170 @@
+#include "local_cloud.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <deque>
+#include <thread>
+#include <tuple>
+#include <unordered_set>
+
+namespace lista::seg::completion {
+
+LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float voxel, int threads) {
+  LocalCloud cloud;
+  cloud.inv_voxel = 1.f / voxel;
+  if (regions.empty()) return cloud;
+  Box all;
+  for (const auto& r : regions) all.extend(r);
+  const size_t n = mission.scans.size();
+  std::vector<PointSet> per_scan(n);
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t s; (s = next++) < n;) {
+      const Scan& scan = mission.scans[s];
+      if (!scan.points) continue;
+      const Eigen::Affine3f T = mission.sensor_to_common(s).cast<float>();
+      const PointSet& src = *scan.points;
+      PointSet& out = per_scan[s];
+      for (size_t i = 0; i < src.size(); ++i) {
+        const Eigen::Vector3f p = T * src.xyz[i];
+        if (!all.contains(p)) continue;
+        bool in = false;
+        for (const auto& r : regions)
+          if ((in = r.contains(p))) break;
+        if (!in) continue;
+        out.push_back_from(src, i);
+        out.xyz.back() = p;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  for (auto& s : per_scan) cloud.points.append(s);
+  cloud.index();
+  return cloud;
+}
+
+LocalCloud restrict_to(const LocalCloud& cloud, const std::vector<Box>& regions) {
+  LocalCloud out;
+  out.inv_voxel = cloud.inv_voxel;
+  for (size_t i = 0; i < cloud.points.size(); ++i)
+    for (const auto& r : regions)
+      if (r.contains(cloud.points.xyz[i])) {
+        out.points.push_back_from(cloud.points, i);
+        break;
+      }
+  out.index();
+  return out;
+}
+
+bool local_floor(const PointSet& pts, const Box& region, double percentile, double min_clearance, Floor& floor) {
+  std::vector<std::tuple<int, int, float>> cells;
+  for (const auto& p : pts.xyz)
+    if (region.contains(p)) cells.emplace_back(int(std::floor(p.x() * 5.f)), int(std::floor(p.y() * 5.f)), p.z());
+  if (cells.empty()) return false;
+  std::sort(cells.begin(), cells.end());
+  std::vector<float> lowest;
+  for (size_t i = 0; i < cells.size(); ++i)
+    if (i == 0 || std::get<0>(cells[i]) != std::get<0>(cells[i - 1]) ||
+        std::get<1>(cells[i]) != std::get<1>(cells[i - 1]))
+      lowest.push_back(std::get<2>(cells[i]));
+  std::sort(lowest.begin(), lowest.end());
+  const float f0 = lowest[std::min(lowest.size() - 1, size_t(percentile * double(lowest.size())))];
+  std::vector<float> band;
+  for (const auto& c : cells)
+    if (std::get<2>(c) >= f0 && std::get<2>(c) <= f0 + 0.06f) band.push_back(std::get<2>(c));
+  auto median = [](std::vector<float>& v) {
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  floor.z = median(band);
+  for (auto& z : band) z = std::abs(z - floor.z);
+  const float sigma = 1.4826f * median(band);
+  floor.clear_z = floor.z + std::max(float(min_clearance), 4.f * sigma);
+  return true;
+}
+
+Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, float min_z, const Owners& owned) {
+  std::vector<uint32_t> touched;
+  auto free_point = [&](uint32_t i) {
+    if (cloud.points.xyz[i].z() < min_z) return false;
+    const auto it = owned.find(point_key(cloud.points.scan[i], cloud.points.index[i]));
+    if (it == owned.end()) return true;
+    // Owned points come in runs of one object (the seed's own, mostly):
+    // keep the list short before it is sorted.
+    if (touched.empty() || touched.back() != it->second) touched.push_back(it->second);
+    return false;
+  };
+  auto eligible = [&](uint32_t i) { return free_point(i) && region.contains(cloud.points.xyz[i]); };
+  std::unordered_set<uint64_t> visited;
+  std::deque<Eigen::Vector3i> queue;
+  std::vector<uint32_t> added;
+  size_t walked = 0, leaks = 0;
+  auto visit = [&](const Eigen::Vector3i& v) {
+    if (!visited.insert(voxel_key(v)).second) return;
+    const auto [b, e] = cloud.in_voxel(v);
+    bool any = false, outside = false;
+    for (size_t k = b; k < e; ++k) {
+      const uint32_t i = cloud.grid[k].second;
+      if (eligible(i)) {
+        added.push_back(i);
+        any = true;
+      } else if (!outside && free_point(i)) {
+        outside = true;
+      }
+    }
+    if (any) {
+      queue.push_back(v);
+      ++walked;
+    } else if (outside) {
+      ++leaks;  // each voxel is visited once
+    }
+  };
+  // Seed voxels are walked from even when all their points are owned (they
+  // are the object's own points): that is where the growth starts.
+  for (const auto& p : seed.xyz) {
+    const Eigen::Vector3i v = cloud.voxel_of(p);
+    if (visited.count(voxel_key(v))) continue;
+    visit(v);
+    if (queue.empty() || queue.back() != v) queue.push_back(v);
+  }
+  while (!queue.empty()) {
+    const Eigen::Vector3i v = queue.front();
+    queue.pop_front();
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz)
+          if (dx || dy || dz) visit(v + Eigen::Vector3i(dx, dy, dz));
+  }
+  std::sort(added.begin(), added.end());
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  return {std::move(added), walked, leaks, std::move(touched)};
+}
+
+HeldElsewhere::HeldElsewhere(const Box& floor_region, const std::vector<size_t>& neighbours,
+                             const std::vector<LocalCloud>& clouds, const CompletionConfig& c) {
+  if (neighbours.empty()) return;
+  for (size_t n : neighbours) {
+    Floor f;
+    if (!local_floor(clouds[n].points, floor_region, c.floor_percentile, c.floor_clearance, f)) return;
+    others.emplace_back(&clouds[n], f.clear_z);
+  }
+  valid = true;
+}
+
+std::vector<uint32_t> not_static(const std::vector<uint32_t>& add, const LocalCloud& cloud, const Box& floor_region,
+                                 const std::vector<size_t>& neighbours, const std::vector<LocalCloud>& clouds,
+                                 const CompletionConfig& c) {
+  const HeldElsewhere held(floor_region, neighbours, clouds, c);
+  if (!held.valid) return add;
+  std::vector<uint32_t> keep;
+  for (uint32_t i : add)
+    if (!held.everywhere(cloud.voxel_of(cloud.points.xyz[i]))) keep.push_back(i);
+  return keep;
+}
+
+}  // namespace lista::seg::completion

@@ -1,0 +1,134 @@
+// Completion's view of one mission: its points near the objects, indexed by
+// voxel, the local floor under a region, the breadth-first growth through
+// them and whether other missions hold the same voxels. Internal to
+// segment.complete (completion.cpp and its rules).
+#pragma once
+
+#include "completion.hpp"
+
+#include <lista/data.hpp>
+#include <lista_geometry/voxel_key.hpp>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace lista::seg::completion {
+
+using geometry::voxel_key;
+
+// An axis-aligned box in the common frame, empty (inverted) until extended.
+struct Box {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+  Eigen::Vector3f hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
+  bool contains(const Eigen::Vector3f& p) const {
+    return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+  }
+  void extend(const Box& b) {
+    lo = lo.cwiseMin(b.lo);
+    hi = hi.cwiseMax(b.hi);
+  }
+  Box grown(float xy, float z_down, float z_up) const {
+    Box b = *this;
+    b.lo -= Eigen::Vector3f(xy, xy, z_down);
+    b.hi += Eigen::Vector3f(xy, xy, z_up);
+    return b;
+  }
+};
+
+inline uint64_t point_key(uint32_t scan, uint32_t index) { return (uint64_t(scan) << 32) | index; }
+
+// Point key -> index of the object that holds the point, per mission.
+using Owners = std::unordered_map<uint64_t, uint32_t>;
+
+// One mission's points near its objects and pairs, with a voxel index.
+struct LocalCloud {
+  PointSet points;                                  // common frame
+  std::vector<std::pair<uint64_t, uint32_t>> grid;  // (voxel key, point), sorted
+  float inv_voxel = 10.f;
+
+  Eigen::Vector3i voxel_of(const Eigen::Vector3f& p) const {
+    return (p * inv_voxel).array().floor().cast<int>();
+  }
+  void index() {
+    grid.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) grid[i] = {voxel_key(voxel_of(points.xyz[i])), uint32_t(i)};
+    std::sort(grid.begin(), grid.end());
+  }
+  // Points in voxel v: a range of `grid`.
+  std::pair<size_t, size_t> in_voxel(const Eigen::Vector3i& v) const {
+    const uint64_t k = voxel_key(v);
+    auto lo = std::lower_bound(grid.begin(), grid.end(), std::make_pair(k, uint32_t(0)));
+    auto hi = lo;
+    while (hi != grid.end() && hi->first == k) ++hi;
+    return {size_t(lo - grid.begin()), size_t(hi - grid.begin())};
+  }
+};
+
+// Gathers the points of `mission` (common frame) that fall inside any of
+// `regions`, in scan then file order whatever the thread count.
+LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float voxel, int threads);
+
+// The points of `cloud` inside any of `regions`, in the same order: what
+// gather(regions) would have returned, without reading the mission again.
+LocalCloud restrict_to(const LocalCloud& cloud, const std::vector<Box>& regions);
+
+// The local floor under `region`: the `percentile` of the lowest z per 0.2 m
+// cell gives a first guess f0 (robust to objects covering part of the cells);
+// the floor is the median of the points within 6 cm above f0 and its noise
+// their MAD. Points below floor + max(min_clearance, 4 sigma) count as floor.
+struct Floor {
+  float z = 0.f;          // floor height
+  float clear_z = 0.f;    // lowest z an object point may have
+};
+
+bool local_floor(const PointSet& pts, const Box& region, double percentile, double min_clearance, Floor& floor);
+
+// Breadth-first growth of `seed` through occupied voxels of `cloud` inside
+// `region`, over points above `min_z` that nobody owns. Returns the new points.
+struct Growth {
+  std::vector<uint32_t> added;  // new points, ascending
+  size_t voxels = 0;            // voxels it added points from
+  size_t leaks = 0;             // voxels it would have entered outside the region
+  std::vector<uint32_t> touched;  // objects (indices) owning points the walk reached, ascending
+  // A growth that wants out of its region is part of something bigger (a
+  // wall, the desk the object touches): not one object.
+  bool contained(double max_leak) const { return double(leaks) <= max_leak * double(std::max<size_t>(voxels, 1)); }
+};
+
+Growth grow(const PointSet& seed, const LocalCloud& cloud, const Box& region, float min_z, const Owners& owned);
+
+// Whether every one of the `neighbours`' clouds holds a point in a voxel,
+// above its own local floor under `floor_region`. Not valid when a neighbour
+// has no points there: it saw nothing of the place and cannot say it is
+// static.
+struct HeldElsewhere {
+  std::vector<std::pair<const LocalCloud*, float>> others;  // cloud, lowest z that counts
+  bool valid = false;
+
+  HeldElsewhere(const Box& floor_region, const std::vector<size_t>& neighbours, const std::vector<LocalCloud>& clouds,
+                const CompletionConfig& c);
+  bool everywhere(const Eigen::Vector3i& v) const {
+    for (const auto& [other, min_z] : others) {
+      const auto [b, e] = other->in_voxel(v);
+      bool held = false;
+      for (size_t k = b; k < e && !held; ++k) held = other->points.xyz[other->grid[k].second].z() >= min_z;
+      if (!held) return false;
+    }
+    return true;
+  }
+};
+
+// The points of `add` (in `cloud`) whose voxel is not occupied, above the
+// local floor, in every one of the `neighbours`' clouds: the rest is there in
+// the other missions too, so it did not change.
+std::vector<uint32_t> not_static(const std::vector<uint32_t>& add, const LocalCloud& cloud, const Box& floor_region,
+                                 const std::vector<size_t>& neighbours, const std::vector<LocalCloud>& clouds,
+                                 const CompletionConfig& c);
+
+}  // namespace lista::seg::completion
