@@ -79,26 +79,35 @@ double PcdData::value(int f, size_t i, int e) const {
   }
 }
 
-void load_pcd(const std::string& path, PcdData& d) {
-  d.file_bytes = read_whole_file(path);
-  const std::string& bytes = d.file_bytes;
-  size_t pos = 0;
-  int line_no = 0;
+namespace {
+
+// What the header says of the payload, and where the payload starts.
+struct PcdHeader {
+  std::vector<std::string> names;
   std::vector<int> sizes, counts;
   std::vector<char> types;
-  std::vector<std::string> names;
   long long width = -1, height = -1, points = -1;
-  auto fail = [&](const std::string& what) -> Error {
-    return Error(path + ":" + std::to_string(line_no) + ": " + what);
-  };
-  // Header: one keyword per line until DATA.
+  size_t payload = 0;  // byte offset of the data after the DATA line
+  int lines = 0;       // header lines read
+};
+
+// "path:line: what", the line being the one read last.
+Error failure(const std::string& path, int line, const std::string& what) {
+  return Error(path + ":" + std::to_string(line) + ": " + what);
+}
+
+// Header: one keyword per line until DATA; sets d's viewpoint and encoding.
+PcdHeader parse_header(const std::string& path, PcdData& d) {
+  const std::string& bytes = d.file_bytes;
+  PcdHeader h;
+  auto fail = [&](const std::string& what) { return failure(path, h.lines, what); };
   while (true) {
-    if (pos >= bytes.size()) throw Error(path + ": not a PCD file (no DATA line in the header)");
-    size_t eol = bytes.find('\n', pos);
+    if (h.payload >= bytes.size()) throw Error(path + ": not a PCD file (no DATA line in the header)");
+    size_t eol = bytes.find('\n', h.payload);
     if (eol == std::string::npos) eol = bytes.size();
-    std::string line = bytes.substr(pos, eol - pos);
-    pos = std::min(bytes.size(), eol + 1);
-    ++line_no;
+    std::string line = bytes.substr(h.payload, eol - h.payload);
+    h.payload = std::min(bytes.size(), eol + 1);
+    ++h.lines;
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     std::vector<std::string> tok = split_ws(line);
@@ -119,24 +128,24 @@ void load_pcd(const std::string& path, PcdData& d) {
     };
     if (key == "VERSION") {
     } else if (key == "FIELDS" || key == "COLUMNS") {
-      names = tok;
+      h.names = tok;
     } else if (key == "SIZE") {
-      ints(sizes);
+      ints(h.sizes);
     } else if (key == "TYPE") {
-      types.clear();
+      h.types.clear();
       for (auto& t : tok) {
         if (t.size() != 1 || (t[0] != 'F' && t[0] != 'U' && t[0] != 'I'))
           throw fail("TYPE '" + t + "' must be F, U or I");
-        types.push_back(t[0]);
+        h.types.push_back(t[0]);
       }
     } else if (key == "COUNT") {
-      ints(counts);
+      ints(h.counts);
     } else if (key == "WIDTH") {
-      one_int(width);
+      one_int(h.width);
     } else if (key == "HEIGHT") {
-      one_int(height);
+      one_int(h.height);
     } else if (key == "POINTS") {
-      one_int(points);
+      one_int(h.points);
     } else if (key == "VIEWPOINT") {
       d.viewpoint = parse_viewpoint(tok, fail);
       d.viewpoint_identity = d.viewpoint.matrix().isIdentity(1e-12);
@@ -153,28 +162,35 @@ void load_pcd(const std::string& path, PcdData& d) {
                         : "unknown PCD header keyword '" + shown + "'");
     }
   }
-  if (names.empty()) throw fail("no FIELDS in the header");
-  if (counts.empty()) counts.assign(names.size(), 1);
-  if (sizes.size() != names.size() || types.size() != names.size() || counts.size() != names.size())
+  return h;
+}
+
+// Checks the header's fields and counts against one another and lays the
+// fields out in d (offsets within a point). Returns the bytes per point.
+size_t lay_out_fields(const std::string& path, PcdHeader& h, PcdData& d) {
+  auto fail = [&](const std::string& what) { return failure(path, h.lines, what); };
+  if (h.names.empty()) throw fail("no FIELDS in the header");
+  if (h.counts.empty()) h.counts.assign(h.names.size(), 1);
+  if (h.sizes.size() != h.names.size() || h.types.size() != h.names.size() || h.counts.size() != h.names.size())
     throw fail("FIELDS, SIZE, TYPE and COUNT must have the same number of entries");
-  if (width < 0) throw fail("no WIDTH in the header");
-  if (height < 0) height = 1;
+  if (h.width < 0) throw fail("no WIDTH in the header");
+  if (h.height < 0) h.height = 1;
   // Points are indexed by uint32 (the contract's `index`); larger counts are
   // a corrupt header, and checking here keeps WIDTH*HEIGHT from overflowing.
   constexpr long long kMaxPoints = 0xFFFFFFFFll;
-  if (width > kMaxPoints || height > kMaxPoints || (height > 0 && width > kMaxPoints / height) ||
-      points > kMaxPoints)
-    throw fail("WIDTH " + std::to_string(width) + " x HEIGHT " + std::to_string(height) +
-               (points >= 0 ? " (POINTS " + std::to_string(points) + ")" : std::string()) +
+  if (h.width > kMaxPoints || h.height > kMaxPoints || (h.height > 0 && h.width > kMaxPoints / h.height) ||
+      h.points > kMaxPoints)
+    throw fail("WIDTH " + std::to_string(h.width) + " x HEIGHT " + std::to_string(h.height) +
+               (h.points >= 0 ? " (POINTS " + std::to_string(h.points) + ")" : std::string()) +
                " exceeds 4294967295 points: a corrupt header");
-  if (points < 0) points = width * height;
-  if (points != width * height)
-    throw fail("POINTS " + std::to_string(points) + " != WIDTH*HEIGHT " + std::to_string(width * height));
-  d.points = static_cast<size_t>(points);
+  if (h.points < 0) h.points = h.width * h.height;
+  if (h.points != h.width * h.height)
+    throw fail("POINTS " + std::to_string(h.points) + " != WIDTH*HEIGHT " + std::to_string(h.width * h.height));
+  d.points = static_cast<size_t>(h.points);
   d.fields.clear();
   size_t stride = 0;
-  for (size_t f = 0; f < names.size(); ++f) {
-    PcdField fd{names[f], sizes[f], types[f], counts[f], stride};
+  for (size_t f = 0; f < h.names.size(); ++f) {
+    PcdField fd{h.names[f], h.sizes[f], h.types[f], h.counts[f], stride};
     const bool ok = fd.type == 'F' ? (fd.size == 4 || fd.size == 8)
                                    : (fd.size == 1 || fd.size == 2 || fd.size == 4 || fd.size == 8);
     if (!ok) throw fail("field '" + fd.name + "': unsupported SIZE " + std::to_string(fd.size) + " for TYPE " + fd.type);
@@ -182,92 +198,115 @@ void load_pcd(const std::string& path, PcdData& d) {
     if (stride > (size_t(1) << 20)) throw fail("more than 1 MiB per point (SIZE x COUNT): a corrupt header");
     d.fields.push_back(fd);
   }
+  return stride;
+}
+
+// Binary: fields interleaved, one point after another.
+void map_binary(const std::string& path, const uint8_t* payload, size_t payload_size, size_t stride, PcdData& d) {
   const size_t n = d.points;
-  const uint8_t* payload = reinterpret_cast<const uint8_t*>(bytes.data()) + pos;
-  const size_t payload_size = bytes.size() - pos;
+  if (payload_size < n * stride)
+    throw Error(path + ": truncated binary data (" + std::to_string(payload_size) + " bytes, need " +
+                std::to_string(n * stride) + ")");
+  for (size_t f = 0; f < d.fields.size(); ++f) {
+    d.base[f] = payload + d.fields[f].offset;
+    d.step[f] = stride;
+  }
+}
+
+// binary_compressed: LZF, then one block per field.
+void decompress(const std::string& path, const uint8_t* payload, size_t payload_size, size_t stride, PcdData& d) {
+  const size_t n = d.points;
+  if (payload_size < 8) throw Error(path + ": truncated binary_compressed data (no size words)");
+  uint32_t csize, usize;
+  std::memcpy(&csize, payload, 4);
+  std::memcpy(&usize, payload + 4, 4);
+  if (usize != n * stride)
+    throw Error(path + ": binary_compressed payload holds " + std::to_string(usize) + " bytes, expected " +
+                std::to_string(n * stride));
+  if (payload_size - 8 < csize) throw Error(path + ": truncated binary_compressed data");
+  // LZF turns at most 3 bytes into 264 (a back-reference): a size word
+  // promising more is corrupt, and must not reserve gigabytes.
+  if (uint64_t(usize) > 90 * (uint64_t(csize) + 1))
+    throw Error(path + ": binary_compressed data of " + std::to_string(csize) + " bytes cannot expand to " +
+                std::to_string(usize) + ": corrupt size words");
+  d.decompressed.resize(usize);
+  if (usize > 0 && !lzf::decompress(payload + 8, csize, d.decompressed.data(), usize))
+    throw Error(path + ": corrupt binary_compressed data (LZF stream does not decode)");
+  // Decompressed layout is one block per field (structure of arrays).
+  size_t off = 0;
+  for (size_t f = 0; f < d.fields.size(); ++f) {
+    const size_t width_f = size_t(d.fields[f].size) * d.fields[f].count;
+    d.base[f] = d.decompressed.data() + off;
+    d.step[f] = width_f;
+    off += width_f * n;
+  }
+}
+
+// ascii: one row of numbers per point; blank lines skipped. `line_no`: the
+// header's last line.
+void parse_ascii(const std::string& path, const char* p, const char* end, int line_no, PcdData& d) {
+  const size_t n = d.points;
+  const size_t payload_size = size_t(end - p);
+  auto fail = [&](const std::string& what) { return failure(path, line_no, what); };
+  d.row_values = 0;
+  d.ascii_column.clear();
+  for (auto& fd : d.fields) {
+    d.ascii_column.push_back(d.row_values);
+    d.row_values += fd.count;
+  }
+  // Every value takes at least a byte: a header promising far more rows
+  // than the file can hold is refused before memory is reserved for them.
+  if (payload_size + 1 < n * d.row_values)
+    throw Error(path + ": " + std::to_string(payload_size) + " bytes of ascii data cannot hold POINTS " +
+                std::to_string(n) + " (" + std::to_string(d.row_values) + " values each)");
+  d.ascii.resize(n * d.row_values);
+  size_t row = 0;
+  while (p < end) {
+    const char* eol = static_cast<const char*>(std::memchr(p, '\n', size_t(end - p)));
+    if (!eol) eol = end;
+    ++line_no;
+    size_t k = 0;
+    const char* q = p;
+    bool blank = true;
+    while (q < eol) {
+      while (q < eol && (*q == ' ' || *q == '\t' || *q == '\r')) ++q;
+      if (q >= eol) break;
+      blank = false;
+      const char* tok_end = q;
+      while (tok_end < eol && *tok_end != ' ' && *tok_end != '\t' && *tok_end != '\r') ++tok_end;
+      if (row >= n) throw fail("more data rows than POINTS " + std::to_string(n));
+      if (k >= d.row_values)
+        throw fail("expected " + std::to_string(d.row_values) + " values, got more");
+      double v;
+      if (!parse_double(std::string(q, tok_end), v))
+        throw fail("'" + std::string(q, tok_end) + "' is not a number");
+      d.ascii[row * d.row_values + k++] = v;
+      q = tok_end;
+    }
+    if (!blank) {
+      if (k != d.row_values)
+        throw fail("expected " + std::to_string(d.row_values) + " values, got " + std::to_string(k));
+      ++row;
+    }
+    p = eol + 1;
+  }
+  if (row != n) throw Error(path + ": " + std::to_string(row) + " data rows, POINTS says " + std::to_string(n));
+}
+
+}  // namespace
+
+void load_pcd(const std::string& path, PcdData& d) {
+  d.file_bytes = read_whole_file(path);
+  PcdHeader h = parse_header(path, d);
+  const size_t stride = lay_out_fields(path, h, d);
+  const std::string& bytes = d.file_bytes;
+  const uint8_t* payload = reinterpret_cast<const uint8_t*>(bytes.data()) + h.payload;
+  const size_t payload_size = bytes.size() - h.payload;
   d.base.assign(d.fields.size(), nullptr);
   d.step.assign(d.fields.size(), 0);
-
-  if (d.encoding == "binary") {
-    if (payload_size < n * stride)
-      throw Error(path + ": truncated binary data (" + std::to_string(payload_size) + " bytes, need " +
-                  std::to_string(n * stride) + ")");
-    for (size_t f = 0; f < d.fields.size(); ++f) {
-      d.base[f] = payload + d.fields[f].offset;
-      d.step[f] = stride;
-    }
-  } else if (d.encoding == "binary_compressed") {
-    if (payload_size < 8) throw Error(path + ": truncated binary_compressed data (no size words)");
-    uint32_t csize, usize;
-    std::memcpy(&csize, payload, 4);
-    std::memcpy(&usize, payload + 4, 4);
-    if (usize != n * stride)
-      throw Error(path + ": binary_compressed payload holds " + std::to_string(usize) + " bytes, expected " +
-                  std::to_string(n * stride));
-    if (payload_size - 8 < csize) throw Error(path + ": truncated binary_compressed data");
-    // LZF turns at most 3 bytes into 264 (a back-reference): a size word
-    // promising more is corrupt, and must not reserve gigabytes.
-    if (uint64_t(usize) > 90 * (uint64_t(csize) + 1))
-      throw Error(path + ": binary_compressed data of " + std::to_string(csize) + " bytes cannot expand to " +
-                  std::to_string(usize) + ": corrupt size words");
-    d.decompressed.resize(usize);
-    if (usize > 0 && !lzf::decompress(payload + 8, csize, d.decompressed.data(), usize))
-      throw Error(path + ": corrupt binary_compressed data (LZF stream does not decode)");
-    // Decompressed layout is one block per field (structure of arrays).
-    size_t off = 0;
-    for (size_t f = 0; f < d.fields.size(); ++f) {
-      const size_t width_f = size_t(d.fields[f].size) * d.fields[f].count;
-      d.base[f] = d.decompressed.data() + off;
-      d.step[f] = width_f;
-      off += width_f * n;
-    }
-  } else {  // ascii
-    d.row_values = 0;
-    d.ascii_column.clear();
-    for (auto& fd : d.fields) {
-      d.ascii_column.push_back(d.row_values);
-      d.row_values += fd.count;
-    }
-    // Every value takes at least a byte: a header promising far more rows
-    // than the file can hold is refused before memory is reserved for them.
-    if (payload_size + 1 < n * d.row_values)
-      throw Error(path + ": " + std::to_string(payload_size) + " bytes of ascii data cannot hold POINTS " +
-                  std::to_string(n) + " (" + std::to_string(d.row_values) + " values each)");
-    d.ascii.resize(n * d.row_values);
-    size_t row = 0;
-    const char* p = bytes.data() + pos;
-    const char* end = bytes.data() + bytes.size();
-    while (p < end) {
-      const char* eol = static_cast<const char*>(std::memchr(p, '\n', size_t(end - p)));
-      if (!eol) eol = end;
-      ++line_no;
-      size_t k = 0;
-      const char* q = p;
-      bool blank = true;
-      while (q < eol) {
-        while (q < eol && (*q == ' ' || *q == '\t' || *q == '\r')) ++q;
-        if (q >= eol) break;
-        blank = false;
-        const char* tok_end = q;
-        while (tok_end < eol && *tok_end != ' ' && *tok_end != '\t' && *tok_end != '\r') ++tok_end;
-        if (row >= n) throw fail("more data rows than POINTS " + std::to_string(n));
-        if (k >= d.row_values)
-          throw fail("expected " + std::to_string(d.row_values) + " values, got more");
-        double v;
-        if (!parse_double(std::string(q, tok_end), v))
-          throw fail("'" + std::string(q, tok_end) + "' is not a number");
-        d.ascii[row * d.row_values + k++] = v;
-        q = tok_end;
-      }
-      if (!blank) {
-        if (k != d.row_values)
-          throw fail("expected " + std::to_string(d.row_values) + " values, got " + std::to_string(k));
-        ++row;
-      }
-      p = eol + 1;
-    }
-    if (row != n) throw Error(path + ": " + std::to_string(row) + " data rows, POINTS says " + std::to_string(n));
-  }
+  if (d.encoding == "binary") map_binary(path, payload, payload_size, stride, d);
+  else if (d.encoding == "binary_compressed") decompress(path, payload, payload_size, stride, d);
+  else parse_ascii(path, bytes.data() + h.payload, bytes.data() + bytes.size(), h.lines, d);
 }
 
 }  // namespace detail

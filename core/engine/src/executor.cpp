@@ -66,6 +66,51 @@ Error stage_error(const PlannedStage& s, std::exception_ptr failure) {
   }
 }
 
+// What the report records of the run: versions, the pipeline as it ran
+// (with the command line's seed, dataset and output), seed, threads, plugins.
+RunInfo run_provenance(const Plan& plan, const RunOptions& options, int budget, int jobs) {
+  RunInfo info;
+  info.lista_version = lista_version();
+  info.git_revision = git_revision();
+  info.pipeline_file = options.pipeline_file.empty() ? plan.spec.file : options.pipeline_file;
+  info.pipeline_resolved = plan.resolved_toml();
+  info.dataset = absolute_folder(options.dataset.empty() ? plan.spec.dataset : options.dataset);
+  info.output_dir = options.output.empty() ? plan.spec.output : options.output;
+  info.seed = options.seed.value_or(plan.spec.seed.value_or(0));
+  info.threads = budget;
+  info.jobs = jobs;
+  {
+    std::set<std::string> seen;
+    for (const auto& s : plan.stages)
+      if (seen.insert(s.stage->info.name).second)
+        info.plugins.push_back({s.stage->info.name, s.stage->info.version, s.stage->library});
+  }
+  if (options.seed || info.dataset != plan.spec.dataset || !options.output.empty()) {
+    // Keep the recorded pipeline true to what ran.
+    Plan copy = plan;
+    copy.spec.seed = info.seed;
+    copy.spec.dataset = info.dataset;
+    copy.spec.output = info.output_dir;
+    info.pipeline_resolved = copy.resolved_toml();
+  }
+  return info;
+}
+
+// Rethrows the first real failure as a stage error; a run that only saw
+// cancellation (Ctrl-C noticed by several stages) throws Cancelled.
+[[noreturn]] void rethrow_failure(const Plan& plan, const std::vector<std::pair<size_t, std::exception_ptr>>& failures) {
+  for (const auto& [i, f] : failures) {
+    try {
+      std::rethrow_exception(f);
+    } catch (const Cancelled&) {
+      continue;
+    } catch (...) {
+    }
+    throw stage_error(plan.stages[i], f);
+  }
+  throw Cancelled();
+}
+
 }  // namespace
 
 // Checks a stage's outputs against its declaration, and the values whose
@@ -113,29 +158,7 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
   const int stage_threads = std::max(1, budget / jobs);
 
   RunInfo& info = run.info;
-  info.lista_version = lista_version();
-  info.git_revision = git_revision();
-  info.pipeline_file = options.pipeline_file.empty() ? plan.spec.file : options.pipeline_file;
-  info.pipeline_resolved = plan.resolved_toml();
-  info.dataset = absolute_folder(options.dataset.empty() ? plan.spec.dataset : options.dataset);
-  info.output_dir = options.output.empty() ? plan.spec.output : options.output;
-  info.seed = options.seed.value_or(plan.spec.seed.value_or(0));
-  info.threads = budget;
-  info.jobs = jobs;
-  {
-    std::set<std::string> seen;
-    for (const auto& s : plan.stages)
-      if (seen.insert(s.stage->info.name).second)
-        info.plugins.push_back({s.stage->info.name, s.stage->info.version, s.stage->library});
-  }
-  if (options.seed || info.dataset != plan.spec.dataset || !options.output.empty()) {
-    // Keep the recorded pipeline true to what ran.
-    Plan copy = plan;
-    copy.spec.seed = info.seed;
-    copy.spec.dataset = info.dataset;
-    copy.spec.output = info.output_dir;
-    info.pipeline_resolved = copy.resolved_toml();
-  }
+  info = run_provenance(plan, options, budget, jobs);
 
   const size_t n = plan.stages.size();
   // How many later stages still need each (stage, port) value.
@@ -239,19 +262,8 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
     if (t.joinable()) t.join();
   values.clear();
 
-  if (!failures.empty()) {
-    // A real failure wins over cancellation noticed by other stages.
-    for (const auto& [i, f] : failures) {
-      try {
-        std::rethrow_exception(f);
-      } catch (const Cancelled&) {
-        continue;
-      } catch (...) {
-      }
-      throw stage_error(plan.stages[i], f);
-    }
-    throw Cancelled();
-  }
+  // A real failure wins over cancellation noticed by other stages.
+  if (!failures.empty()) rethrow_failure(plan, failures);
   if (run.cancel->load() || done < n) throw Cancelled();
   return info;
 }
