@@ -91,10 +91,19 @@ PoseGraphSummary optimise_pose_graph(std::vector<Eigen::Isometry3d>& nodes, cons
   options.max_num_iterations = o.max_iterations;
   options.num_threads = std::max(1, o.threads);
   options.logging_type = ceres::SILENT;
+  // The costs the report records, summed on one thread: Ceres sums its own
+  // per thread, so their last digits would follow the thread count.
+  auto cost_now = [&problem] {
+    ceres::Problem::EvaluateOptions one_thread;
+    one_thread.num_threads = 1;
+    double cost = 0.0;
+    problem.Evaluate(one_thread, &cost, nullptr, nullptr, nullptr);
+    return cost;
+  };
+  summary.initial_cost = cost_now();
   ceres::Solver::Summary s;
   ceres::Solve(options, &problem, &s);
-  summary.initial_cost = s.initial_cost;
-  summary.final_cost = s.final_cost;
+  summary.final_cost = cost_now();
   summary.iterations = static_cast<int>(s.iterations.size());
   summary.usable = s.IsSolutionUsable();
   for (size_t i = 0; i < nodes.size(); ++i) {
