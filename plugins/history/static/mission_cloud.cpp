@@ -1,0 +1,83 @@
+#include "mission_cloud.hpp"
+
+#include <lista/parallel.hpp>
+
+#include <algorithm>
+#include <deque>
+
+namespace lista::history {
+
+PointSet gather(const Mission& mission, const std::vector<Box>& boxes, int threads) {
+  const size_t n = mission.scans.size();
+  std::vector<PointSet> per_scan(n);
+  if (boxes.empty()) return {};
+  Box all = boxes.front();
+  for (const Box& b : boxes) all.lo = all.lo.cwiseMin(b.lo), all.hi = all.hi.cwiseMax(b.hi);
+  parallel_for(n, threads, [&](size_t s) {
+    const Scan& scan = mission.scans[s];
+    if (!scan.points) return;
+    const Eigen::Affine3f T = mission.sensor_to_common(s).cast<float>();
+    const PointSet& src = *scan.points;
+    for (size_t i = 0; i < src.size(); ++i) {
+      const Eigen::Vector3f p = T * src.xyz[i];
+      if (!all.contains(p)) continue;
+      for (const Box& b : boxes)
+        if (b.contains(p)) {
+          per_scan[s].push_back_from(src, i);
+          per_scan[s].xyz.back() = p;
+          break;
+        }
+    }
+  });
+  PointSet out;
+  for (const PointSet& s : per_scan) out.append(s);
+  return out;
+}
+
+std::vector<Eigen::Vector3f> sample(const PointSet& p) {
+  const size_t step = std::max<size_t>(1, p.size() / 2000);
+  std::vector<Eigen::Vector3f> out;
+  for (size_t i = 0; i < p.size(); i += step) out.push_back(p.xyz[i]);
+  return out;
+}
+
+double share_near(const std::vector<Eigen::Vector3f>& probe, const Cloud& cloud) {
+  if (probe.empty()) return 0.0;
+  size_t hit = 0;
+  for (const auto& p : probe) hit += cloud.grid.any_near(cloud.points.xyz, p);
+  return double(hit) / double(probe.size());
+}
+
+PointSet take(const Object& object, const Cloud& cloud, float radius, const Cloud* absent) {
+  const float floor_z = object.bbox_min.z();
+  const Box box{object.bbox_min.array() - radius, object.bbox_max.array() + radius};
+  // 0: not looked at, 1: taken, 2: refused (structure).
+  std::vector<char> state(cloud.points.size(), 0);
+  std::deque<uint32_t> queue;
+  auto consider = [&](uint32_t i, bool grown) {
+    if (state[i]) return;
+    const Eigen::Vector3f& q = cloud.points.xyz[i];
+    if (q.z() < floor_z) return;
+    if (grown && absent && absent->grid.any_near(absent->points.xyz, q)) {
+      state[i] = 2;
+      return;
+    }
+    state[i] = 1;
+    queue.push_back(i);
+  };
+  for (const auto& p : object.points.xyz)
+    cloud.grid.for_near(cloud.points.xyz, p, [&](uint32_t i) { consider(i, false); });
+  while (!queue.empty()) {
+    const uint32_t i = queue.front();
+    queue.pop_front();
+    cloud.grid.for_near(cloud.points.xyz, cloud.points.xyz[i], [&](uint32_t j) {
+      if (box.contains(cloud.points.xyz[j])) consider(j, true);
+    });
+  }
+  std::vector<uint32_t> idx;
+  for (uint32_t i = 0; i < state.size(); ++i)
+    if (state[i] == 1) idx.push_back(i);
+  return cloud.points.select(idx);
+}
+
+}  // namespace lista::history
