@@ -236,23 +236,19 @@ ConfidenceScore score_confidence(const io::Report& report, const std::vector<Obj
 
 }  // namespace
 
-Score score_run(const Truth& truth, const std::string& run_dir) {
-  const std::string report_path = (std::filesystem::path(run_dir) / "report.json").string();
-  if (!std::filesystem::exists(report_path)) throw Error(report_path + ": missing");
-  const io::Report report = io::read_report(report_path);
-  Score score;
-  score.missions = report.missions;
+namespace {
+
+// The run's reports paired with the true objects, per mission.
+struct Pairing {
+  std::map<std::pair<size_t, uint32_t>, int> report_of;  // (mission, true id) -> reported id
+  std::map<int, uint32_t> truth_of;                      // reported id -> true id
+  std::map<int, const io::ReportObject*> by_id;
+  std::map<std::pair<size_t, uint32_t>, double> pair_iou;
+};
+
+// Per-point counts over all missions; dynamic objects' points left out.
+void score_points(const Truth& truth, const std::vector<MissionRun>& runs, PointScore& points) {
   const size_t nm = truth.missions.missions.size();
-  if (report.missions.size() != nm) throw Error(report_path + ": missions differ from the ones being scored");
-  for (size_t k = 0; k < nm; ++k)
-    if (report.missions[k] != truth.missions.missions[k].name)
-      throw Error(report_path + ": mission " + std::to_string(k) + " is '" + report.missions[k] + "', expected '" +
-                  truth.missions.missions[k].name + "'");
-
-  std::vector<MissionRun> runs;
-  for (size_t k = 0; k < nm; ++k) runs.push_back(read_changes(truth, k, run_dir, report));
-
-  // Per-point counts over all missions; dynamic objects' points left out.
   for (size_t k = 0; k < nm; ++k) {
     const MissionTruth& mt = truth.labels[k];
     const auto sw = truth.swapped.find(mt.name);
@@ -262,21 +258,24 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
         if (l == kNoPoint || truth.dynamic.count(l)) continue;
         const bool changed = l != 0 && truth.changed.count(l);
         const bool predicted = runs[k].predicted[s][i] != 0;
-        if (changed) (predicted ? score.points.tp : score.points.fn)++;
-        else (predicted ? score.points.fp : score.points.tn)++;
+        if (changed) (predicted ? points.tp : points.fn)++;
+        else (predicted ? points.fp : points.tn)++;
         if (changed && sw != truth.swapped.end() && sw->second.count(l)) {
-          ++score.points.swapped;
-          if (!predicted) ++score.points.fn_swapped;
+          ++points.swapped;
+          if (!predicted) ++points.fn_swapped;
         }
       }
   }
 
-  // Object pairing per mission: point-set IoU > 0.5, unique (greedy by IoU).
-  std::map<std::pair<size_t, uint32_t>, int> report_of;  // (mission, true id) -> reported id
-  std::map<int, uint32_t> truth_of;                      // reported id -> true id
-  std::map<int, const io::ReportObject*> by_id;
-  std::map<std::pair<size_t, uint32_t>, double> pair_iou;
-  for (const auto& o : report.objects) by_id[o.id] = &o;
+}
+
+// Object pairing per mission: point-set IoU > 0.5, unique (greedy by IoU);
+// one ObjectScore per mission into `objects`.
+Pairing pair_objects(const Truth& truth, const io::Report& report, const std::vector<MissionRun>& runs,
+                     std::vector<ObjectScore>& objects) {
+  const size_t nm = truth.missions.missions.size();
+  Pairing p;
+  for (const auto& o : report.objects) p.by_id[o.id] = &o;
   for (size_t k = 0; k < nm; ++k) {
     const std::string& m = truth.labels[k].name;
     ObjectScore os;
@@ -294,7 +293,7 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
       for (const auto& [id, inter] : labels) {
         auto st = truth.status.find(id);
         if (id == 0 || st == truth.status.end() || !st->second.count(m)) continue;
-        const double uni = double(runs[k].size_of[rep] + true_points(id) - inter);
+        const double uni = double(runs[k].size_of.at(rep) + true_points(id) - inter);
         const double iou = double(inter) / uni;
         if (iou > 0.5) cands.push_back({iou, rep, id});
       }
@@ -302,23 +301,28 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
       return a.iou != b.iou ? a.iou > b.iou : a.rep != b.rep ? a.rep < b.rep : a.id < b.id;
     });
     for (const Cand& c : cands) {
-      if (truth_of.count(c.rep) || report_of.count({k, c.id})) continue;
-      truth_of[c.rep] = c.id;
-      report_of[{k, c.id}] = c.rep;
-      pair_iou[{k, c.id}] = c.iou;
+      if (p.truth_of.count(c.rep) || p.report_of.count({k, c.id})) continue;
+      p.truth_of[c.rep] = c.id;
+      p.report_of[{k, c.id}] = c.rep;
+      p.pair_iou[{k, c.id}] = c.iou;
       ++os.paired;
-      if (truth.accepted.at(c.id).at(m).count(by_id[c.rep]->status)) ++os.status_correct;
+      if (truth.accepted.at(c.id).at(m).count(p.by_id[c.rep]->status)) ++os.status_correct;
     }
-    score.objects.push_back(os);
+    objects.push_back(os);
   }
 
-  // Moved objects: does the match name the same true object's report elsewhere,
-  // and how far is its transform from the truth (in the run's common frame)?
+  return p;
+}
+
+// Moved objects: does the match name the same true object's report
+// elsewhere, and how far is its transform from the truth (in the run's
+// common frame)? Fills score.verdicts and the objects' move counts.
+void score_moves(const Truth& truth, const io::Report& report, const Pairing& p, Score& score) {
   auto world_to_common = [&](size_t k) {
     const std::string& m = truth.labels[k].name;
     return iso(report.alignment.at(m)) * iso(truth.gt.mission_to_world.at(m)).inverse();
   };
-  score.verdicts = verdicts(truth, report_of, pair_iou, truth_of, by_id);
+  score.verdicts = verdicts(truth, p.report_of, p.pair_iou, p.truth_of, p.by_id);
   for (ObjectVerdict& v : score.verdicts) {
     if (!v.moved_elsewhere) continue;
     const size_t k = truth.mission_index(v.mission);
@@ -326,9 +330,9 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     ++os.moved;
     if (!v.match_right) continue;
     ++os.moved_matched;
-    const io::ReportObject& r = *by_id.at(v.report_id);
+    const io::ReportObject& r = *p.by_id.at(v.report_id);
     if (!r.transform) continue;
-    const io::ReportObject& partner = *by_id.at(r.match);
+    const io::ReportObject& partner = *p.by_id.at(r.match);
     const size_t j = truth.mission_index(partner.mission);
     const io::TruthObject* obj = truth.object(v.truth_id);
     const Eigen::Isometry3d truth_t = world_to_common(j) * iso(*obj->poses.at(partner.mission)) *
@@ -358,9 +362,13 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     os.rotation_error_deg.push_back(v.rotation_error_deg);
   }
 
+}
+
+// The missions' object scores summed.
+ObjectScore all_missions(const std::vector<ObjectScore>& objects) {
   ObjectScore all;
   all.mission = "all";
-  for (const auto& os : score.objects) {
+  for (const auto& os : objects) {
     all.reported += os.reported;
     all.true_changed += os.true_changed;
     all.paired += os.paired;
@@ -373,10 +381,12 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     all.translation_error_m.insert(all.translation_error_m.end(), os.translation_error_m.begin(), os.translation_error_m.end());
     all.rotation_error_deg.insert(all.rotation_error_deg.end(), os.rotation_error_deg.begin(), os.rotation_error_deg.end());
   }
-  score.objects.push_back(all);
-  score.confidence = score_confidence(report, score.verdicts);
+  return all;
+}
 
-  // Alignment ATE: both trajectories in the first mission's map frame.
+// Alignment ATE: both trajectories in the first mission's map frame.
+void score_alignment(const Truth& truth, const io::Report& report, std::vector<AlignmentScore>& alignment) {
+  const size_t nm = truth.missions.missions.size();
   const std::string& first = truth.labels[0].name;
   const Eigen::Isometry3d est_to_first = iso(report.alignment.at(first)).inverse();
   const Eigen::Isometry3d world_to_first = iso(truth.gt.mission_to_world.at(first)).inverse();
@@ -398,9 +408,34 @@ Score score_run(const Truth& truth, const std::string& run_dir) {
     a.ate_rmse_m = std::sqrt(sum / double(std::max<size_t>(1, a.scans)));
     sum_all += sum;
     n_all += a.scans;
-    score.alignment.push_back(a);
+    alignment.push_back(a);
   }
-  if (n_all > 0) score.alignment.push_back({"all", n_all, std::sqrt(sum_all / double(n_all))});
+  if (n_all > 0) alignment.push_back({"all", n_all, std::sqrt(sum_all / double(n_all))});
+}
+
+}  // namespace
+
+Score score_run(const Truth& truth, const std::string& run_dir) {
+  const std::string report_path = (std::filesystem::path(run_dir) / "report.json").string();
+  if (!std::filesystem::exists(report_path)) throw Error(report_path + ": missing");
+  const io::Report report = io::read_report(report_path);
+  Score score;
+  score.missions = report.missions;
+  const size_t nm = truth.missions.missions.size();
+  if (report.missions.size() != nm) throw Error(report_path + ": missions differ from the ones being scored");
+  for (size_t k = 0; k < nm; ++k)
+    if (report.missions[k] != truth.missions.missions[k].name)
+      throw Error(report_path + ": mission " + std::to_string(k) + " is '" + report.missions[k] + "', expected '" +
+                  truth.missions.missions[k].name + "'");
+
+  std::vector<MissionRun> runs;
+  for (size_t k = 0; k < nm; ++k) runs.push_back(read_changes(truth, k, run_dir, report));
+  score_points(truth, runs, score.points);
+  const Pairing pairing = pair_objects(truth, report, runs, score.objects);
+  score_moves(truth, report, pairing, score);
+  score.objects.push_back(all_missions(score.objects));
+  score.confidence = score_confidence(report, score.verdicts);
+  score_alignment(truth, report, score.alignment);
   add_scan_pose_ate(truth, run_dir, score.alignment);
   return score;
 }
