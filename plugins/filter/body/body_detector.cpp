@@ -1,5 +1,8 @@
 #include "body_detector.hpp"
 
+#include "range_image.hpp"
+#include "surface_patch.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -7,139 +10,9 @@
 #include <lista/parallel.hpp>
 #include <lista_geometry/voxel_key.hpp>
 
-#include <Eigen/Eigenvalues>
-
 namespace lista::filter_body {
 
 namespace {
-
-// One scan's points binned by direction (azimuth 0.5 deg, elevation 1 deg),
-// in compressed rows: the points of bin b are points[offsets[b] .. offsets[b+1]).
-class RangeImage {
- public:
-  static constexpr int kAz = 720, kEl = 180;
-
-  explicit RangeImage(const PointSet& cloud) : offsets_(size_t(kAz) * kEl + 1, 0) {
-    std::vector<uint32_t> bin(cloud.size());
-    for (size_t i = 0; i < cloud.size(); ++i) {
-      const Eigen::Vector3d q = cloud.xyz[i].cast<double>();
-      bin[i] = uint32_t(el_bin(q) * kAz + az_bin(q));
-      ++offsets_[bin[i] + 1];
-    }
-    for (size_t b = 1; b < offsets_.size(); ++b) offsets_[b] += offsets_[b - 1];
-    points_.resize(cloud.size());
-    std::vector<uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
-    for (size_t i = 0; i < cloud.size(); ++i) points_[fill[bin[i]]++] = cloud.xyz[i];
-  }
-
-  enum class Vote { none, present, see_through };
-
-  // What this scan saw of a small surface patch (centre c, unit normal n
-  // pointing to the side the patch was seen from; sensor frame). A real
-  // surface is opaque: no ray passes behind it. So one of this scan's rays
-  // that passes within `rho` of the point `depth` behind the patch and ends
-  // more than `margin` beyond that point saw through where the patch was;
-  // one that ends within `rho` of the patch's centre sees it present (that
-  // wins). Rays that end short of both, or none at all, give no vote. Edge-on
-  // views (the top of a robot's back from another scan at the same height)
-  // work as well as head-on ones.
-  Vote look(const Eigen::Vector3d& c, const Eigen::Vector3d& n, double depth, double rho, double margin) const {
-    const Eigen::Vector3d q = c - depth * n;
-    const double r = q.norm();
-    if (r < 1e-6) return Vote::none;
-    const double reach = std::atan2(rho + depth, r) * 180.0 / M_PI;
-    const double cos_el = std::max(0.05, std::sqrt(std::max(0.0, 1.0 - (q.z() / r) * (q.z() / r))));
-    const int half_az = std::min(60, int(std::ceil(reach / cos_el * 2.0)) + 1);
-    const int half_el = std::min(30, int(std::ceil(reach)) + 1);
-    const int az = az_bin(q), el = el_bin(q);
-    bool through = false;
-    // Bins nearest the point's direction first: a surface really there is
-    // usually found present within a few bins, ending the search.
-    for (int ring = 0; ring <= std::max(half_az, half_el); ++ring)
-      for (int de = -std::min(ring, half_el); de <= std::min(ring, half_el); ++de) {
-        const int e = el + de;
-        if (e < 0 || e >= kEl) continue;
-        const bool edge_row = std::abs(de) == ring;
-        for (int da = -std::min(ring, half_az); da <= std::min(ring, half_az); ++da) {
-          if (!edge_row && std::abs(da) != ring) continue;  // inner bins were searched in earlier rings
-          const size_t b = size_t(e) * kAz + size_t((az + da + 10 * kAz) % kAz);
-          for (uint32_t k = offsets_[b]; k < offsets_[b + 1]; ++k) {
-            const Eigen::Vector3d p = points_[k].cast<double>();
-            if ((p - c).squaredNorm() <= rho * rho) return Vote::present;
-            const double range = p.norm();
-            if (range < 1e-6) continue;
-            const Eigen::Vector3d u = p / range;
-            const double t = u.dot(q);
-            if (t <= 0 || range <= t + margin) continue;
-            if ((q - t * u).squaredNorm() <= rho * rho) through = true;
-          }
-        }
-      }
-    return through ? Vote::see_through : Vote::none;
-  }
-
- private:
-  static int az_bin(const Eigen::Vector3d& q) {
-    double deg = std::atan2(q.y(), q.x()) * 180.0 / M_PI;
-    if (deg < 0) deg += 360.0;
-    return std::min(kAz - 1, int(deg * 2.0));
-  }
-  static int el_bin(const Eigen::Vector3d& q) {
-    const double r = std::max(q.norm(), 1e-9);
-    const double deg = std::asin(std::clamp(q.z() / r, -1.0, 1.0)) * 180.0 / M_PI;
-    return std::clamp(int(std::floor(deg + 90.0)), 0, kEl - 1);
-  }
-
-  std::vector<uint32_t> offsets_;
-  std::vector<Eigen::Vector3f> points_;
-};
-
-// A patch of surface: centre and normal of a scan's points in a cell and
-// its neighbours; `valid` only where they are flat enough to have a normal.
-struct Patch {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::UnitZ();
-  bool valid = false;
-};
-
-Patch patch_of(const std::vector<std::pair<uint64_t, Eigen::Vector3f>>& keyed, uint64_t key) {
-  const Eigen::Vector3i at = geometry::voxel_of_key(key);
-  std::vector<Eigen::Vector3d> pts;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  int in_cell = 0;
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dz = -1; dz <= 1; ++dz) {
-        const uint64_t nb = geometry::voxel_key(at + Eigen::Vector3i(dx, dy, dz));
-        auto it = std::lower_bound(keyed.begin(), keyed.end(), nb,
-                                   [](const auto& e, uint64_t k) { return e.first < k; });
-        for (; it != keyed.end() && it->first == nb; ++it) {
-          pts.push_back(it->second.cast<double>());
-          if (nb == key) {
-            centre += pts.back();
-            ++in_cell;
-          }
-        }
-      }
-  Patch patch;
-  if (in_cell == 0 || pts.size() < 5) return patch;
-  patch.centre = centre / double(in_cell);
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : pts) mean += p;
-  mean /= double(pts.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : pts) cov += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov / double(pts.size()));
-  patch.normal = eig.eigenvectors().col(0);
-  if (patch.normal.dot(patch.centre) > 0) patch.normal = -patch.normal;  // toward the sensor that saw it
-  // Flat, and spread both ways: the points of one ring on the floor form a
-  // line whose noise runs along the rays, and a plane through it would be
-  // tilted towards the sensor. Seen edge-on, which side it was seen from is
-  // not clear either.
-  const Eigen::Vector3d view = patch.centre.normalized();
-  patch.valid = eig.eigenvalues()(0) < 0.05 * eig.eigenvalues()(1) && eig.eigenvalues()(1) > 0.03 * 0.03 &&
-                std::abs(view.dot(patch.normal)) > 0.1;
-  return patch;
-}
 
 // Empty scans (a dropout, a scan io.missions did not read) neither count
 // nor witness.
@@ -160,21 +33,12 @@ std::vector<size_t> witnesses_of(const Mission& m, size_t i, const BodyConfig& c
   return out;
 }
 
-}  // namespace
-
-uint64_t cell_key(const Eigen::Vector3f& p, double cell) { return geometry::voxel_key_of(p.cast<double>(), cell); }
-
-BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
-  BodyCells out;
-  std::vector<size_t> held;
-  for (size_t s = 0; s < m.scans.size(); ++s)
-    if (holds_points(m.scans[s])) held.push_back(s);
+// Sensor-frame cells within max_range and how many of the `held` scans
+// occupy each, sorted by key.
+std::vector<std::pair<uint64_t, uint32_t>> occupancy(const Mission& m, const std::vector<size_t>& held,
+                                                     const BodyConfig& c, int threads) {
   const size_t n = held.size();
-  out.scans = n;
-  if (int(n) < c.min_scans || c.max_range <= 0) return out;
   const float r2 = float(c.max_range * c.max_range);
-
-  // How many scans occupy each sensor-frame cell near the sensor.
   std::vector<std::vector<uint64_t>> per_scan(n);
   parallel_for(n, threads, [&](size_t h) {
     std::vector<uint64_t>& keys = per_scan[h];
@@ -196,23 +60,45 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
     counts.emplace_back(all[a], uint32_t(b - a));
     a = b;
   }
-  // Cells occupied in min_share of the scans are candidates; those occupied
-  // in a quarter as many are checked too, and go with a confirmed candidate
-  // they touch (a body surface noisier than a cell spreads over its
-  // neighbours, each occupied less often).
+  return counts;
+}
+
+// Cells occupied in min_share of the scans are candidates (`core`); those
+// occupied in a quarter as many are checked too, and go with a confirmed
+// candidate they touch (a body surface noisier than a cell spreads over its
+// neighbours, each occupied less often). `cells` sorted.
+struct Candidates {
+  std::vector<uint64_t> cells;
+  std::vector<char> core;
+};
+
+Candidates candidate_cells(const std::vector<std::pair<uint64_t, uint32_t>>& counts, size_t n, const BodyConfig& c,
+                           BodyCells& out) {
+  Candidates cs;
   const uint32_t need = uint32_t(std::ceil(c.min_share * double(n)));
   const uint32_t need_fringe = std::max<uint32_t>(1, uint32_t(std::ceil(c.min_share * double(n) / 4.0)));
-  std::vector<uint64_t> candidates;
-  std::vector<char> core;
   for (const auto& [key, k] : counts)
     if (k >= need_fringe) {
-      candidates.push_back(key);
-      core.push_back(k >= need);
+      cs.cells.push_back(key);
+      cs.core.push_back(k >= need);
       out.candidates += k >= need;
     }
+  return cs;
+}
 
-  // Probe scans spread over the mission; each probe's candidate cells are
-  // placed in the map by their centroid and looked at from its witnesses.
+// The witnesses' votes on each candidate, summed over probe scans spread
+// over the mission (`see`: saw through it, `present`: saw it there).
+struct Votes {
+  std::vector<int> see, present;
+};
+
+// Probe scans spread over the mission; each probe's candidate cells are
+// placed in the map by their centroid and looked at from its witnesses.
+// Empty votes when no probe has witnesses.
+Votes witness_votes(const Mission& m, const std::vector<size_t>& held, const std::vector<uint64_t>& candidates,
+                    const BodyConfig& c, int threads, BodyCells& out) {
+  const size_t n = held.size();
+  const float r2 = float(c.max_range * c.max_range);
   const size_t probes = std::min<size_t>(n, size_t(std::max(1, c.probes)));
   std::vector<size_t> probe_scans;
   std::vector<std::vector<size_t>> probe_witnesses;
@@ -225,7 +111,7 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
   }
   out.checked = !probe_scans.empty();
   std::vector<int> see(candidates.size(), 0), present(candidates.size(), 0);
-  if (candidates.empty() || probe_scans.empty()) return out;
+  if (candidates.empty() || probe_scans.empty()) return {};
 
   // Every witness's range image, built once.
   std::vector<size_t> witness_scans;
@@ -271,12 +157,19 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
       see[ci] += v[x] < 0;
     }
 
-  // Confirmed: a candidate most of whose (at least min_votes) votes see
-  // through it. The body is what is connected to a confirmed cell: cells
-  // occupied in min_share of the scans are followed, less often occupied
-  // ones taken where they touch (a surface noisier than a cell spreads over
-  // its neighbours), and a cell whose votes say present stops it. Body
-  // edges and corners have no single normal and so no votes of their own.
+  return {std::move(see), std::move(present)};
+}
+
+// Confirmed: a candidate most of whose (at least min_votes) votes see
+// through it. The body is what is connected to a confirmed cell: cells
+// occupied in min_share of the scans are followed, less often occupied
+// ones taken where they touch (a surface noisier than a cell spreads over
+// its neighbours), and a cell whose votes say present stops it. Body
+// edges and corners have no single normal and so no votes of their own.
+void grow_body(const Candidates& cs, const Votes& tally, const BodyConfig& c, BodyCells& out) {
+  const std::vector<uint64_t>& candidates = cs.cells;
+  const std::vector<char>& core = cs.core;
+  const std::vector<int>&see = tally.see, &present = tally.present;
   std::vector<char> blocked(candidates.size(), 0), in_body(candidates.size(), 0);
   std::vector<size_t> queue;
   for (size_t ci = 0; ci < candidates.size(); ++ci) {
@@ -309,6 +202,24 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
           queue.push_back(nb);
         }
   }
+}
+
+}  // namespace
+
+uint64_t cell_key(const Eigen::Vector3f& p, double cell) { return geometry::voxel_key_of(p.cast<double>(), cell); }
+
+BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
+  BodyCells out;
+  std::vector<size_t> held;
+  for (size_t s = 0; s < m.scans.size(); ++s)
+    if (holds_points(m.scans[s])) held.push_back(s);
+  const size_t n = held.size();
+  out.scans = n;
+  if (int(n) < c.min_scans || c.max_range <= 0) return out;
+  const Candidates cs = candidate_cells(occupancy(m, held, c, threads), n, c, out);
+  const Votes votes = witness_votes(m, held, cs.cells, c, threads, out);
+  if (votes.see.empty()) return out;
+  grow_body(cs, votes, c, out);
   std::sort(out.drop.begin(), out.drop.end());  // each cell went in once (in_body)
   return out;
 }

@@ -1,0 +1,69 @@
+#include "range_image.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lista::filter_body {
+
+RangeImage::RangeImage(const PointSet& cloud) : offsets_(size_t(kAz) * kEl + 1, 0) {
+  std::vector<uint32_t> bin(cloud.size());
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3d q = cloud.xyz[i].cast<double>();
+    bin[i] = uint32_t(el_bin(q) * kAz + az_bin(q));
+    ++offsets_[bin[i] + 1];
+  }
+  for (size_t b = 1; b < offsets_.size(); ++b) offsets_[b] += offsets_[b - 1];
+  points_.resize(cloud.size());
+  std::vector<uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
+  for (size_t i = 0; i < cloud.size(); ++i) points_[fill[bin[i]]++] = cloud.xyz[i];
+}
+
+RangeImage::Vote RangeImage::look(const Eigen::Vector3d& c, const Eigen::Vector3d& n, double depth, double rho,
+                                  double margin) const {
+  const Eigen::Vector3d q = c - depth * n;
+  const double r = q.norm();
+  if (r < 1e-6) return Vote::none;
+  const double reach = std::atan2(rho + depth, r) * 180.0 / M_PI;
+  const double cos_el = std::max(0.05, std::sqrt(std::max(0.0, 1.0 - (q.z() / r) * (q.z() / r))));
+  const int half_az = std::min(60, int(std::ceil(reach / cos_el * 2.0)) + 1);
+  const int half_el = std::min(30, int(std::ceil(reach)) + 1);
+  const int az = az_bin(q), el = el_bin(q);
+  bool through = false;
+  // Bins nearest the point's direction first: a surface really there is
+  // usually found present within a few bins, ending the search.
+  for (int ring = 0; ring <= std::max(half_az, half_el); ++ring)
+    for (int de = -std::min(ring, half_el); de <= std::min(ring, half_el); ++de) {
+      const int e = el + de;
+      if (e < 0 || e >= kEl) continue;
+      const bool edge_row = std::abs(de) == ring;
+      for (int da = -std::min(ring, half_az); da <= std::min(ring, half_az); ++da) {
+        if (!edge_row && std::abs(da) != ring) continue;  // inner bins were searched in earlier rings
+        const size_t b = size_t(e) * kAz + size_t((az + da + 10 * kAz) % kAz);
+        for (uint32_t k = offsets_[b]; k < offsets_[b + 1]; ++k) {
+          const Eigen::Vector3d p = points_[k].cast<double>();
+          if ((p - c).squaredNorm() <= rho * rho) return Vote::present;
+          const double range = p.norm();
+          if (range < 1e-6) continue;
+          const Eigen::Vector3d u = p / range;
+          const double t = u.dot(q);
+          if (t <= 0 || range <= t + margin) continue;
+          if ((q - t * u).squaredNorm() <= rho * rho) through = true;
+        }
+      }
+    }
+  return through ? Vote::see_through : Vote::none;
+}
+
+int RangeImage::az_bin(const Eigen::Vector3d& q) {
+  double deg = std::atan2(q.y(), q.x()) * 180.0 / M_PI;
+  if (deg < 0) deg += 360.0;
+  return std::min(kAz - 1, int(deg * 2.0));
+}
+
+int RangeImage::el_bin(const Eigen::Vector3d& q) {
+  const double r = std::max(q.norm(), 1e-9);
+  const double deg = std::asin(std::clamp(q.z() / r, -1.0, 1.0)) * 180.0 / M_PI;
+  return std::clamp(int(std::floor(deg + 90.0)), 0, kEl - 1);
+}
+
+}  // namespace lista::filter_body
