@@ -91,42 +91,59 @@ void write_png(void* context, void* data, int size) {
   out->insert(out->end(), bytes, bytes + size);
 }
 
-}  // namespace
+// An object drawn in the map of missions a and b, with its status there
+// (status_in_pair).
+struct Shown {
+  const ObjectView* view;
+  std::string status;
+};
 
-std::string render_topdown(const MissionSet& missions, const ReportModel& model, size_t a, size_t b,
-                           const TopdownOptions& options) {
-  const auto map = static_map(missions, a, b, options.max_map_points);
+// Metres to pixels of one map.
+struct Frame {
+  Raster r;
+  Eigen::Vector2d lo, hi;  // bounds (m), margins included
+  double extent = 0;       // the longer side (m)
+  // The pixel position of a point (x right, y down).
+  std::pair<double, double> px(const Eigen::Vector3f& p) const {
+    return {(p.x() - r.x0) / r.res, (r.y1 - p.y()) / r.res};
+  }
+};
 
-  // Bounds over the map and every object of the pair.
-  Eigen::Vector2d lo(1e30, 1e30), hi(-1e30, -1e30);
+// Bounds over the map and every object shown, half a metre round, in at
+// most options.pixels along the longer side.
+Frame frame_of(const std::vector<Eigen::Vector3f>& map, const std::vector<Shown>& shown,
+               const TopdownOptions& options) {
+  Frame f;
+  Eigen::Vector2d& lo = f.lo;
+  Eigen::Vector2d& hi = f.hi;
+  lo = Eigen::Vector2d(1e30, 1e30);
+  hi = Eigen::Vector2d(-1e30, -1e30);
   auto grow = [&](const Eigen::Vector3f& p) {
     lo = lo.cwiseMin(p.head<2>().cast<double>());
     hi = hi.cwiseMax(p.head<2>().cast<double>());
   };
   for (const auto& p : map) grow(p);
-  struct Shown {
-    const ObjectView* view;
-    std::string status;  // in this pair (status_in_pair)
-  };
-  std::vector<Shown> shown;
-  for (const auto& v : model.objects)
-    if (std::string st = status_in_pair(v, model, a, b); !st.empty()) {
-      shown.push_back({&v, std::move(st)});
-      grow(v.object->bbox_min);
-      grow(v.object->bbox_max);
-    }
+  for (const auto& s : shown) {
+    grow(s.view->object->bbox_min);
+    grow(s.view->object->bbox_max);
+  }
   if (lo.x() > hi.x()) lo = hi = Eigen::Vector2d::Zero();
   lo -= Eigen::Vector2d(0.5, 0.5);
   hi += Eigen::Vector2d(0.5, 0.5);
-
-  Raster r;
-  const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
-  r.res = std::clamp(extent / std::max(64, options.pixels), 0.01, 1.0);
+  Raster& r = f.r;
+  f.extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+  r.res = std::clamp(f.extent / std::max(64, options.pixels), 0.01, 1.0);
   r.width = std::max(1, int(std::ceil((hi.x() - lo.x()) / r.res)));
   r.height = std::max(1, int(std::ceil((hi.y() - lo.y()) / r.res)));
   r.x0 = lo.x();
   r.y1 = hi.y();
+  return f;
+}
 
+// The map as a PNG: the static points as density, the objects' points on
+// top in their status colours.
+std::vector<uint8_t> map_png(const std::vector<Eigen::Vector3f>& map, const std::vector<Shown>& shown,
+                             const Raster& r, size_t b) {
   // Static map as point density, log-scaled so sparse far walls stay visible.
   std::vector<uint32_t> density(size_t(r.width) * r.height, 0);
   for (const auto& p : map) {
@@ -166,13 +183,12 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
   }
   std::vector<uint8_t> png;
   stbi_write_png_to_func(&write_png, &png, r.width, r.height, 3, rgb.data(), r.width * 3);
+  return png;
+}
 
-  auto px = [&](const Eigen::Vector3f& p) {
-    return std::make_pair((p.x() - r.x0) / r.res, (r.y1 - p.y()) / r.res);
-  };
-  std::string svg = "<svg class=\"topdown\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " +
-                    std::to_string(r.width) + " " + std::to_string(r.height) + "\" data-pair=\"" +
-                    escape(missions.missions[a].name + "-" + missions.missions[b].name) + "\">\n";
+// The arrowheads of mission a's map.
+std::string arrow_markers(size_t a) {
+  std::string svg;
   // Two arrowheads: a short move gets the small one, so its line still shows.
   svg += "<defs><marker id=\"arrow" + std::to_string(a) +
          "\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"6\" markerHeight=\"6\" "
@@ -180,9 +196,15 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
          "<marker id=\"arrow-small" + std::to_string(a) +
          "\" viewBox=\"0 0 10 10\" refX=\"9\" refY=\"5\" markerWidth=\"3\" markerHeight=\"3\" "
          "orient=\"auto-start-reverse\"><path d=\"M0,0 L10,5 L0,10 z\" fill=\"#111\"/></marker></defs>\n";
-  svg += "<image width=\"" + std::to_string(r.width) + "\" height=\"" + std::to_string(r.height) +
-         "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
-  const double font = std::max(10.0, r.width / 70.0);
+  return svg;
+}
+
+// Each object's box, its id where it covers no other box or label, and an
+// arrow from a move's place in a to its place in b.
+std::string object_marks(const std::vector<Shown>& shown, const ReportModel& model, size_t a, size_t b,
+                         const Frame& frame, double font) {
+  const auto px = [&frame](const Eigen::Vector3f& p) { return frame.px(p); };
+  std::string svg;
   // Every box in pixels first: a label goes where it covers no other box
   // and no label placed before it.
   struct Rect {
@@ -240,9 +262,17 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
       }
     }
   }
+  return svg;
+}
+
+// Coordinates along the top and left edges and a scale bar of 1, 5 or 10 m.
+std::string axes_and_scale(const Frame& frame, double font, const Eigen::Vector3d& origin) {
+  const Raster& r = frame.r;
+  const Eigen::Vector2d &lo = frame.lo, &hi = frame.hi;
   // Scale bar: 1 m, 5 m or 10 m depending on the map size.
-  const double bar_m = extent > 60 ? 10 : extent > 15 ? 5 : 1;
+  const double bar_m = frame.extent > 60 ? 10 : frame.extent > 15 ? 5 : 1;
   const double bar_px = bar_m / r.res;
+  std::string svg;
   // Coordinates along the top and left edges, in the dataset's own frame
   // (the object table's), one tick per scale-bar length: a centroid from the
   // table can be found on the map.
@@ -251,19 +281,42 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
     const double c = (x - r.x0) / r.res;
     svg += "<line x1=\"" + fmt(c, 1) + "\" y1=\"0\" x2=\"" + fmt(c, 1) + "\" y2=\"" + fmt(font * 0.5, 1) +
            "\" stroke=\"#555\"/><text x=\"" + fmt(c + 2, 1) + "\" y=\"" + fmt(font * 1.2, 1) + "\">" +
-           fmt(x + missions.origin.x(), 0) + "</text>";
+           fmt(x + origin.x(), 0) + "</text>";
   }
   for (double y = std::ceil(lo.y() / bar_m) * bar_m; y <= hi.y(); y += bar_m) {
     const double w = (r.y1 - y) / r.res;
     svg += "<line x1=\"0\" y1=\"" + fmt(w, 1) + "\" x2=\"" + fmt(font * 0.5, 1) + "\" y2=\"" + fmt(w, 1) +
            "\" stroke=\"#555\"/><text x=\"" + fmt(font * 0.7, 1) + "\" y=\"" + fmt(w - 2, 1) + "\">" +
-           fmt(y + missions.origin.y(), 0) + "</text>";
+           fmt(y + origin.y(), 0) + "</text>";
   }
   svg += "<text x=\"" + fmt(r.width - 4, 1) + "\" y=\"" + fmt(r.height - 6, 1) +
          "\" text-anchor=\"end\">x (m) &rarr;, y (m) &uarr;</text></g>\n";
   svg += "<g class=\"scale\"><rect x=\"10\" y=\"" + fmt(r.height - 20, 1) + "\" width=\"" + fmt(bar_px, 1) +
          "\" height=\"4\" fill=\"#111\"/><text x=\"10\" y=\"" + fmt(r.height - 26, 1) +
          "\" font-size=\"" + fmt(font, 1) + "\">" + fmt(bar_m, 0) + " m</text></g>\n";
+  return svg;
+}
+
+}  // namespace
+
+std::string render_topdown(const MissionSet& missions, const ReportModel& model, size_t a, size_t b,
+                           const TopdownOptions& options) {
+  const auto map = static_map(missions, a, b, options.max_map_points);
+  std::vector<Shown> shown;
+  for (const auto& v : model.objects)
+    if (std::string st = status_in_pair(v, model, a, b); !st.empty()) shown.push_back({&v, std::move(st)});
+  const Frame frame = frame_of(map, shown, options);
+  const Raster& r = frame.r;
+  const std::vector<uint8_t> png = map_png(map, shown, r, b);
+  std::string svg = "<svg class=\"topdown\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 " +
+                    std::to_string(r.width) + " " + std::to_string(r.height) + "\" data-pair=\"" +
+                    escape(missions.missions[a].name + "-" + missions.missions[b].name) + "\">\n";
+  svg += arrow_markers(a);
+  svg += "<image width=\"" + std::to_string(r.width) + "\" height=\"" + std::to_string(r.height) +
+         "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
+  const double font = std::max(10.0, r.width / 70.0);
+  svg += object_marks(shown, model, a, b, frame, font);
+  svg += axes_and_scale(frame, font, missions.origin);
   svg += "</svg>\n";
   return svg;
 }
