@@ -20,6 +20,7 @@
 #include <set>
 #include <string>
 #include <utility>
+#include <vector>
 
 using nlohmann::json;
 
@@ -357,7 +358,8 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
 }
 
 // The same input and seed give the same report, byte for byte but for the
-// timings and provenance, on the same thread count and on another.
+// timings and provenance, on the same thread count, on another, and with
+// stages run side by side.
 TEST_F(TinyScene, TheSameInputGivesTheSameReport) {
   require_run();
   auto strip = [](json r) {
@@ -366,20 +368,23 @@ TEST_F(TinyScene, TheSameInputGivesTheSameReport) {
     return r;
   };
   const json first = strip(report());
-  for (int threads : {2, 1}) {
-    const std::filesystem::path again = dir_->path() / ("again-" + std::to_string(threads));
+  // Again as the fixture ran it, on one thread, and with two stages at once
+  // (each then gets one thread of the two).
+  const std::vector<std::string> runs = {"--threads 2", "--threads 1", "--threads 2 -j 2"};
+  for (size_t k = 0; k < runs.size(); ++k) {
+    const std::string& how = runs[k];
+    const std::filesystem::path again = dir_->path() / ("again-" + std::to_string(k));
     const auto rerun = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
-                                data_ + " --out " + again.string() + " --threads " + std::to_string(threads) +
-                                " --quiet 2>&1");
+                                data_ + " --out " + again.string() + " " + how + " --quiet 2>&1");
     ASSERT_EQ(rerun.status, 0) << rerun.output;
     size_t compared = 0;
     for (const auto& f : std::filesystem::directory_iterator(std::filesystem::path(out_) / "changes")) {
       EXPECT_EQ(e2e::read_file(f.path()), e2e::read_file(again / "changes" / f.path().filename()))
-          << f.path().filename() << " with " << threads << " thread(s)";
+          << f.path().filename() << " with " << how;
       ++compared;
     }
     EXPECT_EQ(compared, 2u);
-    EXPECT_EQ(strip(json::parse(e2e::read_file(again / "report.json"))), first) << "with " << threads << " thread(s)";
+    EXPECT_EQ(strip(json::parse(e2e::read_file(again / "report.json"))), first) << "with " << how;
   }
 }
 
