@@ -169,7 +169,8 @@ Votes witness_votes(const Mission& m, const std::vector<size_t>& held, const std
 void grow_body(const Candidates& cs, const Votes& tally, const BodyConfig& c, BodyCells& out) {
   const std::vector<uint64_t>& candidates = cs.cells;
   const std::vector<char>& core = cs.core;
-  const std::vector<int>&see = tally.see, &present = tally.present;
+  const std::vector<int>& see = tally.see;
+  const std::vector<int>& present = tally.present;
   std::vector<char> blocked(candidates.size(), 0), in_body(candidates.size(), 0);
   std::vector<size_t> queue;
   for (size_t ci = 0; ci < candidates.size(); ++ci) {
