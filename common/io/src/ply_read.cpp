@@ -72,12 +72,19 @@ bool host_little_endian() {
   return b == 1;
 }
 
-}  // namespace
+// The header: format, elements and their properties, and where the data
+// starts (byte offset and the lines read so far).
+struct PlyHeader {
+  std::string format;
+  std::vector<PlyElement> elements;
+  size_t data = 0;
+  int lines = 0;
+};
 
-ScanFile read_ply(const std::string& path, uint32_t scan_id) {
-  const std::string bytes = read_whole_file(path);
-  size_t pos = 0;
-  int line_no = 0;
+PlyHeader read_header(const std::string& path, const std::string& bytes) {
+  PlyHeader h;
+  size_t& pos = h.data;
+  int& line_no = h.lines;
   auto fail = [&](const std::string& what) { return Error(path + ":" + std::to_string(line_no) + ": " + what); };
   auto next_line = [&]() {
     size_t eol = bytes.find('\n', pos);
@@ -89,8 +96,8 @@ ScanFile read_ply(const std::string& path, uint32_t scan_id) {
     return line;
   };
   if (next_line() != "ply") throw Error(path + ": not a PLY file (first line is not 'ply')");
-  std::string format;
-  std::vector<PlyElement> elements;
+  std::string& format = h.format;
+  std::vector<PlyElement>& elements = h.elements;
   while (true) {
     const std::vector<std::string> tok = split_ws(next_line());
     if (tok.empty() || tok[0] == "comment" || tok[0] == "obj_info") continue;
@@ -125,10 +132,15 @@ ScanFile read_ply(const std::string& path, uint32_t scan_id) {
     }
   }
   if (format.empty()) throw Error(path + ": PLY header has no format line");
-  size_t vi = 0;
-  while (vi < elements.size() && elements[vi].name != "vertex") ++vi;
-  if (vi == elements.size()) throw Error(path + ": PLY file has no vertex element");
-  const PlyElement& v = elements[vi];
+  return h;
+}
+
+// Which vertex properties hold x, y, z, the intensity and the label (-1: none).
+struct VertexColumns {
+  int x = -1, y = -1, z = -1, intensity = -1, label = -1;
+};
+
+VertexColumns vertex_columns(const std::string& path, const PlyElement& v) {
   int ix = -1, iy = -1, iz = -1, ii = -1, il = -1;
   int intensity_rank = 3;  // intensity before scalar_intensity before reflectivity, as PCD files
   for (size_t k = 0; k < v.props.size(); ++k) {
@@ -143,64 +155,100 @@ ScanFile read_ply(const std::string& path, uint32_t scan_id) {
     else if (n == "label" && il < 0) il = int(k);
   }
   if (ix < 0 || iy < 0 || iz < 0) throw Error(path + ": PLY vertex element lacks one of x, y, z");
+  return {ix, iy, iz, ii, il};
+}
+
+// ascii: one line per item, the elements before vertex skipped. `emit(i)`
+// takes vertex i's values from `vals`.
+template <class Emit>
+void read_ascii_vertices(const std::string& path, const std::string& bytes, const PlyHeader& h, size_t vi,
+                         std::vector<double>& vals, const Emit& emit) {
+  const PlyElement& v = h.elements[vi];
+  const std::vector<PlyElement>& elements = h.elements;
+  size_t pos = h.data;
+  int line_no = h.lines;
+  auto fail = [&](const std::string& what) { return Error(path + ":" + std::to_string(line_no) + ": " + what); };
+  // Skip the lines of elements before vertex (one line per item).
+  size_t skip = 0;
+  for (size_t e = 0; e < vi; ++e) skip += elements[e].count;
+  size_t i = 0;
+  while (i < v.count) {
+    if (pos >= bytes.size()) throw Error(path + ": only " + std::to_string(i) + " of " + std::to_string(v.count) + " vertices");
+    size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) eol = bytes.size();
+    const std::vector<std::string> tok = split_ws(bytes.substr(pos, eol - pos));
+    pos = eol + 1;
+    ++line_no;
+    if (tok.empty()) continue;
+    if (skip > 0) {
+      --skip;
+      continue;
+    }
+    if (tok.size() != v.props.size())
+      throw fail("expected " + std::to_string(v.props.size()) + " values, got " + std::to_string(tok.size()));
+    for (size_t k = 0; k < tok.size(); ++k)
+      if (!parse_double(tok[k], vals[k])) throw fail("'" + tok[k] + "' is not a number");
+    emit(i++);
+  }
+}
+
+// binary: fixed-size rows; the elements before vertex skipped (they may not
+// hold lists).
+template <class Emit>
+void read_binary_vertices(const std::string& path, const std::string& bytes, const PlyHeader& h, size_t vi,
+                          std::vector<double>& vals, const Emit& emit) {
+  const PlyElement& v = h.elements[vi];
+  const std::vector<PlyElement>& elements = h.elements;
+  const std::string& format = h.format;
+  const size_t pos = h.data;
+  const bool swap = (format == "binary_little_endian") != host_little_endian();
+  size_t offset = pos;
+  for (size_t e = 0; e < vi; ++e) {
+    size_t row = 0;
+    for (const auto& p : elements[e].props) {
+      if (p.list) throw Error(path + ": cannot skip list element '" + elements[e].name + "' before vertex");
+      row += size_t(p.size);
+    }
+    offset += row * elements[e].count;
+  }
+  size_t row = 0;
+  std::vector<size_t> at;
+  for (const auto& p : v.props) {
+    at.push_back(row);
+    row += size_t(p.size);
+  }
+  if (offset > bytes.size() || bytes.size() - offset < row * v.count)
+    throw Error(path + ": truncated binary PLY data");
+  const uint8_t* base = reinterpret_cast<const uint8_t*>(bytes.data()) + offset;
+  for (size_t i = 0; i < v.count; ++i) {
+    for (size_t k = 0; k < v.props.size(); ++k) vals[k] = load(base + i * row + at[k], v.props[k], swap);
+    emit(i);
+  }
+}
+
+}  // namespace
+
+ScanFile read_ply(const std::string& path, uint32_t scan_id) {
+  const std::string bytes = read_whole_file(path);
+  const PlyHeader h = read_header(path, bytes);
+  size_t vi = 0;
+  while (vi < h.elements.size() && h.elements[vi].name != "vertex") ++vi;
+  if (vi == h.elements.size()) throw Error(path + ": PLY file has no vertex element");
+  const PlyElement& v = h.elements[vi];
+  const VertexColumns col = vertex_columns(path, v);
   ScanFile s;
   s.points_in_file = static_cast<uint32_t>(v.count);
   // Reserve only what the file can hold (at least 2 bytes a vertex): a
   // header's count alone must not reserve gigabytes.
-  s.points.reserve(std::min<size_t>(v.count, (bytes.size() - pos) / 2 + 1));
+  s.points.reserve(std::min<size_t>(v.count, (bytes.size() - h.data) / 2 + 1));
   std::vector<double> vals(v.props.size());
   auto emit = [&](size_t i) {
-    detail::add_point(s, scan_id, uint32_t(i), float(vals[ix]), float(vals[iy]), float(vals[iz]), ii >= 0,
-                      ii >= 0 ? float(vals[ii]) : 0.f, il >= 0, il >= 0 ? detail::to_label(vals[il], s) : 0u);
+    detail::add_point(s, scan_id, uint32_t(i), float(vals[col.x]), float(vals[col.y]), float(vals[col.z]),
+                      col.intensity >= 0, col.intensity >= 0 ? float(vals[col.intensity]) : 0.f, col.label >= 0,
+                      col.label >= 0 ? detail::to_label(vals[col.label], s) : 0u);
   };
-  if (format == "ascii") {
-    // Skip the lines of elements before vertex (one line per item).
-    size_t skip = 0;
-    for (size_t e = 0; e < vi; ++e) skip += elements[e].count;
-    size_t i = 0;
-    while (i < v.count) {
-      if (pos >= bytes.size()) throw Error(path + ": only " + std::to_string(i) + " of " + std::to_string(v.count) + " vertices");
-      size_t eol = bytes.find('\n', pos);
-      if (eol == std::string::npos) eol = bytes.size();
-      const std::vector<std::string> tok = split_ws(bytes.substr(pos, eol - pos));
-      pos = eol + 1;
-      ++line_no;
-      if (tok.empty()) continue;
-      if (skip > 0) {
-        --skip;
-        continue;
-      }
-      if (tok.size() != v.props.size())
-        throw fail("expected " + std::to_string(v.props.size()) + " values, got " + std::to_string(tok.size()));
-      for (size_t k = 0; k < tok.size(); ++k)
-        if (!parse_double(tok[k], vals[k])) throw fail("'" + tok[k] + "' is not a number");
-      emit(i++);
-    }
-  } else {
-    const bool swap = (format == "binary_little_endian") != host_little_endian();
-    size_t offset = pos;
-    for (size_t e = 0; e < vi; ++e) {
-      size_t row = 0;
-      for (const auto& p : elements[e].props) {
-        if (p.list) throw Error(path + ": cannot skip list element '" + elements[e].name + "' before vertex");
-        row += size_t(p.size);
-      }
-      offset += row * elements[e].count;
-    }
-    size_t row = 0;
-    std::vector<size_t> at;
-    for (const auto& p : v.props) {
-      at.push_back(row);
-      row += size_t(p.size);
-    }
-    if (offset > bytes.size() || bytes.size() - offset < row * v.count)
-      throw Error(path + ": truncated binary PLY data");
-    const uint8_t* base = reinterpret_cast<const uint8_t*>(bytes.data()) + offset;
-    for (size_t i = 0; i < v.count; ++i) {
-      for (size_t k = 0; k < v.props.size(); ++k) vals[k] = load(base + i * row + at[k], v.props[k], swap);
-      emit(i);
-    }
-  }
+  if (h.format == "ascii") read_ascii_vertices(path, bytes, h, vi, vals, emit);
+  else read_binary_vertices(path, bytes, h, vi, vals, emit);
   return s;
 }
 
