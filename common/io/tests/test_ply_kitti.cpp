@@ -19,7 +19,7 @@ void put(std::string& s, T v, bool big_endian) {
 }
 }  // namespace
 
-TEST(Ply, AsciiWithFaceElementAfterVertices) {
+TEST(Ply, AsciiSkipsTheElementsAroundTheVertices) {
   const auto dir = temp_dir("ply");
   write_text(dir / "a.ply",
              "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 3\nproperty float x\n"
@@ -34,22 +34,16 @@ TEST(Ply, AsciiWithFaceElementAfterVertices) {
   EXPECT_EQ(s.points.index[1], 2u);
   EXPECT_EQ(s.points.intensity[1], 255.f);
   EXPECT_EQ(s.points.label[0], 4u);
-}
 
-// An element before the vertices: its lines are skipped, blank lines too,
-// and the vertices keep their own indices.
-TEST(Ply, AsciiWithAnElementBeforeVertices) {
-  const auto dir = temp_dir("ply");
+  // An element before the vertices: its lines are skipped (a blank one
+  // among them too), and the vertices keep their own indices.
   write_text(dir / "b.ply",
              "ply\nformat ascii 1.0\nelement camera 2\nproperty float f\nelement vertex 2\n"
-             "property float x\nproperty float y\nproperty float z\nend_header\n"
-             "500\n\n600\n1 2 3\n4 5 6\n");
-  const ScanFile s = read_scan((dir / "b.ply").string(), 0);
-  EXPECT_EQ(s.points_in_file, 2u);
-  ASSERT_EQ(s.points.size(), 2u);
-  EXPECT_EQ(s.points.xyz[0], Eigen::Vector3f(1, 2, 3));
-  EXPECT_EQ(s.points.xyz[1], Eigen::Vector3f(4, 5, 6));
-  EXPECT_EQ(s.points.index[1], 1u);
+             "property float x\nproperty float y\nproperty float z\nend_header\n500\n\n600\n1 2 3\n4 5 6\n");
+  const ScanFile before = read_scan((dir / "b.ply").string(), 0);
+  ASSERT_EQ(before.points.size(), 2u);
+  EXPECT_EQ(before.points.xyz[0], Eigen::Vector3f(1, 2, 3));
+  EXPECT_EQ(before.points.index[1], 1u);
 }
 
 // CloudCompare's export: capitalised coordinates, intensity as a scalar
