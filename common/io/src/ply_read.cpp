@@ -142,12 +142,12 @@ struct VertexColumns {
 
 VertexColumns vertex_columns(const std::string& path, const PlyElement& v) {
   int ix = -1, iy = -1, iz = -1, ii = -1, il = -1;
-  int intensity_rank = 3;  // intensity before scalar_intensity before reflectivity, as PCD files
+  size_t intensity_rank = kIntensityNames.size();  // the best name found so far (scan_format.hpp)
   for (size_t k = 0; k < v.props.size(); ++k) {
     if (v.props[k].list) throw Error(path + ": list property '" + v.props[k].name + "' in vertex element");
     std::string n = v.props[k].name;  // case-insensitive: PDAL and CloudCompare write "X", "Intensity"
     std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    const int rank = n == "intensity" ? 0 : n == "scalar_intensity" ? 1 : n == "reflectivity" ? 2 : 3;
+    const size_t rank = size_t(std::find(kIntensityNames.begin(), kIntensityNames.end(), n) - kIntensityNames.begin());
     if (n == "x" && ix < 0) ix = int(k);
     else if (n == "y" && iy < 0) iy = int(k);
     else if (n == "z" && iz < 0) iz = int(k);

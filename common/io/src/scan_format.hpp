@@ -3,6 +3,7 @@
 
 #include <lista_io/pcd.hpp>
 
+#include <array>
 #include <cmath>
 
 namespace lista::io::detail {
@@ -22,6 +23,11 @@ inline void add_point(ScanFile& s, uint32_t scan_id, uint32_t index, float x, fl
 }
 
 ScanFile read_ply(const std::string& path, uint32_t scan_id);
+
+// Where a point's intensity is, best first (field names matched without
+// regard to case): PCL's name, CloudCompare's scalar field, and a driver's
+// calibrated reflectivity when that is all.
+inline constexpr std::array<const char*, 3> kIntensityNames = {"intensity", "scalar_intensity", "reflectivity"};
 
 // A label read as a number: the contract's labels are uint32 object ids.
 // Another tool's -1, 1.5 or NaN (casting them would be undefined) marks the

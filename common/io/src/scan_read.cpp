@@ -61,11 +61,9 @@ ScanFile read_pcd_scan(const std::string& path, uint32_t scan_id, bool map_frame
   detail::load_pcd(path, d);
   const int fx = d.find("x"), fy = d.find("y"), fz = d.find("z");
   if (fx < 0 || fy < 0 || fz < 0) throw Error(path + ": PCD file lacks one of the fields x, y, z");
-  // Intensity under the names exporters give it: PCL's, CloudCompare's
-  // scalar field, or a LiDAR's calibrated reflectivity when that is all.
-  int fi = d.find("intensity");
-  if (fi < 0) fi = d.find("scalar_intensity");
-  if (fi < 0) fi = d.find("reflectivity");
+  int fi = -1;
+  for (const char* name : detail::kIntensityNames)
+    if (fi < 0) fi = d.find(name);
   const int fl = d.find("label");
   ScanFile s;
   const size_t n = d.points;
