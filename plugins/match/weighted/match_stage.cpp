@@ -31,6 +31,7 @@ class WeightedMatchStage : public Stage {
     cfg_.max_cost = p.get<double>("max_cost");
     cfg_.shape_weight = p.get<double>("shape_weight");
     cfg_.min_shape_fit = p.get<double>("min_shape_fit");
+    cfg_.far_side_explains = p.get<bool>("far_side_explains");
     cfg_.evidence_voxel = p.get<double>("evidence_voxel");
     cfg_.evidence_voxels = p.get<double>("evidence_voxels");
     max_lift_ = p.get<double>("max_lift");
@@ -147,7 +148,7 @@ class WeightedMatchStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.9.1";
+  s.version = "1.10.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
@@ -174,7 +175,8 @@ StageInfo info() {
       "the registration. The Hungarian algorithm picks the cheapest set "
       "of pairs, each pair only if cheaper than leaving both unmatched. With change points that say against "
       "which neighbouring mission they changed (PointSet::changed_against, filled by the volumetric stages), "
-      "a pair of missions m, m+1 also needs one end changed against the other. Matched objects are 'moved' "
+      "a pair of missions m, m+1 also needs one end changed against the other, and (far_side_explains) neither "
+      "end may have changed mostly against its other neighbour (m-1, m+2). Matched objects are 'moved' "
       "(match = partner in the next mission, else the previous one); an unmatched object is 'removed' when "
       "it changed against the next mission (or is in the first), 'added' when only against the previous one "
       "(or is in the last). history chains matches across all missions. Confidence of a move = 0.5 * (1 - "
@@ -209,6 +211,11 @@ StageInfo info() {
           .range(0.0, 100.0),
       ParamSpec::real("min_shape_fit", 0.8, "shape gate: smallest fit of a pair (shares of points on the other object's surface after registration; shape_distance, shape_gap); 0 = off")
           .range(0.0, 1.0),
+      ParamSpec::boolean("far_side_explains", true,
+                         "3+ missions: an object that changed mostly against its other neighbour (more than twice as "
+                         "many of its points changed against it as against this pair's mission) is that change's "
+                         "end and no candidate between this pair of missions; false = every object a candidate "
+                         "(match.weighted before 1.10.0)"),
       ParamSpec::real("shape_voxel", 0.04, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m"),
       ParamSpec::real("shape_distance", 0.05, "a registered point within this distance of the other object counts as explained")
           .range(0.001, 1.0).unit("m"),

@@ -79,11 +79,29 @@ double checked_gate(const ObjectSet& objects, const DescriptorSet& descriptors, 
   return max_cost;
 }
 
+// The ChangedAgainst sides an object mostly changed against: a side counts
+// when at least half as many points changed against it as against the other.
+// Without the channel: either.
+uint8_t mainly_changed_against(const PointSet& points) {
+  if (!points.has_changed_against()) return changed_against_either;
+  size_t previous = 0, next = 0;
+  for (uint8_t b : points.changed_against) {
+    if (b & changed_against_previous) ++previous;
+    if (b & changed_against_next) ++next;
+  }
+  const size_t most = std::max(previous, next);
+  uint8_t bits = 0;
+  if (most > 0 && 2 * previous >= most) bits |= changed_against_previous;
+  if (most > 0 && 2 * next >= most) bits |= changed_against_next;
+  return bits;
+}
+
 // Pairs the changed objects of missions m and m + 1 (`against`: the
-// neighbouring missions each object changed against) and records it in `s`.
+// neighbouring missions each object changed against; `mainly`: those it
+// mostly changed against) and records it in `s`.
 void pair_missions(size_t m, const ObjectSet& objects, const DescriptorSet& descriptors, const Groups* groups,
                    const WeightedMatchConfig& cfg, const PairFit& fit, double desc_scale, double max_cost,
-                   const std::vector<uint8_t>& against, Pairing& s) {
+                   const std::vector<uint8_t>& against, const std::vector<uint8_t>& mainly, Pairing& s) {
   const size_t n_obj = objects.objects.size();
   // A move from m to m+1 leaves change against each other at one end at
   // least (at both, unless m+1 never observed where the object stood in
@@ -91,15 +109,27 @@ void pair_missions(size_t m, const ObjectSet& objects, const DescriptorSet& desc
   // objects found only against m-1 and m+2 are no pair: the same scene
   // seen twice with no change between would pair different objects across
   // the gap.
+  // With far_side_explains, an object that changed mainly against its other
+  // neighbour (m-1 for a, m+2 for b) is that change's end and takes no part:
+  // a sofa left alone from A to B and moved in C was paired with a sofa
+  // removed from A (docs/matching.md, "Three or more missions").
   std::vector<const Object*> a, b;
   std::vector<bool> a_changed, b_changed;  // against the other mission of the pair
   for (size_t i = 0; i < n_obj; ++i) {
     const Object& o = objects.objects[i];
-    if (o.mission == m) a.push_back(&o), a_changed.push_back(against[i] & changed_against_next);
-    if (o.mission == m + 1) b.push_back(&o), b_changed.push_back(against[i] & changed_against_previous);
+    const uint8_t main = mainly[i];
+    if (o.mission == m) {
+      if (cfg.far_side_explains && (main & changed_against_previous) && !(main & changed_against_next)) continue;
+      a.push_back(&o), a_changed.push_back(against[i] & changed_against_next);
+    }
+    if (o.mission == m + 1) {
+      if (cfg.far_side_explains && (main & changed_against_next) && !(main & changed_against_previous)) continue;
+      b.push_back(&o), b_changed.push_back(against[i] & changed_against_previous);
+    }
   }
   if (a.empty() || b.empty()) return;
   PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale, fit, a_changed, b_changed);
+
   // The gate judges a pair without its group penalty: in soft mode a group
   // only decides between rival partners and never vetoes a pair the gates
   // accept (k-means may split one object's full and partial views).
@@ -248,9 +278,14 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
   // changes carry no such channel).
   std::vector<uint8_t> against(n_obj);
   for (size_t i = 0; i < n_obj; ++i) against[i] = objects.objects[i].points.changed_against_all();
+  // The neighbours each object mostly changed against: a side counts when
+  // at least half as many of its points changed against it as against the
+  // other (a few points at the fringe of a still object do not count).
+  std::vector<uint8_t> mainly(n_obj);
+  for (size_t i = 0; i < n_obj; ++i) mainly[i] = mainly_changed_against(objects.objects[i].points);
   Pairing s(objects);
   for (size_t m = 0; m + 1 < objects.missions.size(); ++m)
-    pair_missions(m, objects, descriptors, groups, cfg, fit, desc_scale, max_cost, against, s);
+    pair_missions(m, objects, descriptors, groups, cfg, fit, desc_scale, max_cost, against, mainly, s);
   Matches out = changes_from(objects, groups, cfg, max_cost, against, s);
   one_confidence_per_move(out, objects, s);
   return out;

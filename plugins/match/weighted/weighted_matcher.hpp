@@ -72,6 +72,7 @@ struct WeightedMatchConfig {
   double max_cost = -1.0;           // weighted gate; < 0 means alpha + beta
   double shape_weight = 0.0;        // weight of the shape misfit (1 - fit); needs a PairFit
   double min_shape_fit = 0.0;       // shape gate: smallest fit of a pair; 0 = off
+  bool far_side_explains = true;    // 3+ missions: an object changed mainly against its other neighbour is no candidate
   // Evidence 1 - exp(-v / evidence_voxels), v = the object's occupied
   // evidence_voxel cubes (its observed surface); confidence = evidence x
   // (0.5 + 0.5 x the matching and group terms), x the shape fit for a move.
