@@ -129,7 +129,6 @@ void pair_missions(size_t m, const ObjectSet& objects, const DescriptorSet& desc
   }
   if (a.empty() || b.empty()) return;
   PairCosts pc = pair_costs(a, b, descriptors, groups, cfg, desc_scale, fit, a_changed, b_changed);
-
   // The gate judges a pair without its group penalty: in soft mode a group
   // only decides between rival partners and never vetoes a pair the gates
   // accept (k-means may split one object's full and partial views).
@@ -278,9 +277,8 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
   // changes carry no such channel).
   std::vector<uint8_t> against(n_obj);
   for (size_t i = 0; i < n_obj; ++i) against[i] = objects.objects[i].points.changed_against_all();
-  // The neighbours each object mostly changed against: a side counts when
-  // at least half as many of its points changed against it as against the
-  // other (a few points at the fringe of a still object do not count).
+  // The neighbours each object mostly changed against (a few points at the
+  // fringe of a still object do not count).
   std::vector<uint8_t> mainly(n_obj);
   for (size_t i = 0; i < n_obj; ++i) mainly[i] = mainly_changed_against(objects.objects[i].points);
   Pairing s(objects);
