@@ -345,44 +345,51 @@ TEST(MatchWeighted, AnEndThatChangedOnlyAgainstItsOtherNeighbourIsNoCandidate) {
 // Missions A, B, C. A sofa moved A -> B and then stood still (in B it
 // changed against A only); another stood still A -> B and moved B -> C (in B
 // it changed against C only). The first's new place in B lies nearer the
-// second's place in C: with every object a candidate, the still sofa of B
-// was paired with C's. An object that changed only against its other
-// neighbour is no candidate (far_side_explains).
-TEST(MatchWeighted, AnObjectIsFirstTheEndOfTheChangeItShows) {
+// second's place in C.
+struct TwoSofas {
   Scene s;
-  s.objects.missions = {"A", "B", "C"};
-  const int a1 = s.add_changed(0, {0, 0, 0}, chair, changed_against_next);
-  const int b1 = s.add_changed(1, {3, 0, 0}, chair, changed_against_previous);
-  const int b2 = s.add_changed(1, {6, 0, 0}, chair, changed_against_next);
-  const int c2 = s.add_changed(2, {3.5f, 0, 0}, chair, changed_against_previous);
-  const Matches m = run_stage(s, no_shape_check);
-  EXPECT_EQ(m.find(a1)->match, b1);
-  EXPECT_EQ(m.find(b1)->history, (std::vector<int>{a1, b1}));
-  EXPECT_EQ(m.find(b2)->match, c2);
-  EXPECT_EQ(m.find(c2)->match, b2);
+  int a1, b1, b2, c2;
+  TwoSofas() {
+    s.objects.missions = {"A", "B", "C"};
+    a1 = s.add_changed(0, {0, 0, 0}, chair, changed_against_next);
+    b1 = s.add_changed(1, {3, 0, 0}, chair, changed_against_previous);
+    b2 = s.add_changed(1, {6, 0, 0}, chair, changed_against_next);
+    c2 = s.add_changed(2, {3.5f, 0, 0}, chair, changed_against_previous);
+  }
+  // Marks the first `n` points of the still sofa of B (b1) against both neighbours.
+  void b1_against_both(size_t n) {
+    for (Object& o : s.objects.objects)
+      if (o.id == b1)
+        for (size_t i = 0; i < n; ++i) o.points.changed_against[i] = changed_against_either;
+  }
+};
+
+// With every object a candidate, the still sofa of B was paired with C's.
+// An object that changed only against its other neighbour is no candidate
+// (far_side_explains).
+TEST(MatchWeighted, AnObjectIsFirstTheEndOfTheChangeItShows) {
+  const TwoSofas t;
+  const Matches m = run_stage(t.s, no_shape_check);
+  EXPECT_EQ(m.find(t.a1)->match, t.b1);
+  EXPECT_EQ(m.find(t.b1)->history, (std::vector<int>{t.a1, t.b1}));
+  EXPECT_EQ(m.find(t.b2)->match, t.c2);
+  EXPECT_EQ(m.find(t.c2)->match, t.b2);
   auto every_object = no_shape_check;
   every_object["far_side_explains"] = false;
-  EXPECT_EQ(run_stage(s, every_object).find(c2)->match, b1) << "the nearer, still sofa";
+  EXPECT_EQ(run_stage(t.s, every_object).find(t.c2)->match, t.b1) << "the nearer, still sofa";
 }
 
-// Which side an object changed against is judged by most of its points: a
-// still cabinet of B with an eighth of its points changed against C at its fringe
-// is still only A's change's end, and is not paired with C's new chair.
+// Which side an object changed against is judged by most of its points: the
+// still sofa of B with an eighth of its points changed against C (its fringe)
+// is still only A's change's end, and is not paired with C's.
 TEST(MatchWeighted, AFewFringePointsDoNotMakeAChangeAgainstThatSide) {
-  Scene s;
-  s.objects.missions = {"A", "B", "C"};
-  const int a1 = s.add_changed(0, {0, 0, 0}, chair, changed_against_next);
-  const int b1 = s.add_changed(1, {3, 0, 0}, chair, changed_against_previous);
-  const int b2 = s.add_changed(1, {6, 0, 0}, chair, changed_against_next);
-  const int c2 = s.add_changed(2, {3.5f, 0, 0}, chair, changed_against_previous);
-  for (Object& o : s.objects.objects)
-    if (o.id == b1) o.points.changed_against[0] = changed_against_either;  // 1 point of 8
-  const Matches m = run_stage(s, no_shape_check);
-  EXPECT_EQ(m.find(b2)->match, c2);
-  EXPECT_EQ(m.find(b1)->match, a1);
-  for (Object& o : s.objects.objects)
-    if (o.id == b1) o.points.changed_against.assign(8, changed_against_either);
-  EXPECT_EQ(run_stage(s, no_shape_check).find(c2)->match, b1) << "changed against both: a candidate either way";
+  TwoSofas t;
+  t.b1_against_both(1);  // 1 point of 8
+  const Matches m = run_stage(t.s, no_shape_check);
+  EXPECT_EQ(m.find(t.b2)->match, t.c2);
+  EXPECT_EQ(m.find(t.b1)->match, t.a1);
+  t.b1_against_both(8);
+  EXPECT_EQ(run_stage(t.s, no_shape_check).find(t.c2)->match, t.b1) << "changed against both: a candidate either way";
 }
 
 // An unpaired object of a middle mission: added when it changed against the
