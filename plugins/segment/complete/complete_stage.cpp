@@ -22,6 +22,7 @@ class CompleteStage : public Stage {
     c_.pair_retry = p.get<bool>("pair_retry");
     c_.centroid_order = p.get<std::string>("pair_order") == "centroid";
     c_.join_fragments = p.get<bool>("join_fragments");
+    c_.still_check = p.get<bool>("still_check");
     c_.join_connected = p.get<bool>("join_connected");
     c_.self_complete = p.get<bool>("self_complete");
     c_.leak_own_box = p.get<std::string>("leak_growth") == "own_box";
@@ -36,7 +37,7 @@ class CompleteStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.complete";
-    i.version = "1.5.0";
+    i.version = "1.6.0";
     i.summary = "Grows partial change clusters of short moves into whole objects";
     i.doc =
         "First, an object with at least floor_share of its points within the floor clearance of its local floor "
@@ -58,7 +59,9 @@ class CompleteStage : public Stage {
         "furniture), both grow again inside the union of the two boxes without margin (leak_growth = own_box; "
         "base: the pair is left alone). The growth is kept only if both grown objects have the "
         "shape of one rigid object (height above the floor and footprint-rectangle sides agree "
-        "within max(shape_tolerance x the larger, shape_slack)). With join_fragments, other objects of a pair "
+        "within max(shape_tolerance x the larger, shape_slack)) and, with still_check, the two grown objects "
+        "registered onto each other (lista::objreg's ICP from yaw turns) must fit better moved than where they "
+        "stand, else they grew into a static thing between two changes. With join_fragments, other objects of a pair "
         "member's mission that its growth reaches are tried in the pair too (a turned short move leaves slivers "
         "at both ends) and joined into it if the shapes then agree within half that allowance. With "
         "join_connected, two objects of one mission that no completed pair holds, boxes at most pair_gap apart and "
@@ -137,6 +140,11 @@ class CompleteStage : public Stage {
                            "a pair's growth that reaches other objects of its own mission (within one voxel) that no "
                            "completed pair holds grows again with them joined; kept, and they are joined into the "
                            "pair's object, if the shapes then agree (a turned short move leaves slivers at both ends)"),
+        ParamSpec::boolean("still_check", true,
+                           "refuse a pair whose two grown objects fit best where they stand: registered onto each "
+                           "other, the pose is within 5 cm and 5 degrees of none, or the shares of each on the other's "
+                           "surface are higher unmoved than at the registered pose (a cabinet between a box taken "
+                           "away and a barrel put down is no short move); false = segment.complete before 1.6.0"),
         ParamSpec::boolean("join_connected", true,
                            "two objects of one mission that no completed pair holds are joined when a growth from one "
                            "reaches the other over points mostly not held by the neighbouring missions (a table's "

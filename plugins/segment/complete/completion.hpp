@@ -57,7 +57,12 @@
 //     touches), else the pair is left alone. And both
 //     grown objects must have the same shape as one rigid object would: height above the floor and the two sides of their
 //     footprint rectangle (lista::geometry) agree within max(`shape_tolerance` x the larger,
-//     `shape_slack`). Otherwise both objects are kept as they were, so an
+//     `shape_slack`). With `still_check`, the two grown objects, registered
+//     onto each other (lista::objreg), must fit better at the registered
+//     pose than where they stand, and that pose must move them (5 cm or 5
+//     degrees): two growths into the same static thing between two changes
+//     (a desk between a box taken away and a barrel put down) fit best
+//     unmoved. Failing either check, both objects are kept as they were, so an
 //     unrelated pair of changes never swallows the structure between them.
 //  4b. Connected fragments (`join_connected`): two objects of one mission
 //     that no completed pair holds, boxes at most pair_gap apart and voxels
@@ -142,6 +147,10 @@ struct CompletionConfig {
   // A pair's growth that reaches other free objects of its own mission
   // tries again with them joined (true): kept if the joined shapes agree.
   bool join_fragments = true;
+  // A pair whose two grown objects fit best where they stand (registered,
+  // the pose moves them under 5 cm and 5 degrees, or they fit better
+  // unmoved) grew into a static thing between two changes: refused.
+  bool still_check = true;
   // Rule 4b: free objects of one mission that its cloud connects over
   // changed points are joined (a table's legs without its top).
   bool join_connected = true;

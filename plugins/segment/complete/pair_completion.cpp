@@ -9,7 +9,11 @@
 #include "growth_checks.hpp"
 #include "object_merges.hpp"
 
+#include <lista_objreg/icp_refine.hpp>
+#include <lista_objreg/surface_share.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace lista::seg::completion {
@@ -31,6 +35,51 @@ std::string id_list(const ObjectSet& set, const std::vector<uint32_t>& a, const 
   return ids;
 }
 
+// The two grown objects of a pair registered onto each other
+// (lista::objreg's ICP from yaw turns about the centroids).
+struct RegisteredFit {
+  bool checked = false;            // registered at all
+  double shift = 0.0, turn = 0.0;  // m, degrees: how far the pose moves the first
+  double moved = 0.0, unmoved = 0.0;  // fit at that pose, and where they stand
+  // A rigid move registers one grown object onto the other by the move; two
+  // growths into the same static thing (a desk between a box taken away and
+  // a barrel put down) fit best where they stand.
+  bool still() const { return checked && ((shift < 0.05 && turn < 5.0) || unmoved > moved); }
+  std::string note() const {
+    return "registered " + format_number(shift) + " m, " + format_number(turn) + " degrees apart, fit " +
+           format_number(moved) + ", unmoved " + format_number(unmoved);
+  }
+};
+
+RegisteredFit registered_fit(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b) {
+  registration::IcpConfig rc;  // as match.weighted's shape check
+  rc.method = "icp";
+  rc.voxel = 0.04;
+  rc.inlier_distance = 0.05;
+  rc.max_correspondence = 0.3;
+  rc.max_iterations = 30;
+  rc.max_points = 400;
+  rc.max_score_points = 2000;
+  rc.svd_flips = false;
+  rc.list_alternatives = false;
+  const registration::IcpResult r = registration::icp_refine(a, b, rc);
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : a) c += p.cast<double>();
+  c /= double(std::max<size_t>(a.size(), 1));
+  const registration::SurfaceShareConfig shares;
+  auto fit_at = [&](const Eigen::Isometry3d& pose) {
+    const registration::SurfaceShares on = registration::surface_shares(a, b, pose, shares);
+    return 0.75 * std::max(on.source, on.target) + 0.25 * std::min(on.source, on.target);
+  };
+  RegisteredFit f;
+  f.checked = true;
+  f.shift = (r.transform * c - c).norm();
+  f.turn = Eigen::AngleAxisd(r.transform.rotation()).angle() * 180.0 / M_PI;
+  f.moved = fit_at(r.transform);
+  f.unmoved = fit_at(Eigen::Isometry3d::Identity());
+  return f;
+}
+
 }  // namespace
 
 // One growth of both sides and what it gave.
@@ -38,6 +87,7 @@ struct CompletionPass::Attempt {
   Growth ga, gb;
   Eigen::Vector3f sa, sb;
   bool contained = false, same = false;
+  RegisteredFit fit;  // with still_check, once the shapes agree
   std::string kept_to;
   std::vector<uint32_t> touched_a, touched_b;  // free objects the growths reached
 };
@@ -100,6 +150,13 @@ CompletionPass::Attempt CompletionPass::attempt(const PairSides& s, const PointS
     t.contained = true;
   }
   t.same = t.contained && same_shape(t.sa, t.sb, c_, strictness);
+  if (t.same && c_.still_check) {
+    std::vector<Eigen::Vector3f> ga = seed_a.xyz, gb = seed_b.xyz;
+    for (uint32_t i : t.ga.added) ga.push_back(s.ca.points.xyz[i]);
+    for (uint32_t i : t.gb.added) gb.push_back(s.cb.points.xyz[i]);
+    t.fit = registered_fit(ga, gb);
+    if (t.fit.still()) t.same = false;
+  }
   return t;
 }
 
@@ -168,6 +225,8 @@ void CompletionPass::complete_pair(const Pair& p, std::vector<char>& completed, 
     st_.pair_notes.push_back(which + "not completed, " +
                              (!t.contained ? "a growth leaks out of the pair's region (" + leak_note(t.ga) + " / " +
                                                  leak_note(t.gb) + ", max_leak " + format_number(c_.max_leak) + ")"
+                                           : t.fit.still() ? "the grown objects fit best where they stand (" +
+                                                                 t.fit.note() + ")"
                                            : "grown shapes differ" + t.kept_to + " (" + shape_note(t.sa) + " / " +
                                                  shape_note(t.sb) + ")"));
     return;
