@@ -142,9 +142,9 @@ class CompleteStage : public Stage {
                            "pair's object, if the shapes then agree (a turned short move leaves slivers at both ends)"),
         ParamSpec::boolean("still_check", true,
                            "refuse a pair whose two grown objects fit best where they stand: registered onto each "
-                           "other, the pose is within 5 cm and 5 degrees of none, or the shares of each on the other's "
-                           "surface are higher unmoved than at the registered pose (a cabinet between a box taken "
-                           "away and a barrel put down is no short move); false = segment.complete before 1.6.0"),
+                           "other, the pose moves them under 5 cm and 5 degrees, or they fit better unmoved than at "
+                           "that pose (a cabinet between a box taken away and a barrel put down is no short move); "
+                           "false = segment.complete before 1.6.0"),
         ParamSpec::boolean("join_connected", true,
                            "two objects of one mission that no completed pair holds are joined when a growth from one "
                            "reaches the other over points mostly not held by the neighbouring missions (a table's "
