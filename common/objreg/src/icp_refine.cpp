@@ -166,6 +166,22 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
 
 }  // namespace
 
+IcpConfig shape_check_config(double voxel, double inlier_distance) {
+  IcpConfig c;
+  c.method = "icp";
+  c.voxel = voxel;
+  c.inlier_distance = inlier_distance;
+  // Wide enough for the coarse pass to pull a partial view (whose centroid
+  // is off the whole object's by a fraction of its size) into place.
+  c.max_correspondence = std::max(0.3, 3.0 * inlier_distance);
+  c.max_iterations = 30;
+  c.max_points = 400;
+  c.max_score_points = 2000;
+  c.svd_flips = false;          // objects stand on floors: the yaw turns suffice
+  c.list_alternatives = false;  // a check needs the fit, not the other poses (scoring them cost ~10 %)
+  return c;
+}
+
 IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                      const IcpConfig& cfg) {
   if (source.empty() || target.empty()) throw Error("cannot register an object with no points");

@@ -37,18 +37,8 @@ class WeightedMatchStage : public Stage {
     max_lift_ = p.get<double>("max_lift");
     max_tilt_ = p.get<double>("max_tilt");
     upright_poses_ = p.get<bool>("upright_poses");
-    shape_.method = "icp";
-    shape_.voxel = p.get<double>("shape_voxel");
-    shape_.inlier_distance = p.get<double>("shape_distance");
-    // Wide enough for the coarse pass to pull a partial view (whose centroid
-    // is off the whole object's by a fraction of its size) into place.
-    shape_.max_correspondence = std::max(0.3, 3.0 * shape_.inlier_distance);
-    shape_.max_iterations = 30;
-    shape_.max_points = 400;
-    shape_.max_score_points = 2000;
-    shape_.svd_flips = false;  // objects stand on floors: the yaw turns suffice here
+    shape_ = registration::shape_check_config(p.get<double>("shape_voxel"), p.get<double>("shape_distance"));
     shape_.corner_hypotheses = p.get<bool>("corner_hypotheses");
-    shape_.list_alternatives = false;  // the check needs the fit, not the other poses (scoring them cost ~10 %)
     surface_.voxel = shape_.voxel;
     surface_.inlier = shape_.inlier_distance;
     surface_.gap = p.get<double>("shape_gap");

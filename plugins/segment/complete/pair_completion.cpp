@@ -52,16 +52,7 @@ struct RegisteredFit {
 };
 
 RegisteredFit registered_fit(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b) {
-  registration::IcpConfig rc;  // as match.weighted's shape check
-  rc.method = "icp";
-  rc.voxel = 0.04;
-  rc.inlier_distance = 0.05;
-  rc.max_correspondence = 0.3;
-  rc.max_iterations = 30;
-  rc.max_points = 400;
-  rc.max_score_points = 2000;
-  rc.svd_flips = false;
-  rc.list_alternatives = false;
+  const registration::IcpConfig rc = registration::shape_check_config(0.04, 0.05);  // match.weighted's defaults
   const registration::IcpResult r = registration::icp_refine(a, b, rc);
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const auto& p : a) c += p.cast<double>();

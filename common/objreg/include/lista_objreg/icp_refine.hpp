@@ -100,6 +100,14 @@ struct IcpResult {
   std::vector<Eigen::Isometry3d> alternatives;
 };
 
+// The settings of a quick shape check of two objects (is one rigid object
+// both?): point-to-point ICP on `voxel`-downsampled views, a gate wide
+// enough (3 x inlier_distance, at least 0.3 m) to pull a partial view into
+// place, at most 400 points iterated and 2000 scored, yaw turns without the
+// SVD guess's flips (objects stand on floors), no alternatives listed.
+// match.weighted's shape check and segment.complete's still check use it.
+IcpConfig shape_check_config(double voxel, double inlier_distance);
+
 IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                      const IcpConfig& cfg);
 
