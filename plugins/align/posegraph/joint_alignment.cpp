@@ -30,7 +30,6 @@ std::vector<Closure> solve_and_refine(const MissionSet& set, const MissionClosur
   // their optimum (the drift), where a robust loss would hardly pull.
   PoseGraphOptions plain = o.graph;
   plain.loss = "none";
-  plain.threads = threads;
   const PoseGraphSummary first = solve(g, closure_edges(set, g, kf, closures, o), plain);
   report.initial_cost = first.initial_cost;
   // Closures the vote refused may agree with the solved graph (drift can make
@@ -70,14 +69,12 @@ std::vector<Closure> solve_and_refine(const MissionSet& set, const MissionClosur
     ctx.info("refine round " + std::to_string(round + 1) + ": " + std::to_string(near.size()) +
              " proximity candidates, " + std::to_string(proximity.size()) + " verified after " + clock.elapsed());
     PoseGraphOptions robust = o.graph;
-    robust.threads = threads;
     const PoseGraphSummary s = solve(g, closure_edges(set, g, kf, closures, o), robust);
     report.final_cost = s.final_cost;
     if (proximity.empty()) break;
   }
   if (o.refine_rounds == 0) {
     PoseGraphOptions robust = o.graph;
-    robust.threads = threads;
     report.final_cost = solve(g, closure_edges(set, g, kf, closures, o), robust).final_cost;
   }
   return closures;

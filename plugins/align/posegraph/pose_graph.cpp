@@ -89,10 +89,13 @@ PoseGraphSummary optimise_pose_graph(std::vector<Eigen::Isometry3d>& nodes, cons
       ceres::IsSparseLinearAlgebraLibraryTypeAvailable(ceres::SUITE_SPARSE) ? ceres::SUITE_SPARSE
                                                                            : ceres::EIGEN_SPARSE;
   options.max_num_iterations = o.max_iterations;
-  options.num_threads = std::max(1, o.threads);
+  // One thread: Ceres sums cost and gradient per thread, in the order the
+  // threads take the residual blocks, and those sums decide the steps, so
+  // the poses' last digits could follow the thread count. The graphs are
+  // small (one node a keyframe or scan).
+  options.num_threads = 1;
   options.logging_type = ceres::SILENT;
-  // The costs the report records, summed on one thread: Ceres sums its own
-  // per thread, so their last digits would follow the thread count.
+  // The costs the report records, from the whole problem as it stands.
   auto cost_now = [&problem] {
     ceres::Problem::EvaluateOptions one_thread;
     one_thread.num_threads = 1;

@@ -26,7 +26,6 @@ struct PoseGraphOptions {
   std::string loss = "cauchy";  // "cauchy", "huber" or "none"
   double loss_scale = 1.0;      // in units of sigma
   int max_iterations = 100;
-  int threads = 1;
 };
 
 struct PoseGraphSummary {

@@ -87,10 +87,8 @@ void vet_scan_edges(const MissionSet& set, const std::vector<Keyframe>& kf, cons
     h.within.insert(h.within.end(), edges.begin(), edges.end());
     PoseGraphOptions plain = o.graph;
     plain.loss = "none";
-    plain.threads = threads;
     solve(h, closure_edges(set, h, kf, closures, o), plain);
     PoseGraphOptions robust = o.graph;
-    robust.threads = threads;
     cost = solve(h, closure_edges(set, h, kf, closures, o), robust).final_cost;
     return h;
   };
