@@ -37,11 +37,11 @@ constexpr size_t kCornerStartsRegistered = 4;
 // Coarse pass from every start with the wide correspondence distance, best
 // first. Corner starts only where no centroid start explained the moved
 // view (the one covering fewer voxels) in a pose the caller accepts: they
-// cost as much again. `starts` gains the corner starts registered.
+// cost as much again. One candidate per start registered.
 std::vector<Candidate> coarse_pass(PairIcp& pair, const std::vector<Eigen::Vector3f>& source,
                                    const std::vector<Eigen::Vector3f>& target, const Eigen::Vector3d& cs,
                                    const Eigen::Vector3d& ct, const IcpConfig& cfg,
-                                   std::vector<Eigen::Isometry3d>& starts) {
+                                   const std::vector<Eigen::Isometry3d>& starts) {
   std::vector<Candidate> coarse;
   auto coarse_from = [&](const Eigen::Isometry3d& guess) {
     coarse.push_back(pair.scored(pair.refine(guess, cfg.max_correspondence)));
@@ -57,10 +57,7 @@ std::vector<Candidate> coarse_pass(PairIcp& pair, const std::vector<Eigen::Vecto
       corners.emplace_back(pair.scored(g).score, g);
     std::stable_sort(corners.begin(), corners.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     if (corners.size() > kCornerStartsRegistered) corners.resize(kCornerStartsRegistered);
-    for (const auto& start : corners) {
-      starts.push_back(start.second);
-      coarse_from(start.second);
-    }
+    for (const auto& start : corners) coarse_from(start.second);
   }
   std::stable_sort(coarse.begin(), coarse.end(), [](const Candidate& a, const Candidate& b) { return a.score < b.score; });
   return coarse;
@@ -147,13 +144,13 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
   PairIcp pair(src, dst, cfg);
   const PrincipalFrame fs = principal_frame(source), ft = principal_frame(target);
   const Eigen::Vector3d cs = fs.frame.translation(), ct = ft.frame.translation();
-  std::vector<Eigen::Isometry3d> starts = centroid_starts(fs, ft, cfg);
+  const std::vector<Eigen::Isometry3d> starts = centroid_starts(fs, ft, cfg);
   const std::vector<Candidate> coarse = coarse_pass(pair, source, target, cs, ct, cfg, starts);
   const std::vector<Candidate> fine = fine_pass(pair, coarse, fine_pass_choices(coarse, cfg), cfg);
   const size_t win = simplest_best(fine, cfg);
   const Candidate& winner = fine[win];
   IcpResult best;
-  best.hypotheses = static_cast<int>(starts.size());
+  best.hypotheses = static_cast<int>(coarse.size());  // every start registered
   best.score = winner.score;
   best.transform = winner.t;
   best.source_inliers = winner.in_source;

@@ -76,10 +76,7 @@ class WeightedMatchStage : public Stage {
         r.source_inliers = on.source;
         r.target_inliers = on.target;
       }
-      // The view with the better-explained points is mostly the smaller or
-      // partial one: it must fit; the other must fit at least in part.
-      const double hi = std::max(r.source_inliers, r.target_inliers), lo = std::min(r.source_inliers, r.target_inliers);
-      fit[k] = 0.75 * hi + 0.25 * lo;
+      fit[k] = registration::shape_fit(r.source_inliers, r.target_inliers);
       shares[k] = {r.source_inliers, r.target_inliers};
       upright_decided[k] = r.inadmissible_preferred;
       // A registration that lifts a floor-standing object (a desk's top onto a

@@ -172,7 +172,7 @@ struct CompletionConfig {
 struct CompletionStats {
   size_t pairs = 0;         // candidate pairs examined
   size_t completed = 0;     // pairs whose growth was accepted
-  size_t rejected = 0;      // pairs whose grown shapes disagreed
+  size_t rejected = 0;      // pairs not completed (no floor, a leak, shapes that differ, growths that stand still)
   size_t self_completed = 0;  // objects grown by rule 5
   size_t points_added = 0;    // over all objects
   size_t points_static = 0;   // rule 5 candidates left out as static (static_check)
@@ -184,7 +184,8 @@ struct CompletionStats {
   size_t thin_static = 0;     // thin objects every neighbouring mission also holds (rule 0b)
   size_t thin_surface = 0;    // thin patches of a larger surface of their own mission (rule 0b)
   // One line per candidate pair: completed, or why not (no floor, a growth
-  // leaking out of its region, grown shapes that disagree); for `-v`.
+  // leaking out of its region, grown shapes that disagree, grown objects
+  // that fit best where they stand); for `-v`.
   std::vector<std::string> pair_notes;
   // One line per object self-completion looked at (rule 5): how it grew.
   std::vector<std::string> object_notes;

@@ -57,10 +57,13 @@ RegisteredFit registered_fit(const std::vector<Eigen::Vector3f>& a, const std::v
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const auto& p : a) c += p.cast<double>();
   c /= double(std::max<size_t>(a.size(), 1));
-  const registration::SurfaceShareConfig shares;
+  registration::SurfaceShareConfig shares;  // on the surfaces, as match.weighted judges its pairs
+  shares.voxel = rc.voxel;
+  shares.inlier = rc.inlier_distance;
+  shares.max_points = rc.max_score_points;
   auto fit_at = [&](const Eigen::Isometry3d& pose) {
     const registration::SurfaceShares on = registration::surface_shares(a, b, pose, shares);
-    return 0.75 * std::max(on.source, on.target) + 0.25 * std::min(on.source, on.target);
+    return registration::shape_fit(on.source, on.target);
   };
   RegisteredFit f;
   f.checked = true;
@@ -157,6 +160,12 @@ void CompletionPass::complete_pair(const Pair& p, std::vector<char>& completed, 
   const LocalCloud &ca = clouds_[a.mission], &cb = clouds_[b.mission];
   Floor fa, fb;
   const std::string which = "objects " + std::to_string(a.id) + " + " + std::to_string(b.id) + ": ";
+  // Why an attempt was not kept, for -v.
+  auto refusal = [](const Attempt& t, const std::string& leaked, const std::string& shapes) {
+    if (!t.contained) return leaked;
+    if (t.fit.still()) return "the grown objects fit best where they stand (" + t.fit.note() + ")";
+    return shapes + " differ" + t.kept_to + " (" + shape_note(t.sa) + " / " + shape_note(t.sb) + ")";
+  };
   if (!local_floor(ca.points, p.floor_region, c_.floor_percentile, c_.floor_clearance, fa) ||
       !local_floor(cb.points, p.floor_region, c_.floor_percentile, c_.floor_clearance, fb)) {
     ++st_.rejected;
@@ -206,20 +215,16 @@ void CompletionPass::complete_pair(const Pair& p, std::vector<char>& completed, 
         break;
       }
       st_.pair_notes.push_back(which + "not joined with " + id_list(out_, ja, jb) + ", " +
-                               (!joined.contained ? "a growth leaks out of the region"
-                                                  : "joined shapes differ" + joined.kept_to + " (" +
-                                                        shape_note(joined.sa) + " / " + shape_note(joined.sb) + ")"));
+                               refusal(joined, "a growth leaks out of the region", "joined shapes"));
     }
   }
   if (!t.same) {
     ++st_.rejected;
     st_.pair_notes.push_back(which + "not completed, " +
-                             (!t.contained ? "a growth leaks out of the pair's region (" + leak_note(t.ga) + " / " +
-                                                 leak_note(t.gb) + ", max_leak " + format_number(c_.max_leak) + ")"
-                                           : t.fit.still() ? "the grown objects fit best where they stand (" +
-                                                                 t.fit.note() + ")"
-                                           : "grown shapes differ" + t.kept_to + " (" + shape_note(t.sa) + " / " +
-                                                 shape_note(t.sb) + ")"));
+                             refusal(t,
+                                     "a growth leaks out of the pair's region (" + leak_note(t.ga) + " / " +
+                                         leak_note(t.gb) + ", max_leak " + format_number(c_.max_leak) + ")",
+                                     "grown shapes"));
     return;
   }
   commit_pair(p, s, t, join_a, join_b, completed, gone);

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <vector>
 
 namespace lista::registration {
@@ -29,6 +30,14 @@ struct SurfaceShares {
   double source = 0.0;  // share of the source's points, moved by t, on the target's surface
   double target = 0.0;  // share of the target's points, moved by t^-1, on the source's surface
 };
+
+// How well one rigid object explains both views, in [0, 1]: 0.75 x the
+// larger share + 0.25 x the smaller. The view with the better-explained
+// points is mostly the smaller or partial one: it must fit; the other must
+// fit at least in part.
+inline double shape_fit(double source_share, double target_share) {
+  return 0.75 * std::max(source_share, target_share) + 0.25 * std::min(source_share, target_share);
+}
 
 // Both shares of a registered pair (0 for an empty view); p_target = t *
 // p_source.
