@@ -245,14 +245,12 @@ Matches changes_from(const ObjectSet& objects, const Groups* groups, const Weigh
 // two moves). Per end they differed by the ends' own group confidence.
 void one_confidence_per_move(Matches& out, const ObjectSet& objects, const Pairing& s) {
   const size_t n_obj = objects.objects.size();
-  std::map<int, size_t> index_of;
-  for (size_t i = 0; i < n_obj; ++i) index_of[objects.objects[i].id] = i;
   std::vector<double> own(n_obj);
   for (size_t i = 0; i < n_obj; ++i) own[i] = out.objects[i].confidence;
   for (size_t i = 0; i < n_obj; ++i)
     for (int partner : {s.next[i], s.prev[i]})
       if (partner >= 0)
-        out.objects[i].confidence = std::min(out.objects[i].confidence, own[index_of.at(partner)]);
+        out.objects[i].confidence = std::min(out.objects[i].confidence, own[s.index.at(partner)]);
 }
 
 }  // namespace
@@ -279,8 +277,9 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
   for (size_t i = 0; i < n_obj; ++i) against[i] = objects.objects[i].points.changed_against_all();
   // The neighbours each object mostly changed against (a few points at the
   // fringe of a still object do not count).
-  std::vector<uint8_t> mainly(n_obj);
-  for (size_t i = 0; i < n_obj; ++i) mainly[i] = mainly_changed_against(objects.objects[i].points);
+  std::vector<uint8_t> mainly(n_obj, changed_against_either);
+  if (cfg.far_side_explains)
+    for (size_t i = 0; i < n_obj; ++i) mainly[i] = mainly_changed_against(objects.objects[i].points);
   Pairing s(objects);
   for (size_t m = 0; m + 1 < objects.missions.size(); ++m)
     pair_missions(m, objects, descriptors, groups, cfg, fit, desc_scale, max_cost, against, mainly, s);
