@@ -357,9 +357,9 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
 }
 
-// The same input and seed give the same report, byte for byte but for the
-// timings and provenance, on the same thread count, on another, and with
-// stages run side by side.
+// The same input and seed give the same report (every JSON value equal but
+// the timings and provenance) and byte-identical change clouds, on the same
+// thread count, on another, and with stages run side by side.
 TEST_F(TinyScene, TheSameInputGivesTheSameReport) {
   require_run();
   auto strip = [](json r) {

@@ -262,7 +262,6 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
     if (t.joinable()) t.join();
   values.clear();
 
-  // A real failure wins over cancellation noticed by other stages.
   if (!failures.empty()) rethrow_failure(plan, failures);
   if (run.cancel->load() || done < n) throw Cancelled();
   return info;

@@ -5,7 +5,6 @@
 #include <lista/error.hpp>
 
 #include <algorithm>
-#include <cmath>
 #include <map>
 
 namespace lista::history {
