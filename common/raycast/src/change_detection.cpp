@@ -19,24 +19,39 @@ void check_missions(const MissionSet& missions) {
   }
 }
 
-std::vector<std::string> undetectable_pairs(const MissionSet& missions, const VolumetricConfig& c) {
+PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfig& c) {
   // Most extreme P a mission of n scans can give a voxel (n updates at most).
   auto most = [&](size_t n) { return std::min(c.clamping_max, probability(float(n) * logodds(c.prob_hit))); };
   auto least = [&](size_t n) { return std::max(c.clamping_min, probability(float(n) * logodds(c.prob_miss))); };
-  std::vector<std::string> out;
+  PairThresholds out;
   for (size_t m = 0; m + 1 < missions.missions.size(); ++m) {
     const Mission &a = missions.missions[m], &b = missions.missions[m + 1];
     const size_t na = a.scans.size(), nb = b.scans.size();
     const double best = std::max(most(na) - least(nb), most(nb) - least(na));
+    out.value.push_back(c.change_threshold);
     if (best > c.change_threshold) continue;
-    char text[400];
+    char text[480];
+    if (c.change_threshold_given) {
+      std::snprintf(text, sizeof text,
+                    "missions '%s' (%zu scan%s) and '%s' (%zu scan%s) can show no change: each scan updates a voxel "
+                    "at most once, so their probabilities differ by at most %.2f, not above change_threshold %.2f; "
+                    "leave change_threshold unset to take the strongest evidence they can give as change",
+                    a.name.c_str(), na, na == 1 ? "" : "s", b.name.c_str(), nb, nb == 1 ? "" : "s", best,
+                    c.change_threshold);
+      out.warnings.emplace_back(text);
+      continue;
+    }
+    // Only the strongest evidence the two can give passes: every scan of one
+    // saw the voxel occupied and every scan of the other saw it free (one
+    // scan each: one hit against one miss, nothing else observed it).
+    out.value.back() = best - kStrongestEvidenceSlack;
     std::snprintf(text, sizeof text,
-                  "missions '%s' (%zu scan%s) and '%s' (%zu scan%s) can show no change: each scan updates a voxel "
-                  "at most once, so their probabilities differ by at most %.2f, not above change_threshold %.2f; "
-                  "for so few scans set change_threshold below %.2f (e.g. %.2f)",
-                  a.name.c_str(), na, na == 1 ? "" : "s", b.name.c_str(), nb, nb == 1 ? "" : "s", best, c.change_threshold, best,
-                  std::round(best * 80.0) / 100.0);
-    out.emplace_back(text);
+                  "missions '%s' (%zu scan%s) and '%s' (%zu scan%s) are too few scans for change_threshold %.2f: "
+                  "a voxel every scan of one saw occupied and every scan of the other saw free is change "
+                  "between them (threshold %.2f; set change_threshold to insist on %.2f)",
+                  a.name.c_str(), na, na == 1 ? "" : "s", b.name.c_str(), nb, nb == 1 ? "" : "s", c.change_threshold,
+                  out.value.back(), c.change_threshold);
+    out.notes.emplace_back(text);
   }
   return out;
 }
@@ -51,6 +66,7 @@ uint64_t pack(const Voxel& v) {
 struct Decider {
   const VolumetricConfig& c;
   float occupied_logodds;
+  double threshold_previous, threshold_next;  // change_threshold of each pair (pair_thresholds)
 
   // True if no voxel within the neighbourhood of v is occupied in `other`.
   bool clear_around(OccupancyReader& other, const Voxel& v) const {
@@ -70,13 +86,14 @@ struct Decider {
     float l_own;
     if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return 0;
     const double p_own = probability(l_own);
-    auto against = [&](OccupancyReader* other) {
+    auto against = [&](OccupancyReader* other, double threshold) {
       float l_other;
       if (!other || !other->logodds(v, l_other)) return false;  // unobserved there: unknown, not change
-      if (p_own - probability(l_other) <= c.change_threshold) return false;
+      if (p_own - probability(l_other) <= threshold) return false;
       return clear_around(*other, v);
     };
-    return uint8_t((against(previous) ? changed_against_previous : 0) | (against(next) ? changed_against_next : 0));
+    return uint8_t((against(previous, threshold_previous) ? changed_against_previous : 0) |
+                   (against(next, threshold_next) ? changed_against_next : 0));
   }
 };
 
@@ -89,11 +106,15 @@ PointBits no_bits(const Mission& mission) {
   return bits;
 }
 
-// ORs into `bits` what mission `mission` (map `own_map`) changed against
+// ORs into `bits` what mission m (map `own_map`) changed against
 // `previous_map` and / or `next_map` (either may be null).
-void mark_changes(const Mission& mission, const OccupancyMap& own_map, const OccupancyMap* previous_map,
-                  const OccupancyMap* next_map, const VolumetricConfig& config, int threads, PointBits& bits) {
-  const Decider decide{config, logodds(config.occupied_threshold)};
+void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_map,
+                  const OccupancyMap* previous_map, const OccupancyMap* next_map, const VolumetricConfig& config,
+                  const PairThresholds& thresholds, int threads, PointBits& bits) {
+  const Mission& mission = missions.missions[m];
+  const Decider decide{config, logodds(config.occupied_threshold),
+                       m > 0 ? thresholds.value[m - 1] : config.change_threshold,
+                       m < thresholds.value.size() ? thresholds.value[m] : config.change_threshold};
   const double inv_res = 1.0 / config.resolution;
 #pragma omp parallel num_threads(std::max(1, threads))
   {
@@ -158,14 +179,15 @@ void add_mission(MissionPoints& out, ChangeStats* stats, size_t m, const Mission
 MissionPoints detect_changes(const MissionSet& missions, const std::vector<const OccupancyMap*>& maps,
                              const VolumetricConfig& config, int threads, ChangeStats* stats) {
   const size_t n = missions.missions.size();
+  const PairThresholds thresholds = pair_thresholds(missions, config);
   if (maps.size() != n) throw Error("detect_changes: one map per mission expected");
   MissionPoints out;
   if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
   for (size_t m = 0; m < n; ++m) {
     const Mission& mission = missions.missions[m];
     PointBits bits = no_bits(mission);
-    mark_changes(mission, *maps[m], m > 0 ? maps[m - 1] : nullptr, m + 1 < n ? maps[m + 1] : nullptr, config,
-                 threads, bits);
+    mark_changes(missions, m, *maps[m], m > 0 ? maps[m - 1] : nullptr, m + 1 < n ? maps[m + 1] : nullptr, config,
+                 thresholds, threads, bits);
     uint64_t voxels = 0;
     PointSet set = collect_changes(mission, bits, config.resolution, voxels);
     add_mission(out, stats, m, mission, std::move(set), voxels);
@@ -178,6 +200,7 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
                                       const VolumetricConfig& config, int threads, ChangeStats* stats) {
   const size_t n = missions.missions.size();
   if (n == 0) return {};
+  const PairThresholds thresholds = pair_thresholds(missions, config);
   MissionPoints out;
   if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
   // A point's bit against the previous mission and its bit against the
@@ -189,8 +212,8 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   for (size_t m = 0; m + 1 < n; ++m) {
     std::unique_ptr<OccupancyMap> later = build_map(m + 1);
     PointBits later_bits = no_bits(missions.missions[m + 1]);
-    mark_changes(missions.missions[m], *earlier, nullptr, later.get(), config, threads, earlier_bits);
-    mark_changes(missions.missions[m + 1], *later, earlier.get(), nullptr, config, threads, later_bits);
+    mark_changes(missions, m, *earlier, nullptr, later.get(), config, thresholds, threads, earlier_bits);
+    mark_changes(missions, m + 1, *later, earlier.get(), nullptr, config, thresholds, threads, later_bits);
     earlier = std::move(later);  // map m goes
     uint64_t voxels = 0;
     PointSet set = collect_changes(missions.missions[m], earlier_bits, config.resolution, voxels);

@@ -30,7 +30,9 @@ std::vector<ParamSpec> volumetric_params() {
                       "a point's voxel changed when its occupancy probability in the point's "
                       "mission exceeds that in a neighbouring mission by more than this; a voxel "
                       "never observed in the other mission is unknown, never changed; 0.35 asks three "
-                      "updates in all, at least one in each mission (the paper's 0.5: four to five)")
+                      "updates in all, at least one in each mission (the paper's 0.5: four to five); where two "
+                      "missions' scan counts cannot pass it (one scan each), one hit against one miss is "
+                      "change unless this is set explicitly")
           .range(0.0, 1.0),
       ParamSpec::integer("neighbourhood", d.neighbourhood,
                          "radius in voxels (Chebyshev) that must hold no occupied voxel in the other "
@@ -85,6 +87,7 @@ VolumetricConfig volumetric_config(const Params& p) {
   c.clamping_max = p.get<double>("clamping_max");
   c.occupied_threshold = p.get<double>("occupied_threshold");
   c.change_threshold = p.get<double>("change_threshold");
+  c.change_threshold_given = p.is_set("change_threshold");
   c.neighbourhood = p.get<int>("neighbourhood");
   c.hit_margin = p.get<double>("hit_margin");
   c.graze_height = p.get<double>("graze_height");

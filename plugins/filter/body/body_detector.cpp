@@ -33,16 +33,16 @@ std::vector<size_t> witnesses_of(const Mission& m, size_t i, const BodyConfig& c
   return out;
 }
 
-// Sensor-frame cells within max_range and how many of the `held` scans
-// occupy each, sorted by key.
-std::vector<std::pair<uint64_t, uint32_t>> occupancy(const Mission& m, const std::vector<size_t>& held,
-                                                     const BodyConfig& c, int threads) {
-  const size_t n = held.size();
+// Sensor-frame cells within max_range and how many of the `scans` occupy
+// each, sorted by key.
+std::vector<std::pair<uint64_t, uint32_t>> occupancy(const std::vector<const PointSet*>& scans, const BodyConfig& c,
+                                                     int threads) {
+  const size_t n = scans.size();
   const float r2 = float(c.max_range * c.max_range);
   std::vector<std::vector<uint64_t>> per_scan(n);
   parallel_for(n, threads, [&](size_t h) {
     std::vector<uint64_t>& keys = per_scan[h];
-    for (const auto& p : m.scans[held[h]].points->xyz)
+    for (const auto& p : scans[h]->xyz)
       if (p.squaredNorm() < r2) keys.push_back(cell_key(p, c.cell));
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
@@ -73,9 +73,9 @@ struct Candidates {
 };
 
 Candidates candidate_cells(const std::vector<std::pair<uint64_t, uint32_t>>& counts, size_t n, const BodyConfig& c,
-                           BodyCells& out) {
+                           BodyCells& out, uint32_t at_least = 1) {
   Candidates cs;
-  const uint32_t need = uint32_t(std::ceil(c.min_share * double(n)));
+  const uint32_t need = std::max(at_least, uint32_t(std::ceil(c.min_share * double(n))));
   const uint32_t need_fringe = std::max<uint32_t>(1, uint32_t(std::ceil(c.min_share * double(n) / 4.0)));
   for (const auto& [key, k] : counts)
     if (k >= need_fringe) {
@@ -217,12 +217,39 @@ BodyCells find_body_cells(const Mission& m, const BodyConfig& c, int threads) {
   const size_t n = held.size();
   out.scans = n;
   if (int(n) < c.min_scans || c.max_range <= 0) return out;
-  const Candidates cs = candidate_cells(occupancy(m, held, c, threads), n, c, out);
+  std::vector<const PointSet*> scans;
+  for (const size_t s : held) scans.push_back(m.scans[s].points.get());
+  const Candidates cs = candidate_cells(occupancy(scans, c, threads), n, c, out);
   const Votes votes = witness_votes(m, held, cs.cells, c, threads, out);
   if (votes.see.empty()) return out;
   grow_body(cs, votes, c, out);
   std::sort(out.drop.begin(), out.drop.end());  // each cell went in once (in_body)
   return out;
+}
+
+BodyCells find_station_body_cells(const std::vector<const PointSet*>& stations, const BodyConfig& c, int threads) {
+  BodyCells out;
+  std::vector<const PointSet*> held;
+  for (const PointSet* s : stations)
+    if (s && !s->empty()) held.push_back(s);
+  out.scans = held.size();
+  if (held.size() < 2 || c.max_range <= 0) return out;
+  out.checked = true;
+  const Candidates cs = candidate_cells(occupancy(held, c, threads), held.size(), c, out, 2);
+  const auto is_core = [&](uint64_t key) {
+    const auto it = std::lower_bound(cs.cells.begin(), cs.cells.end(), key);
+    return it != cs.cells.end() && *it == key && cs.core[size_t(it - cs.cells.begin())];
+  };
+  for (size_t ci = 0; ci < cs.cells.size(); ++ci) {
+    bool take = cs.core[ci];
+    const Eigen::Vector3i at = geometry::voxel_of_key(cs.cells[ci]);
+    for (int dx = -1; dx <= 1 && !take; ++dx)
+      for (int dy = -1; dy <= 1 && !take; ++dy)
+        for (int dz = -1; dz <= 1 && !take; ++dz) take = is_core(geometry::voxel_key(at + Eigen::Vector3i(dx, dy, dz)));
+    if (take) out.drop.push_back(cs.cells[ci]);
+  }
+  out.confirmed = out.candidates;
+  return out;  // cs.cells is sorted, so is drop
 }
 
 size_t drop_body_points(Mission& m, const BodyCells& cells, const BodyConfig& c, int threads) {

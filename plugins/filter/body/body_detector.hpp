@@ -46,6 +46,17 @@ uint64_t cell_key(const Eigen::Vector3f& p, double cell);
 // Scans are spread over `threads`; the result does not depend on them.
 BodyCells find_body_cells(const Mission& mission, const BodyConfig& config, int threads = 1);
 
+// Stop-and-go stations: the scans of missions too short for the witness
+// test (fewer than min_scans), pooled over every such mission. What carries
+// the sensor (a tripod, a robot's deck) stands at the same place in the
+// sensor frame at every station, while the scene around a station differs
+// from one to the next: a cell occupied in at least min_share of the station
+// scans, and in at least two, is the platform; so is a less often occupied
+// cell touching one (a body surface noisier than a cell). Fewer than two
+// station scans: nothing (`checked` false).
+BodyCells find_station_body_cells(const std::vector<const PointSet*>& stations, const BodyConfig& config,
+                                  int threads = 1);
+
 // Drops from every scan of `mission` the points within max_range whose cell
 // is in `cells.drop`; kept points keep their file index. Scans are spread
 // over `threads`. Returns how many.

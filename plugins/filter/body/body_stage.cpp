@@ -41,6 +41,7 @@ class BodyStage : public Stage {
   Outputs run(const Inputs& in, Context& ctx) override {
     MissionSet set = in.get<MissionSet>("missions");  // shallow: scans' points stay shared
     size_t dropped = 0, cells = 0;
+    std::vector<size_t> stations;  // missions too short for the witness test
     ctx.progress().begin("looking for the robot's body", set.missions.size());
     for (auto& m : set.missions) {
       ctx.throw_if_cancelled();
@@ -51,8 +52,7 @@ class BodyStage : public Stage {
       ctx.record(m.name + ".dropped", double(n));
       if (config_.max_range <= 0) {
       } else if (!found.checked && found.scans < size_t(config_.min_scans)) {
-        ctx.info("mission '" + m.name + "': " + std::to_string(found.scans) +
-                 " scans hold points, too few to tell the robot's body from the scene; nothing dropped");
+        if (found.scans > 0) stations.push_back(size_t(&m - set.missions.data()));
       } else if (!found.checked) {
         ctx.info("mission '" + m.name + "': no scan has another one " + number(config_.witness_min) + "-" +
                  number(config_.witness_max) + " m away to look from; nothing taken for a body");
@@ -67,7 +67,10 @@ class BodyStage : public Stage {
       ctx.progress().advance();
     }
     ctx.progress().end();
+    const size_t on_platform = drop_platform(set, stations, ctx);
+    dropped += on_platform;
     ctx.record("dropped", double(dropped));
+    ctx.record("platform_dropped", double(on_platform));
     ctx.record("cells", double(cells));
     Outputs out;
     out.put("missions", std::move(set));
@@ -75,6 +78,36 @@ class BodyStage : public Stage {
   }
 
  private:
+  // Missions of a few stations each (stop-and-go): the platform is what all
+  // their scans hold at one place in the sensor frame (find_station_body_cells).
+  size_t drop_platform(MissionSet& set, const std::vector<size_t>& stations, Context& ctx) const {
+    std::vector<const PointSet*> scans;
+    for (const size_t m : stations)
+      for (const Scan& s : set.missions[m].scans) scans.push_back(s.points.get());
+    const BodyCells found = find_station_body_cells(scans, config_, ctx.threads());
+    std::string names;
+    for (const size_t m : stations) names += (names.empty() ? "'" : ", '") + set.missions[m].name + "'";
+    if (!found.checked) {
+      for (const size_t m : stations)
+        ctx.info("mission '" + set.missions[m].name + "': " + std::to_string(set.missions[m].scans.size()) +
+                 " scans, and no other short mission to compare stations with: nothing taken for a body");
+      return 0;
+    }
+    size_t total = 0;
+    for (const size_t m : stations) {
+      const size_t n = drop_body_points(set.missions[m], found, config_, ctx.threads());
+      ctx.record(set.missions[m].name + ".dropped", double(n));
+      total += n;
+    }
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "stations of missions %s: %zu points in %zu cells stand at the same place near the sensor in %zu "
+                  "station scans (the platform carrying it): dropped",
+                  names.c_str(), total, found.drop.size(), found.scans);
+    ctx.info(buf);
+    return total;
+  }
+
   BodyConfig config_;
 };
 

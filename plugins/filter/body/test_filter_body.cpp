@@ -51,6 +51,12 @@ lista::Mission hall_mission(const std::vector<Eigen::Isometry3d>& route) {
 }
 
 // The body's points of each scan are those numbered from `first[s]` on.
+size_t points_of(const lista::MissionSet& set) {
+  size_t n = 0;
+  for (const auto& m : set.missions) n += m.point_count();
+  return n;
+}
+
 struct Dropped {
   size_t body = 0, scene = 0;
 };
@@ -232,4 +238,58 @@ TEST(FilterBody, RejectsSettingsThatCannotWork) {
   EXPECT_THROW(test_support::run_stage("filter.body", "missions", lista::Data::make(set),
                                        {{"depth", 0.1}, {"cell", 0.1}}),
                lista::Error);
+}
+
+namespace {
+
+// Two stop-and-go missions of one scan each, from stations `a` and `b` of
+// the hall's loop, each scan with the platform under its sensor when
+// `platform`.
+lista::MissionSet two_stations(size_t a, size_t b, bool platform) {
+  const Scene hall = lista::align::testing::make_hall(20, 14, 12, 3);
+  const auto loop = lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0);
+  lista::MissionSet set;
+  for (const size_t station : {a, b}) {
+    const std::vector<Eigen::Isometry3d> route{loop[station]};
+    lista::Mission m = lista::align::testing::make_mission(set.missions.empty() ? "A" : "B", hall, route, route,
+                                                           uint32_t(11 + station));
+    if (platform) add_body(m, 300, uint32_t(station));
+    set.missions.push_back(std::move(m));
+  }
+  return set;
+}
+
+}  // namespace
+
+// One scan per mission leaves no witness in the mission, but the platform
+// stands at the same place in the sensor frame at both stations, and the
+// hall around them does not: the platform goes, the hall stays.
+TEST(FilterBody, DropsThePlatformOfOneScanStations) {
+  const lista::MissionSet in = two_stations(2, 9, true);
+  const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));
+  const auto& after = out.at("missions").as<lista::MissionSet>();
+  for (size_t m = 0; m < 2; ++m) {
+    const Dropped d = count_dropped(in.missions[m], after.missions[m], {in.missions[m].scans[0].points_in_file - 300});
+    EXPECT_GE(d.body, 285u) << in.missions[m].name;
+    EXPECT_EQ(d.scene, 0u) << in.missions[m].name;
+  }
+  // One thread drops the same points.
+  const auto serial = test_support::run_stage("filter.body", "missions", lista::Data::make(in), {}, 1);
+  EXPECT_EQ(points_of(serial.at("missions").as<lista::MissionSet>()), points_of(after));
+}
+
+TEST(FilterBody, KeepsEverythingOfOneScanStationsWithoutAPlatform) {
+  const lista::MissionSet in = two_stations(2, 9, false);
+  const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));
+  EXPECT_EQ(points_of(out.at("missions").as<lista::MissionSet>()), points_of(in));
+}
+
+// A single station has nothing to be compared with: it is left alone.
+TEST(FilterBody, LeavesALoneStationAlone) {
+  lista::MissionSet in = two_stations(2, 9, true);
+  in.missions[1] = hall_mission(lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0));
+  in.missions[1].name = "B";
+  const size_t station_points = in.missions[0].point_count();
+  const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));
+  EXPECT_EQ(out.at("missions").as<lista::MissionSet>().missions[0].point_count(), station_points);
 }

@@ -36,7 +36,9 @@ class OpenVdbStage : public Stage {
   Outputs run(const Inputs& inputs, Context& ctx) override {
     const MissionSet& missions = inputs.get<MissionSet>("missions");
     raycast::check_missions(missions);
-    for (const std::string& w : raycast::undetectable_pairs(missions, config_)) ctx.warn(w);
+    const raycast::PairThresholds thresholds = raycast::pair_thresholds(missions, config_);
+    for (const std::string& w : thresholds.warnings) ctx.warn(w);
+    for (const std::string& note : thresholds.notes) ctx.info(note);
     size_t scans = 0;
     for (const auto& m : missions.missions) scans += m.scans.size();
     std::vector<raycast::MapStats> stats(missions.missions.size());

@@ -219,3 +219,28 @@ TEST(VdbCounts, FieldsAddApartAndSaturateAlone) {
   EXPECT_EQ(counts::misses(v), 65535u);
   EXPECT_EQ(counts::add(v, 70000, 70000), counts::pack(65535, 65535));
 }
+
+// Stop-and-go: one scan per mission. The default threshold adapts (one hit
+// against one miss is change between them) and finds the removed and added
+// boxes without touching the structure; the same threshold given in the
+// pipeline is kept and finds nothing (pair_thresholds' warning says why).
+TEST(VolumetricOpenVdb, OneScanMissionsShowChangeAtTheDefaults) {
+  raycast::SyntheticSceneConfig c;
+  c.rings = 64;
+  c.columns = 720;
+  MissionSet one = raycast::make_synthetic_scene(c);
+  for (Mission& m : one.missions) m.scans.resize(1);
+  BasicContext ctx;
+  const MissionPoints ch = run_stage(volumetric::make_volumetric_openvdb(defaults()), one, 2, &ctx);
+  auto got_a = raycast::label_counts(ch.sets[0]);
+  auto got_b = raycast::label_counts(ch.sets[1]);
+  const auto all_a = raycast::label_counts(one.missions[0]);
+  const auto all_b = raycast::label_counts(one.missions[1]);
+  EXPECT_GT(got_a[1] + got_b[3], 0.3 * double(all_a.at(1) + all_b.at(3)));
+  EXPECT_LT(got_a[0], 0.002 * all_a.at(0));
+  EXPECT_LT(got_b[0], 0.002 * all_b.at(0));
+  EXPECT_EQ(got_a[4] + got_b[4], 0u);
+  Params given = defaults();
+  given.set("change_threshold", 0.35);
+  EXPECT_EQ(run_stage(volumetric::make_volumetric_openvdb(given), one, 2).total(), 0u);
+}

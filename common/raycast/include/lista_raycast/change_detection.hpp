@@ -46,15 +46,25 @@ struct ChangeStats {
 // Throws lista::Error unless there are >= 2 missions, each with scans.
 void check_missions(const MissionSet& missions);
 
-// Pairs of consecutive missions between which no change can pass the
-// thresholds at all: a voxel gets at most one update per scan, so with few
-// scans P stays near 0.5 (one scan each: at most prob_hit against at least
-// prob_miss, 0.3 apart at the defaults, under change_threshold 0.35). One
-// warning per such pair, saying which change_threshold would do.
-std::vector<std::string> undetectable_pairs(const MissionSet& missions, const VolumetricConfig& config);
+// The change_threshold of each pair of consecutive missions (value[m]: m
+// and m+1). A voxel gets at most one update per scan, so with few scans P
+// stays near 0.5: one scan each gives at most prob_hit against at least
+// prob_miss, 0.3 apart at the defaults, under change_threshold 0.35. Such a
+// pair takes the strongest evidence its scans can give as change (every
+// scan of one saw the voxel occupied, every scan of the other saw it free):
+// its threshold is that difference less kStrongestEvidenceSlack, and a note
+// says so. When change_threshold was given explicitly it holds, and a
+// warning says the pair can show no change.
+struct PairThresholds {
+  std::vector<double> value;
+  std::vector<std::string> notes, warnings;
+};
+inline constexpr double kStrongestEvidenceSlack = 0.01;
+PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfig& config);
 
 // Points of mission m are changed when, against mission m-1 or m+1, their
-// voxel's probability exceeds the other's by more than change_threshold (the
+// voxel's probability exceeds the other's by more than the pair's threshold
+// (pair_thresholds; the
 // other mission must have observed the voxel) and no voxel within
 // `neighbourhood` of it is occupied in the other mission. Output: one set per
 // mission, common frame, original points with their provenance and channels,

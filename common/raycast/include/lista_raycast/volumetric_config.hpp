@@ -23,6 +23,10 @@ struct VolumetricConfig {
   // enough). The paper's 0.5 asks four to five, which sparse sensors and
   // short missions rarely give a voxel (docs/volumetric.md).
   double change_threshold = 0.35;
+  // True when the pipeline gave change_threshold: it then holds for every
+  // pair of missions, even one whose scan counts cannot pass it. Otherwise
+  // such a pair (one scan each) takes one hit against one miss as change.
+  bool change_threshold_given = false;
   int neighbourhood = 1;             // voxels: other mission must be clear around the point
   double hit_margin = 0.25;          // m of each beam before its return not carved free
   // A beam going down ends its free part where it is graze_height above its
