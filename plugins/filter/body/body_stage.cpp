@@ -114,7 +114,7 @@ class BodyStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "filter.body";
-  s.version = "1.0.0";
+  s.version = "1.1.0";
   s.summary = "drops the robot's own body from the scans: points that move with the sensor and are seen through";
   s.doc =
       "A LiDAR on a robot's back (or carried by a person) sees the robot in every scan; those points move "
@@ -130,9 +130,11 @@ StageInfo info() {
       "from the mission's other scans); other rays give no vote. A candidate with at least 4 votes, at least "
       "see_through_share of them see-through, is body, and so is every candidate connected to it unless its "
       "own votes say present (edges and corners have no normal to vote with); it is dropped from every scan, "
-      "kept points keeping their file index. A mission of fewer than 4 scans holding points, a robot that "
-      "never moves witness_min, or a mission without witnesses is left as it is. max_range 0 turns the stage "
-      "off. docs/formats.md, \"The robot's body\".";
+      "kept points keeping their file index. A robot that never moves witness_min, or a mission without "
+      "witnesses, is left as it is. Missions of fewer than 4 scans holding points are stop-and-go stations: "
+      "their scans are pooled, and a cell occupied in min_share of them and in at least two (the platform "
+      "carrying the sensor), with the less often occupied cells touching it, is dropped (a lone station is "
+      "left as it is). max_range 0 turns the stage off. docs/formats.md, \"The robot's body\".";
   s.inputs = {{"missions", "missions", "missions as read"}};
   s.outputs = {{"missions", "missions", "the same missions without the body's points"}};
   s.params = {

@@ -17,13 +17,14 @@ namespace {
 StageInfo octomap_info() {
   StageInfo info;
   info.name = "volumetric.octomap";
-  info.version = "1.1.0";
+  info.version = "1.2.0";
   info.summary = "Volumetric change by ray-cast occupancy grids (OctoMap), differenced between consecutive missions";
   info.doc =
       "Builds one occupancy map per mission by casting every beam from its sensor origin "
       "(free space along the beam, a hit at the return), then marks a point changed when its "
       "voxel is occupied in its own mission and observed free in the previous or next mission. "
-      "Voxels never observed in the other mission are unknown, never changed. Same semantics and "
+      "Voxels never observed in the other mission are unknown, never changed; two missions of one scan "
+      "each take one hit against one miss as change unless change_threshold is given. Same semantics and "
       "parameters as volumetric.openvdb; this backend is the paper's: one OctoMap OcTree per "
       "mission updated like OcTree::insertPointCloud, with key rays computed on several threads; two "
       "missions are built in parallel, more are built in mission order with at most two trees held at once.";
