@@ -100,6 +100,8 @@ WriteStats write_dataset(const Scenario& sc, const SensorModel& sensor, const Wr
       so.threads = opt.threads;
       so.scan_id = uint32_t(i);
       so.body = opt.body;
+      so.mixed_pixels = opt.mixed_pixels;
+      so.dark_dropouts = opt.dark_dropouts;
       const PointSet cloud = sweep(scene, people.empty() ? nullptr : &people, sensor, m.poses_true[i], so);
       char name[32];
       std::snprintf(name, sizeof(name), "%06zu.pcd", i);

@@ -18,6 +18,7 @@ struct WriteOptions {
   bool overwrite = false; // replace the mission folders and ground truth already there
   bool progress = false;  // progress lines on stderr
   bool body = false;      // a robot's back in every scan (SweepOptions::body)
+  bool mixed_pixels = false, dark_dropouts = false;  // SweepOptions' sensor effects
 };
 
 struct WriteStats {

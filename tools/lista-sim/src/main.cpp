@@ -33,7 +33,7 @@ std::vector<lista::sim::Shape> furniture_from(const std::string& folder, const c
 
 int run_dataset(const std::string& preset_name, const std::string& out, uint64_t seed, int missions,
                 int scans, const std::string& sensor_name, int threads, bool overwrite, const std::string& furniture,
-                bool body, double drift, double map_tilt) {
+                bool body, const std::vector<std::string>& effects, double drift, double map_tilt) {
   using namespace lista::sim;
   Preset preset = make_preset(preset_name);
   // Real furniture beside the procedural classes: about a third of the
@@ -60,6 +60,10 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
   options.overwrite = overwrite;
   options.progress = isatty(STDERR_FILENO);
   options.body = body;
+  for (const std::string& e : effects) {
+    if (e == "mixed-pixels" || e == "all") options.mixed_pixels = true;
+    if (e == "dark-dropouts" || e == "all") options.dark_dropouts = true;
+  }
   const WriteStats stats = write_dataset(scenario, sensor, options);
 
   size_t total = 0;
@@ -92,13 +96,22 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed (same seed, same dataset)");
   app.add_option("--missions", missions, "number of missions (default: the preset's)")->check(CLI::Range(1, 100))->default_str("preset");
   app.add_option("--scans", scans, "scans per mission (default: the preset's)")->check(CLI::Range(1, 100000))->default_str("preset");
-  app.add_option("--sensor", sensor, "os0-128, xt32, vlp16, os1-64, hdl32, or the non-repetitive mid360 or avia (default: the preset's)");
+  app.add_option("--sensor", sensor,
+                 "os0-128, xt32, vlp16, os1-64, hdl32, the non-repetitive mid360 or avia, or tls (a terrestrial "
+                 "scanner: 360 x 300 deg at 0.2 deg, for stop-and-go stations with --scans 1) (default: the preset's)");
   app.add_option("--threads", threads, "worker threads")->check(lista::cli::at_least(1));
   app.add_flag("--overwrite", overwrite, "replace a dataset already in --out");
   bool body = false;
   app.add_flag("--body", body,
                "a legged robot's back in every scan: 1.1 x 0.5 m, 0.15-0.45 m under the sensor, moving with it "
                "(label 0; what filter.body finds)");
+  std::vector<std::string> effects;
+  app.add_option("--effects", effects,
+                 "real sensor effects, comma-separated: mixed-pixels (returns between a depth edge's two surfaces, "
+                 "where the beam's footprint, wider with range, straddles it), dark-dropouts (dark and grazing "
+                 "returns fade with range), or all; default none, clean scans")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"mixed-pixels", "dark-dropouts", "all"}));
   double drift = 1.0;
   app.add_option("--drift", drift,
                  "odometry drift, times the presets' (0.2 % of distance and 0.01 deg/m of heading, biased; "
@@ -157,7 +170,7 @@ int main(int argc, char** argv) {
       std::cerr << "lista-sim: --preset and --out are required (or use the 'views' subcommand); see --help\n";
       return 2;
     }
-    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, drift, map_tilt);
+    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;

@@ -87,9 +87,7 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
   const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
   const Eigen::Vector3f origin = T_world_sensor.translation().cast<float>();
 
-#pragma omp parallel for schedule(dynamic, 1024) num_threads(std::max(1, options.threads))
-  for (size_t r = 0; r < rays; ++r) {
-    const Eigen::Vector3f& dir_s = directions[r];
+  const auto cast = [&](const Eigen::Vector3f& dir_s) {
     const Eigen::Vector3f dir = R * dir_s;
     Hit hit = scene.intersect(origin, dir, float(sensor.min_range), float(sensor.max_range));
     if (dynamic_scene) {
@@ -104,14 +102,39 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
         hit = b;
       }
     }
+    return hit;
+  };
+
+#pragma omp parallel for schedule(dynamic, 1024) num_threads(std::max(1, options.threads))
+  for (size_t r = 0; r < rays; ++r) {
+    const Eigen::Vector3f& dir_s = directions[r];
+    const Eigen::Vector3f dir = R * dir_s;
+    const Hit hit = cast(dir_s);
     if (hit.t < 0) continue;
     const uint64_t h = hash_combine(options.key, r);
     const float cos_inc = std::abs(hit.normal.dot(dir));
     // Returns get lost at random and more often at grazing incidence.
     double p_drop = sensor.dropout;
     if (cos_inc < 0.15f) p_drop += 0.5 * (0.15 - cos_inc) / 0.15;
+    if (options.dark_dropouts) {
+      const double signal = hit.reflectivity / 0.1 * std::max(0.05f, cos_inc) *
+                            std::pow(sensor.range_dark / std::max(0.1f, hit.t), 2.0);
+      if (signal < 1.0) p_drop += 1.0 - signal;
+    }
     if (hash_uniform(h) < p_drop) continue;
-    const double range = hit.t + sensor.range_sigma * hash_normal(mix64(h + 1));
+    double true_range = hit.t;
+    if (options.mixed_pixels && sensor.divergence > 0) {
+      // The footprint's rim, at a direction drawn per ray: another surface
+      // there shares the return.
+      const Eigen::Vector3f u = dir_s.unitOrthogonal(), v = dir_s.cross(u);
+      const double phi = 2.0 * M_PI * hash_uniform(mix64(h + 3));
+      const float half = float(std::tan(0.5 * sensor.divergence));
+      const Eigen::Vector3f rim = (dir_s + half * (float(std::cos(phi)) * u + float(std::sin(phi)) * v)).normalized();
+      const Hit other = cast(rim);
+      if (other.t > 0 && std::abs(other.t - hit.t) > 0.05f)
+        true_range = hit.t + hash_uniform(mix64(h + 4)) * double(other.t - hit.t);
+    }
+    const double range = true_range + sensor.range_sigma * hash_normal(mix64(h + 1));
     if (range < sensor.min_range || range > sensor.max_range) continue;
     // Calibrated reflectivity: Lambertian in the incidence angle, 5% noise.
     const double value = 255.0 * hit.reflectivity * std::max(0.05f, cos_inc) * (1.0 + 0.05 * hash_normal(mix64(h + 2)));

@@ -18,6 +18,14 @@ struct SweepOptions {
   // A legged robot's back under the sensor, moving with it (body_box_min /
   // body_box_max, sensor frame): hit like any surface, label 0.
   bool body = false;
+  // Mixed pixels: where the beam's footprint (SensorModel::divergence, so
+  // wider with range) straddles a depth edge, the return lands anywhere
+  // between the two surfaces (a point in the air), as real LiDARs give.
+  bool mixed_pixels = false;
+  // Dark and grazing returns fade with range: a return whose signal
+  // (reflectivity x cos(incidence) / range^2, against a 10 % target met
+  // head-on at SensorModel::range_dark) is below that is lost in proportion.
+  bool dark_dropouts = false;
 };
 
 // The robot's back of SweepOptions::body: 1.1 x 0.5 m, its top 0.15 m and its
