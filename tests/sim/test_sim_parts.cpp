@@ -269,7 +269,7 @@ TEST(Sensor, BeamTablesMatchTheDatasheets) {
     make_sensor("lidar9000");
     ADD_FAILURE() << "an unknown sensor was accepted";
   } catch (const lista::Error& e) {
-    EXPECT_NE(std::string(e.what()).find("use one of os0-128, xt32, vlp16, os1-64, hdl32, mid360, avia"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("use one of os0-128, xt32, vlp16, os1-64, hdl32, tls, mid360, avia"), std::string::npos)
         << e.what();
   }
   for (const auto& name : all_sensor_names()) EXPECT_EQ(make_sensor(name).name, name);
