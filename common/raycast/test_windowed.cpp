@@ -99,3 +99,56 @@ TEST(DetectChangesWindowed, SameChangesWithAtMostTwoMapsAlive) {
   EXPECT_EQ(stats_windowed.changed_points, stats_all.changed_points);
   EXPECT_EQ(stats_windowed.changed_voxels, stats_all.changed_voxels);
 }
+
+namespace {
+
+// StripeMap, but its own scans also saw free every voxel of row y = 1
+// (where scan 1's points lie): something there for part of the mission.
+class HalfSeenMap : public raycast::OccupancyMap {
+ public:
+  explicit HalfSeenMap(int m) : stripes_(m) {}
+  std::unique_ptr<raycast::OccupancyReader> reader() const override {
+    struct Reader : raycast::OccupancyReader {
+      std::unique_ptr<raycast::OccupancyReader> stripes;
+      bool logodds(const raycast::Voxel& v, float& out) override { return stripes->logodds(v, out); }
+      bool seen_free(const raycast::Voxel& v) override { return v.y() == 1; }
+    };
+    auto r = std::make_unique<Reader>();
+    r->stripes = stripes_.reader();
+    return r;
+  }
+
+ private:
+  StripeMap stripes_;
+};
+
+}  // namespace
+
+TEST(DetectChanges, ChangedPointsTheirOwnMissionSawFreeCarryTheDynamicBit) {
+  const MissionSet missions = five_missions();
+  raycast::VolumetricConfig config;
+  config.resolution = 1.0;
+  config.neighbourhood = 0;
+  std::vector<std::unique_ptr<raycast::OccupancyMap>> all;
+  std::vector<const raycast::OccupancyMap*> views;
+  for (int m = 0; m < 5; ++m) {
+    all.push_back(std::make_unique<HalfSeenMap>(m));
+    views.push_back(all.back().get());
+  }
+  raycast::ChangeStats stats;
+  const MissionPoints got = raycast::detect_changes(missions, views, config, 2, &stats);
+  for (size_t m = 0; m < got.sets.size(); ++m) {
+    const PointSet& set = got.sets[m];
+    size_t flagged = 0;
+    for (size_t i = 0; i < set.size(); ++i) {
+      const bool dynamic = set.changed_against[i] & seen_free_in_own_mission;
+      EXPECT_EQ(dynamic, set.scan[i] == 1) << "mission " << m << " point " << i;
+      EXPECT_NE(set.changed_against[i] & changed_against_either, 0) << "still a change point with its neighbours";
+      flagged += dynamic;
+    }
+    EXPECT_GT(flagged, 0u);
+    EXPECT_EQ(stats.seen_free_points[m], flagged);
+    EXPECT_EQ(set.seen_free_count(), flagged);
+    EXPECT_EQ(set.changed_against_all() & seen_free_in_own_mission, 0) << "changed_against_all names neighbours only";
+  }
+}

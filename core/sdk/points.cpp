@@ -1,6 +1,8 @@
 #include <lista/error.hpp>
 #include <lista/points.hpp>
 
+#include <algorithm>
+
 namespace lista {
 
 void PointSet::reserve(size_t n) {
@@ -90,7 +92,12 @@ uint8_t PointSet::changed_against_all() const {
   if (!has_changed_against()) return changed_against_either;
   uint8_t bits = 0;
   for (uint8_t b : changed_against) bits |= b;
-  return bits;
+  return bits & changed_against_either;
+}
+
+size_t PointSet::seen_free_count() const {
+  return static_cast<size_t>(std::count_if(changed_against.begin(), changed_against.end(),
+                                           [](uint8_t b) { return b & seen_free_in_own_mission; }));
 }
 
 Eigen::Vector3f PointSet::centroid() const {

@@ -24,9 +24,21 @@ struct Object {
   void update_geometry();  // recomputes centroid and bounds from points
 };
 
+// Something that moved during one mission (a person walking by): a cluster
+// of change points most of which the mission's own scans also saw free at
+// another time. Listed in the report apart from the changes, never matched.
+struct Dynamic {
+  uint32_t mission = 0;
+  uint32_t points = 0;
+  Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
+  Eigen::Vector3f bbox_min = Eigen::Vector3f::Zero();
+  Eigen::Vector3f bbox_max = Eigen::Vector3f::Zero();
+};
+
 struct ObjectSet {
   std::vector<std::string> missions;
   std::vector<Object> objects;
+  std::vector<Dynamic> dynamics;  // kept by every stage that passes objects on
   const Object* find(int id) const;
   // Renumbers ids 0..n-1 in order (after a stage adds or removes objects).
   void renumber();

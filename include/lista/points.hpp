@@ -14,6 +14,9 @@ enum ChangedAgainst : uint8_t {
   changed_against_previous = 1,  // changed against the mission before
   changed_against_next = 2,      // changed against the mission after
   changed_against_either = 3,    // both, or (for a set without the channel) not known
+  // Not a neighbour: the point's own mission also saw its voxel free, from
+  // another scan (something that moved during the mission: dynamic evidence).
+  seen_free_in_own_mission = 4,
 };
 
 struct PointSet {
@@ -49,9 +52,12 @@ struct PointSet {
   // one entry per point.
   void check_consistent() const;
 
-  // The ChangedAgainst bits of all points together; changed_against_either
-  // when the channel is empty (not known: either neighbour).
+  // The neighbour bits (changed_against_either at most) of all points
+  // together; changed_against_either when the channel is empty (not known:
+  // either neighbour).
   uint8_t changed_against_all() const;
+  // How many points carry seen_free_in_own_mission.
+  size_t seen_free_count() const;
 
   Eigen::Vector3f centroid() const;
   // Axis-aligned bounds; (0,0,0) for an empty set.

@@ -92,8 +92,9 @@ struct Decider {
       if (p_own - probability(l_other) <= threshold) return false;
       return clear_around(*other, v);
     };
-    return uint8_t((against(previous, threshold_previous) ? changed_against_previous : 0) |
-                   (against(next, threshold_next) ? changed_against_next : 0));
+    const uint8_t bits = uint8_t((against(previous, threshold_previous) ? changed_against_previous : 0) |
+                                 (against(next, threshold_next) ? changed_against_next : 0));
+    return bits && own.seen_free(v) ? uint8_t(bits | seen_free_in_own_mission) : bits;
   }
 };
 
@@ -169,6 +170,7 @@ void add_mission(MissionPoints& out, ChangeStats* stats, size_t m, const Mission
   if (stats) {
     stats->changed_points[m] = set.size();
     stats->changed_voxels[m] = voxels;
+    stats->seen_free_points[m] = set.seen_free_count();
   }
   out.missions.push_back(mission.name);
   out.sets.push_back(std::move(set));
@@ -182,7 +184,7 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
   const PairThresholds thresholds = pair_thresholds(missions, config);
   if (maps.size() != n) throw Error("detect_changes: one map per mission expected");
   MissionPoints out;
-  if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
+  if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
   for (size_t m = 0; m < n; ++m) {
     const Mission& mission = missions.missions[m];
     PointBits bits = no_bits(mission);
@@ -202,7 +204,7 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   if (n == 0) return {};
   const PairThresholds thresholds = pair_thresholds(missions, config);
   MissionPoints out;
-  if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
+  if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
   // A point's bit against the previous mission and its bit against the
   // next are decided apart, so one pair of consecutive maps at a time
   // suffices: map m+1 is built while only map m lives, then both missions
@@ -240,6 +242,7 @@ void record_stats(Context& context, const MissionSet& missions, const std::vecto
     if (m < changes.changed_points.size()) {
       context.record(k + "changed_points", static_cast<double>(changes.changed_points[m]));
       context.record(k + "changed_voxels", static_cast<double>(changes.changed_voxels[m]));
+      context.record(k + "seen_free_points", static_cast<double>(changes.seen_free_points[m]));
     }
   }
 }

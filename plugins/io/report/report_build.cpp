@@ -151,7 +151,7 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
   return b;
 }
 
-std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_origin) {
+std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_origin, const ObjectSet& objects) {
   using json = nlohmann::ordered_json;
   json prov;
   prov["lista_version"] = run.lista_version;
@@ -186,6 +186,18 @@ std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_ori
   root["provenance"] = prov;
   root["metrics"] = metrics;
   root["warnings"] = run.warnings;
+  json dynamics = json::array();
+  auto at = [&](const Eigen::Vector3f& p) {
+    const Eigen::Vector3d q = p.cast<double>() + local_origin;
+    return json::array({q.x(), q.y(), q.z()});
+  };
+  for (const Dynamic& d : objects.dynamics)
+    dynamics.push_back({{"mission", d.mission < objects.missions.size() ? objects.missions[d.mission] : ""},
+                        {"centroid", at(d.centroid)},
+                        {"bbox_min", at(d.bbox_min)},
+                        {"bbox_max", at(d.bbox_max)},
+                        {"points", d.points}});
+  root["dynamics"] = dynamics;
   return root.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 

@@ -44,9 +44,10 @@ struct Built {
 Built build_report(const MissionSet& missions, const ObjectSet& objects, const Groups* groups,
                    const Matches* matches, const MissionPoints* changes);
 
-// Provenance, metrics and warnings of the run, and `local_origin` (where the
-// run's local frame lies in the dataset's coordinates: MissionSet::origin), as
-// the report's extra top-level JSON.
-std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_origin);
+// Provenance, metrics and warnings of the run, `local_origin` (where the
+// run's local frame lies in the dataset's coordinates: MissionSet::origin)
+// and the objects' dynamics (what moved during a mission, in the dataset's
+// coordinates), as the report's extra top-level JSON.
+std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_origin, const ObjectSet& objects);
 
 }  // namespace lista::report

@@ -40,10 +40,13 @@ class ReportStage : public Stage {
                " scans io.missions did not read lie in changed cells (" + std::to_string(unread_cell_).substr(0, 4) +
                " m) and are reported with them");
     for (const auto& s : run.finished) built.report.timings_s.emplace_back(s.id, s.seconds);
-    built.report.extra_json = provenance_json(run, missions.origin);
+    built.report.extra_json = provenance_json(run, missions.origin, objects);
     for (const auto& w : built.warnings) ctx.warn(w);
     write_output(out_dir, built);
     log_summary(built, run, out_dir, ctx);
+    if (!objects.dynamics.empty())
+      ctx.info("dynamics " + std::to_string(objects.dynamics.size()) +
+               ": moved during their own mission, not changes (report.json \"dynamics\")");
     return {};
   }
 

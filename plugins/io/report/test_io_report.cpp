@@ -301,3 +301,34 @@ TEST(IoReport, UnreadScansOfTheViewpointLayoutAreReadInTheMapFrame) {
   EXPECT_EQ(b.values[5][6], 1.0);
   EXPECT_NEAR(b.values[0][6], 5.02, 1e-4);
 }
+
+// What moved during a mission is listed apart from the objects, where it
+// was in the dataset's coordinates, and counted in the log.
+TEST(IoReport, ListsDynamicsApartFromTheObjects) {
+  Fixture f;
+  f.missions.origin = Eigen::Vector3d(1000, 0, 0);
+  Dynamic d;
+  d.mission = 1;
+  d.points = 321;
+  d.centroid = Eigen::Vector3f(2, 3, 1);
+  d.bbox_min = Eigen::Vector3f(1.8f, 2.8f, 0);
+  d.bbox_max = Eigen::Vector3f(2.2f, 3.2f, 1.8f);
+  f.objects.dynamics = {d};
+  const fs::path out = out_dir("dynamics");
+  BasicContext ctx("report");
+  ctx.min_level = LogLevel::error;
+  ctx.info.output_dir = out.string();
+  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  std::ifstream in(out / "report.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  ASSERT_EQ(j.at("dynamics").size(), 1u);
+  EXPECT_EQ(j["dynamics"][0]["mission"], "B");
+  EXPECT_EQ(j["dynamics"][0]["points"], 321);
+  EXPECT_DOUBLE_EQ(j["dynamics"][0]["centroid"][0].get<double>(), 1002.0);
+  EXPECT_NEAR(j["dynamics"][0]["bbox_max"][2].get<double>(), 1.8, 1e-6);
+  EXPECT_EQ(j.at("objects").size(), 3u);
+  EXPECT_TRUE(std::any_of(ctx.messages.begin(), ctx.messages.end(), [](const std::string& m) {
+    return m.find("dynamics 1: moved during their own mission") != std::string::npos;
+  }));
+  fs::remove_all(out);
+}

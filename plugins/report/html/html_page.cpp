@@ -120,8 +120,12 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
           " reports at their ends)</span>" +
           (still ? "<span>standing still before or after their change: " + std::to_string(still) + "</span>"
                  : std::string()) +
-          "<span>objects: " + std::to_string(model.objects.size()) +
-          "</span></p>\n";
+          "<span>objects: " + std::to_string(model.objects.size()) + "</span>" +
+          (model.dynamics.empty() ? std::string()
+                                  : "<span class=\"dynamic\">moved during their own mission (dynamic, not changes; "
+                                    "dotted grey on the maps): " +
+                                        std::to_string(model.dynamics.size()) + "</span>") +
+          "</p>\n";
   // Contents: with many missions the page runs to thousands of pixels.
   html += "<p class=\"contents\">Contents: ";
   for (size_t a = 0; a + 1 < model.missions.size(); ++a)

@@ -11,6 +11,7 @@ const ObjectView* ReportModel::find(int id) const {
 ReportModel build_model(const ObjectSet& objects, const Groups* groups, const Matches* matches) {
   ReportModel model;
   model.missions = objects.missions;
+  model.dynamics = objects.dynamics;
   for (const auto& object : objects.objects) {
     ObjectView view;
     view.object = &object;

@@ -28,6 +28,7 @@ struct ObjectView {
 struct ReportModel {
   std::vector<std::string> missions;
   std::vector<ObjectView> objects;  // in ObjectSet order
+  std::vector<Dynamic> dynamics;    // ObjectSet::dynamics: moved during a mission, not changes
   const ObjectView* find(int id) const;
 };
 

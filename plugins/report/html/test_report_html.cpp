@@ -323,6 +323,28 @@ TEST(ReportHtml, LowConfidenceAndWarningsStandOut) {
   fs::remove_all(dir);
 }
 
+// What moved during a mission is drawn apart from the changes, as a dotted
+// grey box on its pair's map, and counted in the summary; none, no mention.
+TEST(ReportHtml, DynamicsAreDottedGreyBoxesApartFromTheChanges) {
+  Scene s = make_scene();
+  const fs::path none = write_report(s, "no_dynamics");
+  EXPECT_EQ(read(none / "report.html").find("dynamic"), std::string::npos);
+  lista::Dynamic d;
+  d.mission = 1;
+  d.points = 77;
+  d.centroid = Eigen::Vector3f(1, 1, 0.8f);
+  d.bbox_min = Eigen::Vector3f(0.8f, 0.8f, 0);
+  d.bbox_max = Eigen::Vector3f(1.2f, 1.2f, 1.7f);
+  s.objects.dynamics = {d};
+  const fs::path dir = write_report(s, "dynamics");
+  const std::string html = read(dir / "report.html");
+  EXPECT_EQ(count(html, "class=\"dynamic\"><title>moved during mission B (77 points)"), 1u);
+  EXPECT_NE(html.find("moved during their own mission (dynamic, not changes; dotted grey on the maps): 1"),
+            std::string::npos);
+  fs::remove_all(none);
+  fs::remove_all(dir);
+}
+
 // Three missions: a box moved A -> B -> C (objects 2, 3, 4) and an object
 // of B gone in C (5). Each map shows its own pair's changes only: the A -> B
 // map has no 4 or 5, the B -> C map no 0, 1 or 2.

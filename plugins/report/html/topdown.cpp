@@ -265,6 +265,23 @@ std::string object_marks(const std::vector<Shown>& shown, const ReportModel& mod
   return svg;
 }
 
+// What moved during mission a or b (a person walking by) as a dotted grey
+// box: shown so a user sees it was looked at, apart from the changes.
+std::string dynamic_marks(const ReportModel& model, size_t a, size_t b, const Frame& frame, double font) {
+  std::string svg;
+  for (const Dynamic& d : model.dynamics) {
+    if (d.mission != a && d.mission != b) continue;
+    const auto [x0, y0] = frame.px(Eigen::Vector3f(d.bbox_min.x(), d.bbox_max.y(), 0));
+    const auto [x1, y1] = frame.px(Eigen::Vector3f(d.bbox_max.x(), d.bbox_min.y(), 0));
+    svg += "<rect x=\"" + fmt(x0, 1) + "\" y=\"" + fmt(y0, 1) + "\" width=\"" + fmt(x1 - x0, 1) + "\" height=\"" +
+           fmt(y1 - y0, 1) + "\" fill=\"none\" stroke=\"#888\" stroke-width=\"" + fmt(font / 8, 1) +
+           "\" stroke-dasharray=\"" + fmt(font / 4, 1) + "\" class=\"dynamic\"><title>moved during mission " +
+           escape(d.mission < model.missions.size() ? model.missions[d.mission] : "") + " (" +
+           std::to_string(d.points) + " points): dynamic, not a change</title></rect>\n";
+  }
+  return svg;
+}
+
 // Coordinates along the top and left edges and a scale bar of 1, 5 or 10 m.
 std::string axes_and_scale(const Frame& frame, double font, const Eigen::Vector3d& origin) {
   const Raster& r = frame.r;
@@ -315,6 +332,7 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
   svg += "<image width=\"" + std::to_string(r.width) + "\" height=\"" + std::to_string(r.height) +
          "\" href=\"data:image/png;base64," + base64(png) + "\"/>\n";
   const double font = std::max(10.0, r.width / 70.0);
+  svg += dynamic_marks(model, a, b, frame, font);
   svg += object_marks(shown, model, a, b, frame, font);
   svg += axes_and_scale(frame, font, missions.origin);
   svg += "</svg>\n";

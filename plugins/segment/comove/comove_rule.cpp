@@ -254,6 +254,7 @@ ObjectSet join_comoving(const ObjectSet& given, const ComoveConfig& config, Como
 
   ObjectSet out;
   out.missions = in.missions;
+  out.dynamics = in.dynamics;
   std::vector<long> slot(n, -1);
   std::vector<bool> grown(n, false);  // roots that took another piece
   for (size_t i = 0; i < n; ++i) {

@@ -97,6 +97,7 @@ ObjectSet merge_split_by_overlap(const ObjectSet& input, const OverlapConfig& c,
   for (size_t i = 0; i < merged.size(); ++i) merged_by_mission[merged[i].mission].push_back(i);
   ObjectSet out;
   out.missions = in.missions;
+  out.dynamics = in.dynamics;
   for (size_t ai = 0; ai < merged.size(); ++ai) {
     const Object& a = merged[ai];
     std::vector<size_t> parts;  // objects of a neighbouring mission inside a

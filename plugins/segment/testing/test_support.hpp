@@ -21,10 +21,11 @@ struct Captured : lista::Registrar {
   }
 };
 
-// Runs stage `name` with default params overridden by `set`, one input port.
+// Runs stage `name` with default params overridden by `set`, one input port;
+// what it logged and recorded goes to `context` when given.
 inline lista::Outputs run_stage(const std::string& name, const std::string& port, lista::Data input,
                                 const std::map<std::string, lista::ParamValue>& set = {},
-                                int threads = 2) {
+                                int threads = 2, lista::BasicContext* context = nullptr) {
   Captured reg;
   lista_plugin_detail::manifest()->register_stages(reg);
   auto& [info, factory] = reg.stages.at(name);
@@ -39,7 +40,8 @@ inline lista::Outputs run_stage(const std::string& name, const std::string& port
   auto stage = factory(params);
   lista::Inputs in;
   in.set(port, std::move(input));
-  lista::BasicContext ctx("test", threads, 7);
+  lista::BasicContext own("test", threads, 7);
+  lista::BasicContext& ctx = context ? *context : own;
   return stage->run(in, ctx);
 }
 

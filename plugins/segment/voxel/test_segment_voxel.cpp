@@ -89,3 +89,35 @@ TEST(SegmentVoxel, ResultDoesNotDependOnThreads) {
   ASSERT_EQ(a.size(), b.size());
   for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].points.index, b[i].points.index);
 }
+
+// A cluster most of whose points their own mission also saw free moved
+// during the mission (a person walking by): a dynamic, not an object.
+TEST(SegmentVoxel, ClustersMostlySeenFreeInTheirOwnMissionAreDynamics) {
+  lista::PointSet a;
+  add_box_surface(a, {0, 0, 0}, {0.5f, 0.5f, 0.5f}, 0.05f, 3);  // a cabinet, removed
+  const size_t cabinet = a.size();
+  add_box_surface(a, {2, 0, 0}, {2.4f, 0.3f, 1.7f}, 0.05f, 4);  // a person walking by
+  const size_t person = a.size() - cabinet;
+  a.changed_against.assign(a.size(), lista::changed_against_next);
+  // A few of the cabinet's points were grazed free too; most of the person's.
+  for (size_t i = 0; i < cabinet; i += 5) a.changed_against[i] |= lista::seen_free_in_own_mission;
+  for (size_t i = cabinet; i < a.size(); ++i)
+    if (i % 4) a.changed_against[i] |= lista::seen_free_in_own_mission;
+  lista::PointSet b;
+  add_box_surface(b, {5, 5, 0}, {5.4f, 5.4f, 0.4f}, 0.05f, 9);
+  b.changed_against.assign(b.size(), lista::changed_against_previous);
+  lista::BasicContext ctx("segment");
+  auto out = run_stage("segment.voxel", "changes", lista::Data::make(missions({a, b})), {}, 2, &ctx);
+  const auto& objects = out.at("objects").as<lista::ObjectSet>();
+  ASSERT_EQ(objects.objects.size(), 2u);
+  EXPECT_EQ(objects.objects[0].points.size(), cabinet);
+  EXPECT_EQ(objects.objects[0].id, 0);
+  EXPECT_EQ(objects.objects[1].id, 1);
+  ASSERT_EQ(objects.dynamics.size(), 1u);
+  EXPECT_EQ(objects.dynamics[0].mission, 0u);
+  EXPECT_EQ(objects.dynamics[0].points, person);
+  EXPECT_NEAR(objects.dynamics[0].centroid.x(), 2.2f, 0.05f);
+  EXPECT_NEAR(objects.dynamics[0].bbox_max.z(), 1.7f, 1e-4f);
+  EXPECT_EQ(ctx.info.metrics.at("segment").at("dynamic_objects"), 1.0);
+  EXPECT_EQ(ctx.info.metrics.at("segment").at("dynamic_points"), double(person));
+}

@@ -24,8 +24,9 @@
 //    applied once at the end instead of after each scan; the two differ only
 //    for voxels whose state flipped within one mission;
 //  - memory: 4 bytes per observed voxel (the counters are the map; no
-//    log-odds grid beside them). A count saturates at 65535 scans of one
-//    mission per voxel (vdb_counts.hpp).
+//    log-odds grid beside them), and 4 per voxel some scan both hit and saw
+//    through (`partly`: the dynamic evidence needs it, seen_free below). A
+//    count saturates at 65535 scans of one mission per voxel (vdb_counts.hpp).
 #include "vdb_occupancy.hpp"
 
 #include "vdb_counts.hpp"
@@ -97,9 +98,12 @@ class ScanMask {
   int ox_ = kNoLeaf, oy_ = kNoLeaf, oz_ = kNoLeaf;
 };
 
-// The mission's counters, shared by the casting threads.
+// The mission's counters, shared by the casting threads. `partly` counts,
+// per voxel, the scans that both hit it and saw through it (a bar, a leg,
+// an edge filling part of the voxel): only hit voxels have one.
 struct SharedCounts {
   openvdb::Int32Grid::Ptr grid = openvdb::Int32Grid::create(0);
+  openvdb::Int32Grid::Ptr partly = openvdb::Int32Grid::create(0);
   std::mutex mutex;
 };
 
@@ -122,6 +126,21 @@ void add_mask(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& mask, 
     CountLeaf* d = acc.touchLeaf(leaf->origin());
     int32_t* data = d->buffer().data();
     for (auto it = bits.beginOn(); it; ++it) data[it.pos()] = counts::add(data[it.pos()], hit, !hit);
+    d->getValueMask() |= bits;
+  }
+}
+
+// Adds one to `acc`'s value of every voxel set in both `a` and `b`.
+void add_both(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& a, const openvdb::MaskTree& b) {
+  for (auto leaf = a.cbeginLeaf(); leaf; ++leaf) {
+    const MaskLeaf* other = b.probeConstLeaf(leaf->origin());
+    if (!other) continue;
+    openvdb::util::NodeMask<3> bits = leaf->getValueMask();
+    bits &= other->getValueMask();
+    if (bits.isOff()) continue;
+    CountLeaf* d = acc.touchLeaf(leaf->origin());
+    int32_t* data = d->buffer().data();
+    for (auto it = bits.beginOn(); it; ++it) ++data[it.pos()];
     d->getValueMask() |= bits;
   }
 }
@@ -159,6 +178,8 @@ void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, Thre
     auto acc = shared.grid->getAccessor();
     add_mask(acc, work.hits.tree(), nullptr, true);
     add_mask(acc, work.free.tree(), &work.hits.tree(), false);
+    auto partly = shared.partly->getAccessor();
+    add_both(partly, work.hits.tree(), work.free.tree());
   }
   work.hits.clear();
   work.free.clear();
@@ -177,29 +198,41 @@ struct LogOdds {
 
 class VdbReader : public OccupancyReader {
  public:
-  VdbReader(const openvdb::Int32Grid& g, const LogOdds& to_logodds)
-      : acc_(g.getConstAccessor()), to_logodds_(to_logodds) {}
+  VdbReader(const openvdb::Int32Grid& g, const openvdb::Int32Grid& partly, const LogOdds& to_logodds)
+      : acc_(g.getConstAccessor()), partly_(partly.getConstAccessor()), to_logodds_(to_logodds) {}
   bool logodds(const Voxel& v, float& out) override {
     int32_t packed = 0;
     if (!acc_.probeValue(openvdb::Coord(v.x(), v.y(), v.z()), packed)) return false;
     out = to_logodds_(packed);
     return true;
   }
+  // Misses count as something gone only where the scans that hit the voxel
+  // mostly found it filled: through a thin bar or a table leg the beams
+  // beside it pass in every scan, whether it stood there or not.
+  bool seen_free(const Voxel& v) override {
+    const openvdb::Coord xyz(v.x(), v.y(), v.z());
+    int32_t packed = 0;
+    if (!acc_.probeValue(xyz, packed)) return false;
+    const uint32_t hits = counts::hits(packed), misses = counts::misses(packed);
+    if (misses == 0 || misses < hits) return false;
+    return 2 * uint32_t(partly_.getValue(xyz)) <= hits;
+  }
 
  private:
-  openvdb::Int32Grid::ConstAccessor acc_;
+  openvdb::Int32Grid::ConstAccessor acc_, partly_;
   LogOdds to_logodds_;
 };
 
 class VdbMap : public OccupancyMap {
  public:
-  VdbMap(openvdb::Int32Grid::Ptr g, const LogOdds& to_logodds) : grid_(std::move(g)), to_logodds_(to_logodds) {}
+  VdbMap(openvdb::Int32Grid::Ptr g, openvdb::Int32Grid::Ptr partly, const LogOdds& to_logodds)
+      : grid_(std::move(g)), partly_(std::move(partly)), to_logodds_(to_logodds) {}
   std::unique_ptr<OccupancyReader> reader() const override {
-    return std::make_unique<VdbReader>(*grid_, to_logodds_);
+    return std::make_unique<VdbReader>(*grid_, *partly_, to_logodds_);
   }
 
  private:
-  openvdb::Int32Grid::Ptr grid_;
+  openvdb::Int32Grid::Ptr grid_, partly_;
   LogOdds to_logodds_;
 };
 
@@ -250,7 +283,7 @@ std::unique_ptr<OccupancyMap> build_vdb_map(const Mission& mission, const Volume
     stats.voxel_visits += w.visits;
     stats.voxels_walked += w.walked;
   }
-  return std::make_unique<VdbMap>(std::move(grid), to_logodds);
+  return std::make_unique<VdbMap>(std::move(grid), shared.partly, to_logodds);
 }
 
 }  // namespace lista::volumetric

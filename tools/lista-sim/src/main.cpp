@@ -33,7 +33,7 @@ std::vector<lista::sim::Shape> furniture_from(const std::string& folder, const c
 
 int run_dataset(const std::string& preset_name, const std::string& out, uint64_t seed, int missions,
                 int scans, const std::string& sensor_name, int threads, bool overwrite, const std::string& furniture,
-                bool body, const std::vector<std::string>& effects, double drift, double map_tilt) {
+                bool body, const std::vector<std::string>& effects, double drift, double map_tilt, int people) {
   using namespace lista::sim;
   Preset preset = make_preset(preset_name);
   // Real furniture beside the procedural classes: about a third of the
@@ -41,6 +41,7 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
   if (!furniture.empty()) preset.changes.extra_shapes = furniture_from(furniture, "lista-sim");
   if (missions > 0) preset.route.missions = missions;
   if (scans > 0) preset.route.scans = scans;
+  if (people >= 0) preset.changes.people = people;
   preset.route.drift_per_m *= drift;
   preset.route.yaw_drift_deg_per_m *= drift;
   preset.route.map_tilt_deg = map_tilt;
@@ -94,7 +95,7 @@ int main(int argc, char** argv) {
   app.add_option("--preset", preset, "tiny, demo, exp1, exp2, exp3, hall or fsc");
   app.add_option("--out", out, "dataset folder to write");
   app.add_option("--seed", seed, "random seed (same seed, same dataset)");
-  app.add_option("--missions", missions, "number of missions (default: the preset's)")->check(CLI::Range(1, 100))->default_str("preset");
+  app.add_option("--missions", missions, "number of missions, named A..Z (default: the preset's)")->check(CLI::Range(1, 26))->default_str("preset");
   app.add_option("--scans", scans, "scans per mission (default: the preset's)")->check(CLI::Range(1, 100000))->default_str("preset");
   app.add_option("--sensor", sensor,
                  "os0-128, xt32, vlp16, os1-64, hdl32, the non-repetitive mid360 or avia, or tls (a terrestrial "
@@ -122,6 +123,12 @@ int main(int argc, char** argv) {
                  "each mission's map frame tilted by this many degrees in a random direction (a SLAM run started "
                  "on a slope, a handheld scanner); 0 = level, as the presets")
       ->check(CLI::Range(0.0, 45.0));
+  int people = -1;
+  app.add_option("--people", people,
+                 "people walking through each mission, back and forth along the route, labelled as no object "
+                 "(default: the preset's, 1 to 3)")
+      ->check(CLI::Range(0, 50))
+      ->default_str("preset");
   std::string scene_furniture;
   app.add_option("--furniture", scene_furniture,
                  "also place Sweet Home 3D furniture from this folder, about a third of the objects "
@@ -170,7 +177,7 @@ int main(int argc, char** argv) {
       std::cerr << "lista-sim: --preset and --out are required (or use the 'views' subcommand); see --help\n";
       return 2;
     }
-    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt);
+    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt, people);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;

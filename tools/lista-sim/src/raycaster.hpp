@@ -27,7 +27,7 @@ class RayScene {
 
   void add(const TriMesh& mesh, const Eigen::Isometry3f& pose, uint32_t label, float reflectivity);
   void commit();
-  bool empty() const { return triangles_.empty(); }
+  bool empty() const { return labels_.empty(); }  // triangles_ is cleared by commit()
   Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tmin,
                 float tmax) const;
 

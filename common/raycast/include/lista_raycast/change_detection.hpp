@@ -22,6 +22,10 @@ class OccupancyReader {
   virtual ~OccupancyReader() = default;
   // False if the voxel was never observed; else its log-odds in `out`.
   virtual bool logodds(const Voxel& v, float& out) = 0;
+  // True if the mission's own scans saw the voxel free at least as often as
+  // occupied: something stood there for part of the mission only (dynamic
+  // evidence). False where the backend keeps no counts and cannot tell.
+  virtual bool seen_free(const Voxel&) { return false; }
 };
 
 class OccupancyMap {
@@ -41,6 +45,7 @@ struct MapStats {
 
 struct ChangeStats {
   std::vector<uint64_t> changed_points, changed_voxels;  // per mission
+  std::vector<uint64_t> seen_free_points;                // of the changed points, per mission
 };
 
 // Throws lista::Error unless there are >= 2 missions, each with scans.
@@ -68,7 +73,9 @@ PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfi
 // other mission must have observed the voxel) and no voxel within
 // `neighbourhood` of it is occupied in the other mission. Output: one set per
 // mission, common frame, original points with their provenance and channels,
-// in scan then file order (deterministic for any thread count).
+// in scan then file order (deterministic for any thread count). A changed
+// point whose voxel its own mission also saw free (OccupancyReader::
+// seen_free) carries seen_free_in_own_mission besides its neighbour bits.
 MissionPoints detect_changes(const MissionSet& missions,
                              const std::vector<const OccupancyMap*>& maps,
                              const VolumetricConfig& config, int threads,
