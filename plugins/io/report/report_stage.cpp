@@ -94,7 +94,7 @@ class ReportStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "io.report";
-  s.version = "1.2.0";
+  s.version = "1.3.0";
   s.summary = "writes report.json and changes/<mission>.pcd (data contract, section 2)";
   s.doc =
       "Writes the change report: report.json (format, missions, alignment = each mission's to_common, "

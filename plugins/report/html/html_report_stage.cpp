@@ -58,7 +58,7 @@ class HtmlReportStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "report.html";
-  s.version = "1.0.0";
+  s.version = "1.1.0";
   s.summary = "Self-contained HTML change report with top-down maps, match matrix and descriptor plot";
   s.doc =
       "Writes <out>/report.html: per consecutive mission pair a top-down change map (static map in grey, "

@@ -23,7 +23,7 @@ class RegionGrowingStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.region-growing";
-    i.version = "1.0.0";
+    i.version = "1.1.0";
     i.summary = "PCL region growing with normals: splits clusters that touch";
     i.doc =
         "Estimates normals (pcl::NormalEstimationOMP, k = normal_neighbours) and grows regions "
@@ -34,7 +34,8 @@ class RegionGrowingStage : public Stage {
         "wall) come apart where Euclidean clustering joins them; the price is that a strongly "
         "faceted object can split into faces, so keep `smoothness` above the angle between "
         "k-neighbour normals across a rounded edge. Points in regions outside [min_points, "
-        "max_points] are dropped. Missions run in parallel.";
+        "max_points] are dropped; regions mostly seen free in their own mission are dynamics, not "
+        "objects. Missions run in parallel. docs/segmentation.md.";
     i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
     i.outputs = {{"objects", "objects", "one object per region per mission"}};
     i.params = {

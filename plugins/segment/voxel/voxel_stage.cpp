@@ -24,7 +24,7 @@ class VoxelSegmentStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.voxel";
-    i.version = "1.0.0";
+    i.version = "1.1.0";
     i.summary = "Connected components of the change over a voxel grid (union-find)";
     i.doc =
         "Cuts each mission's change points into objects. connectivity = \"voxel\": occupied voxels "
@@ -32,7 +32,8 @@ class VoxelSegmentStage : public Stage {
         "than `tolerance` share a cluster and no join spans more than 2*sqrt(3)*tolerance. "
         "connectivity = \"exact\": points are joined when within `tolerance`, the same clusters "
         "as segment.euclidean at that tolerance; the grid only limits the neighbour search. "
-        "Clusters outside [min_points, max_points] are dropped. Missions run in parallel.";
+        "Clusters outside [min_points, max_points] are dropped; clusters mostly seen free in their own "
+        "mission are dynamics, not objects. Missions run in parallel. docs/segmentation.md.";
     i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
     i.outputs = {{"objects", "objects", "one object per cluster per mission"}};
     i.params = {

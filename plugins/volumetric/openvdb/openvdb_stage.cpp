@@ -14,7 +14,7 @@ namespace {
 StageInfo openvdb_info() {
   StageInfo info;
   info.name = "volumetric.openvdb";
-  info.version = "1.1.0";
+  info.version = "1.2.0";
   info.summary = "Volumetric change by ray-cast occupancy grids (OpenVDB), differenced between consecutive missions";
   info.doc =
       "Builds one occupancy map per mission by casting every beam from its sensor origin "
@@ -23,7 +23,8 @@ StageInfo openvdb_info() {
       "Voxels never observed in the other mission are unknown, never changed; two missions of one scan "
       "each take one hit against one miss as change unless change_threshold is given. Same semantics and "
       "parameters as volumetric.octomap; this backend casts each scan into bit masks of its own and adds "
-      "them into one OpenVDB grid of hit and miss counters per mission, for throughput. docs/volumetric.md.";
+      "them into one OpenVDB grid of hit and miss counters per mission, for throughput. A changed point its own "
+      "mission also saw free is marked as dynamic evidence (someone walking by; \"Dynamics\"). docs/volumetric.md.";
   info.inputs = {{"missions", "missions", "aligned missions (scans, poses, to_common)", false}};
   info.outputs = {{"changes", "points", "changed original points per mission, common frame", false}};
   info.params = raycast::volumetric_params();
