@@ -87,6 +87,9 @@ TEST(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_EQ(lista_run("ok.toml -j 0").code, 2);
+  const auto big = lista_run(dir.write("seed.toml", good_pipeline) + " --seed 99999999999999999999");
+  EXPECT_EQ(big.code, 2);
+  EXPECT_NE(big.err.find("--seed: is too large"), std::string::npos) << big.err;
 }
 
 TEST(Cli, ValidatePrintsJsonVerdict) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <tuple>
 
 using namespace lista::core;
@@ -144,6 +145,7 @@ TEST(Pipeline, CycleIsNamed) {
 TEST(Pipeline, PipelineSettingsAreChecked) {
   expect_one_error("[pipeline]\nseed = \"x\"\n" + source, 2, "seed must be an integer");
   expect_one_error("[pipeline]\nthreads = 0\n" + source, 2, "threads must be in");
+  expect_one_error("[pipeline]\nseed = 99999999999999999999\n" + source, 2, "seed is too large");
   expect_one_error("[pipeline]\nnmae = \"x\"\n" + source, 2, "unknown key 'nmae'");
   expect_one_error(source + "[other]\n", 3, "unknown top-level key");
   expect_one_error("stages = 3\n", 1, "stages must be tables");
@@ -194,6 +196,43 @@ TEST(Pipeline, SyntaxErrorHasLineAndColumn) {
     EXPECT_EQ(e.location().column, 8) << "the second =";
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line: " << e.what();
   }
+}
+
+// Thousands of nested arrays or inline tables overflowed toml11's recursion
+// (SIGSEGV); brackets in strings and comments do not count, and a folder
+// is no pipeline.
+TEST(Pipeline, DeepNestingIsRefusedBeforeTheParserRecurses) {
+  auto error_of = [](const std::string& text) -> std::string {
+    Diagnostics d;
+    try {
+      parse_pipeline_text(text, "p.toml", d);
+    } catch (const lista::Error& e) {
+      return std::to_string(e.location().line) + ":" + std::to_string(e.location().column) + " " + e.what();
+    }
+    return "";
+  };
+  const std::string arrays =
+      "[pipeline]\nname = \"x\"\nseed = " + std::string(7000, '[') + std::string(7000, ']') + "\n";
+  EXPECT_NE(error_of(arrays).find("3:72 "), std::string::npos) << error_of(arrays);
+  EXPECT_NE(error_of(arrays).find("nested more than 64 deep"), std::string::npos);
+  std::string tables = "x = ";
+  for (int i = 0; i < 10000; ++i) tables += "{a = ";
+  tables += "1" + std::string(10000, '}');
+  EXPECT_NE(error_of(tables).find("nested more than 64 deep"), std::string::npos);
+  // 64 levels pass the check, and brackets inside strings, multi-line
+  // strings and comments are text.
+  const std::string quoted = source + "s = \"" + std::string(100, '[') + "\"\nt = '''\n" + std::string(100, '{') +
+                             "\n'''\n# " + std::string(100, '[') + "\nu = " + std::string(64, '[') +
+                             std::string(64, ']') + "\n";
+  EXPECT_EQ(error_of(quoted).find("nested"), std::string::npos) << error_of(quoted);
+  try {
+    parse_override("src.count=" + std::string(5000, '[') + std::string(5000, ']'));
+    ADD_FAILURE() << "a deep --set value was accepted";
+  } catch (const lista::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--set src.count"), std::string::npos) << e.what();
+  }
+  Diagnostics d;
+  EXPECT_THROW(parse_pipeline_file(std::filesystem::temp_directory_path().string(), d), lista::Error);
 }
 
 TEST(Overrides, ParsedAsTomlOrBareString) {

@@ -249,7 +249,12 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096));
   app.add_option("--seed", o.seed, "random seed (overrides [pipeline].seed)")
       ->check(CLI::Validator(
-          [](std::string& v) { return !v.empty() && v[0] != '-' ? std::string() : "must be >= 0, got " + v; },
+          [](std::string& v) {
+            if (v.empty() || v[0] == '-') return "must be >= 0, got " + v;
+            errno = 0;
+            std::strtoll(v.c_str(), nullptr, 10);
+            return errno == ERANGE ? "is too large (at most 9223372036854775807), got " + v : std::string();
+          },
           "SEED >= 0"));
   app.add_flag("-q,--quiet", o.quiet, "warnings and errors only: no progress, no info lines");
   app.add_flag("-v,--verbose", o.verbose, "also debug messages");

@@ -46,7 +46,10 @@ std::vector<PoseRecord> read_poses(const std::string& path) {
     double v[12];
     for (int k = 0; k < n; ++k)
       if (!detail::parse_double(tok[k], v[k]) || !std::isfinite(v[k]))
-        throw fail("field " + std::to_string(k + 1) + " '" + tok[k] + "' is not a finite number");
+        throw fail("field " + std::to_string(k + 1) + " '" + tok[k] + "' is not a finite number" +
+                   (tok[k].find(',') != std::string::npos ? "; fields are separated by spaces, not commas"
+                    : tok[k].find_first_of("xX") != std::string::npos ? " (decimal numbers only)"
+                                                                        : ""));
     PoseRecord rec;
     Eigen::Matrix3d R;
     Eigen::Vector3d t;

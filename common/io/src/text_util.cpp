@@ -47,6 +47,9 @@ std::vector<std::string> split_ws(const std::string& line) {
 
 bool parse_double(const std::string& s, double& out) {
   if (s.empty()) return false;
+  // strtod also reads hexadecimal ("0x10" as 16): no scan or pose file means that.
+  const size_t digits = s[0] == '+' || s[0] == '-' ? 1 : 0;
+  if (s.size() > digits + 1 && s[digits] == '0' && (s[digits + 1] == 'x' || s[digits + 1] == 'X')) return false;
   char* end = nullptr;
   out = std::strtod(s.c_str(), &end);
   return end == s.c_str() + s.size();

@@ -9,7 +9,8 @@ namespace lista::io::detail {
 // The whole file; throws lista::Error "path: cannot read (...)".
 std::string read_whole_file(const std::string& path);
 std::vector<std::string> split_ws(const std::string& line);
-// Strict: the whole token must be a number (nan/inf accepted for doubles).
+// Strict: the whole token must be a decimal number (nan/inf accepted for
+// doubles; hexadecimal refused).
 bool parse_double(const std::string& s, double& out);
 bool parse_int(const std::string& s, long long& out);
 // Bytes outside printable ASCII as \xHH, so an error message quoting file

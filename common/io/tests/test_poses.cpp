@@ -61,6 +61,10 @@ TEST(Poses, MalformedLinesNameFileAndLine) {
   expect_error([&] { read_poses((dir / "f.txt").string()); }, "f.txt:1: rotation is a reflection (det R = -1)");
   write_text(dir / "g.txt", "1,0,0,0,0,0,0,1\n");
   expect_error([&] { read_poses((dir / "g.txt").string()); }, "got 1; fields are separated by spaces, not commas");
+  write_text(dir / "g2.txt", "1, 0, 0, 0, 0, 0, 0, 1\n");
+  expect_error([&] { read_poses((dir / "g2.txt").string()); }, "'1,' is not a finite number; fields are separated by spaces");
+  write_text(dir / "x.txt", "1 0x10 0 0 0 0 0 1\n");  // strtod would read 16
+  expect_error([&] { read_poses((dir / "x.txt").string()); }, "x.txt:1: field 2 '0x10' is not a finite number (decimal");
   expect_error([&] { read_poses((dir / "none.txt").string()); }, "none.txt: cannot read");
   write_text(dir / "h.txt", "1 500000 5500000 300 0 0 0 1\n2 1e20 0 0 0 0 0 1\n");  // UTM fine, 1e20 not
   expect_error([&] { read_poses((dir / "h.txt").string()); }, "h.txt:2: position (1e20, 0, 0) lies more than 1e8 m");

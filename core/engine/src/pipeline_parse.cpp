@@ -3,6 +3,8 @@
 #include <lista_core/pipeline.hpp>
 #include <lista_core/text.hpp>
 
+#include "toml_nesting.hpp"
+
 #include <toml.hpp>
 
 #include <algorithm>
@@ -189,7 +191,10 @@ void parse_settings(const toml::value& table, PipelineSpec& spec, Diagnostics& d
       if (need(v.is_string(), "a string")) spec.output = v.as_string();
     } else if (key == "seed") {
       if (need(v.is_integer(), "an integer")) {
-        if (v.as_integer() < 0) d.error(at, "", "[pipeline] seed must be >= 0");
+        // toml11 reads an integer too large for 64 bits as the largest one.
+        if (v.as_integer() == std::numeric_limits<std::int64_t>::max())
+          d.error(at, "", "[pipeline] seed is too large (at most 9223372036854775806)");
+        else if (v.as_integer() < 0) d.error(at, "", "[pipeline] seed must be >= 0");
         else spec.seed = static_cast<uint64_t>(v.as_integer());
       }
     } else if (key == "threads") {
@@ -302,7 +307,13 @@ PipelineSpec from_toml(const toml::value& root, const std::string& file, Diagnos
   return spec;
 }
 
-PipelineSpec parse_stream(std::istream& in, const std::string& file, Diagnostics& d) {
+PipelineSpec parse_stream(std::istream& raw, const std::string& file, Diagnostics& d) {
+  std::ostringstream buffer;
+  buffer << raw.rdbuf();
+  if (raw.bad()) throw Error("cannot read pipeline file '" + file + "'");
+  const std::string text = buffer.str();
+  check_toml_nesting(text, file);
+  std::istringstream in(text);
   toml::value root;
   try {
     root = toml::parse(in, file);
@@ -329,6 +340,9 @@ const StageSpec* PipelineSpec::find(const std::string& id) const {
 }
 
 PipelineSpec parse_pipeline_file(const std::string& path, Diagnostics& diagnostics) {
+  std::error_code folder_ec;
+  if (std::filesystem::is_directory(path, folder_ec))
+    throw Error("'" + path + "' is a folder, not a pipeline file: give the .toml (e.g. pipelines/lista.toml)");
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     // A misspelt file name: suggest the nearest .toml beside where it was looked for.
@@ -375,6 +389,7 @@ Override parse_override(const std::string& argument) {
   // own (--set 'a.b=1\n[stages.x]...'), which were silently dropped.
   if (text.find_first_of("\n\r") != std::string::npos)
     throw Error("--set '" + o.stage + "." + o.param + "=...': the value spans lines; give one TOML value on one line");
+  check_toml_nesting(text, "--set " + o.stage + "." + o.param);
   try {
     std::istringstream in("v = " + text);
     const toml::value root = toml::parse(in, "--set");
