@@ -207,6 +207,11 @@ void map_binary(const std::string& path, const uint8_t* payload, size_t payload_
   if (payload_size < n * stride)
     throw Error(path + ": truncated binary data (" + std::to_string(payload_size) + " bytes, need " +
                 std::to_string(n * stride) + ")");
+  // Rows past POINTS mean a wrong header, as in ascii; one closing newline is no row.
+  const size_t extra = payload_size - n * stride;
+  if (extra > 0 && !(extra == 1 && payload[n * stride] == '\n'))
+    throw Error(path + ": " + std::to_string(extra) + " bytes of binary data after the " + std::to_string(n) +
+                " points POINTS says (" + std::to_string(stride) + " bytes each): is POINTS or a SIZE wrong?");
   for (size_t f = 0; f < d.fields.size(); ++f) {
     d.base[f] = payload + d.fields[f].offset;
     d.step[f] = stride;

@@ -190,6 +190,16 @@ void read_ascii_vertices(const std::string& path, const std::string& bytes, cons
       if (!parse_double(tok[k], vals[k])) throw fail("'" + tok[k] + "' is not a number");
     emit(i++);
   }
+  // Rows past the count mean a wrong header, unless other elements follow.
+  if (vi + 1 < elements.size()) return;
+  while (pos < bytes.size()) {
+    size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) eol = bytes.size();
+    ++line_no;
+    if (!split_ws(bytes.substr(pos, eol - pos)).empty())
+      throw fail("more data rows than 'element vertex " + std::to_string(v.count) + "'");
+    pos = eol + 1;
+  }
 }
 
 // binary: fixed-size rows; the elements before vertex skipped (they may not
@@ -220,6 +230,11 @@ void read_binary_vertices(const std::string& path, const std::string& bytes, con
   if (offset > bytes.size() || bytes.size() - offset < row * v.count)
     throw Error(path + ": truncated binary PLY data");
   const uint8_t* base = reinterpret_cast<const uint8_t*>(bytes.data()) + offset;
+  // Bytes past the last element mean a wrong count; one closing newline is no row.
+  const size_t extra = bytes.size() - offset - row * v.count;
+  if (vi + 1 == elements.size() && extra > 0 && !(extra == 1 && bytes.back() == '\n'))
+    throw Error(path + ": " + std::to_string(extra) + " bytes of binary data after the " + std::to_string(v.count) +
+                " vertices 'element vertex' says: is the count wrong?");
   for (size_t i = 0; i < v.count; ++i) {
     for (size_t k = 0; k < v.props.size(); ++k) vals[k] = load(base + i * row + at[k], v.props[k], swap);
     emit(i);

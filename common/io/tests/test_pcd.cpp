@@ -190,6 +190,8 @@ TEST(PcdRead, MalformedFilesNameFileAndLine) {
   expect_error([&] { read_scan((dir / "noxyz.pcd").string()); }, "lacks one of the fields x, y, z");
   write_text(dir / "trunc.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 2\nDATA binary\n12345678");
   expect_error([&] { read_scan((dir / "trunc.pcd").string()); }, "truncated binary data");
+  write_text(dir / "extra.pcd", "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA binary\n123456789012more");
+  expect_error([&] { read_scan((dir / "extra.pcd").string()); }, "4 bytes of binary data after the 1 points");
   static const char lzf_bad[] = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA binary_compressed\n"
                                 "\x05\0\0\0\x0c\0\0\0\x40\x01\x02\x03\x04";
   write_text(dir / "lzf.pcd", std::string(lzf_bad, sizeof lzf_bad - 1));

@@ -110,6 +110,16 @@ TEST(Ply, MalformedFiles) {
   write_text(dir / "g.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
                             "property float y\nproperty float z\nend_header\n1234");
   expect_error([&] { read_scan((dir / "g.ply").string()); }, "truncated binary PLY");
+  // More rows than the count (vertex the last element) is a wrong header, as in PCD.
+  write_text(dir / "h.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                            "property float z\nend_header\n1 2 3\n4 5 6\n\n");
+  expect_error([&] { read_scan((dir / "h.ply").string()); }, "h.ply:9: more data rows than 'element vertex 1'");
+  write_text(dir / "i.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n"
+                            "property float y\nproperty float z\nend_header\n123456789012EXTRA");
+  expect_error([&] { read_scan((dir / "i.ply").string()); }, "5 bytes of binary data after the 1 vertices");
+  write_text(dir / "j.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n"
+                            "property float y\nproperty float z\nend_header\n123456789012\n");
+  EXPECT_EQ(read_scan((dir / "j.ply").string()).points.size(), 1u) << "a closing newline is no row";
 }
 
 TEST(KittiBin, ReadsFloatQuadruplesAndCountsNonFinite) {
