@@ -90,7 +90,7 @@ struct Reader {
     const std::string text = detail::read_whole_file(path);
     try {
       return json::parse(text);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers like 1e999
       throw Error(path + ": invalid JSON (" + std::string(e.what()) + ")");
     }
   }
@@ -208,7 +208,8 @@ Report read_report(const std::string& path) {
     if (o.confidence < 0 || o.confidence > 1) rd.fail(w + ".confidence", "must be in [0, 1]");
     const json& match = rd.field(j, w, "match");
     o.match = match.is_null() ? -1 : rd.integer(match, w + ".match");
-    if (j.contains("transform")) o.transform = rd.rigid(j["transform"], w + ".transform");
+    // The contract gives transforms for moved objects; null elsewhere is the same as none.
+    if (j.contains("transform") && !j["transform"].is_null()) o.transform = rd.rigid(j["transform"], w + ".transform");
     if (o.status == "moved" && !o.transform) rd.fail(w, "moved object has no 'transform'");
     if (j.contains("alternative_transforms")) {
       const json& alts = j["alternative_transforms"];

@@ -117,6 +117,15 @@ TEST(ReportJson, StrictReadingNamesFileAndField) {
   broken([](auto& j) { j["objects"][1]["id"] = 3; }, "duplicate id 3");
   write_text(dir / "text.json", "{ not json");
   expect_error([&] { read_report((dir / "text.json").string()); }, "invalid JSON");
+  write_text(dir / "huge.json", "{\"format\": 1e999}");  // nlohmann's out_of_range, not a parse_error
+  expect_error([&] { read_report((dir / "huge.json").string()); }, "huge.json: invalid JSON");
+  // A transform of null on an object that is not moved is no transform.
+  auto with_null = good;
+  for (auto& o : with_null["objects"])
+    if (o["status"] != "moved") o["transform"] = nullptr;
+  write_text(dir / "null.json", with_null.dump());
+  const Report r = read_report((dir / "null.json").string());
+  for (const auto& o : r.objects) EXPECT_EQ(o.transform.has_value(), o.status == "moved");
   expect_error([&] { read_report((dir / "none.json").string()); }, "none.json: cannot read");
 }
 
