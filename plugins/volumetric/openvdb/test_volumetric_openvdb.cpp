@@ -16,6 +16,8 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <fstream>
+#include <sys/resource.h>
 
 using namespace lista;
 
@@ -356,4 +358,47 @@ TEST(VolumetricOpenVdb, AThinPoleSeenThroughBesideItIsNotDynamic) {
     if (ch.sets[0].label[i] == 3) ++pole, flagged += (ch.sets[0].changed_against[i] & seen_free_in_own_mission) != 0;
   ASSERT_GT(pole, 5u) << "the pole is change against B";
   EXPECT_EQ(flagged, 0u);
+}
+
+namespace {
+
+// In a child whose address space is capped 1 GiB above what it uses: a map
+// at the finest documented resolution with one beam 10 000 km long; exits
+// 3 with the stage's error on stderr, 0 if there was none.
+[[noreturn]] void build_too_big_a_map() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  rlim_t used = 0;
+  while (std::getline(status, line))
+    if (line.rfind("VmSize:", 0) == 0) used = rlim_t(std::stoull(line.substr(7))) * 1024;
+  const rlimit cap{used + (rlim_t(1) << 30), used + (rlim_t(1) << 30)};
+  setrlimit(RLIMIT_AS, &cap);
+  Params fine = defaults();
+  fine.set("resolution", 0.005);
+  fine.set("max_range", 0.0);
+  MissionSet far = scene();
+  auto pts = std::make_shared<PointSet>(*far.missions[0].scans[0].points);
+  pts->xyz.push_back(Eigen::Vector3f(1e7f, 0, 0));
+  pts->label.push_back(0);
+  pts->scan.push_back(0);
+  pts->index.push_back(uint32_t(pts->index.size()));
+  far.missions[0].scans[0].points = pts;
+  try {
+    run_stage(volumetric::make_volumetric_openvdb(fine), far, 2);
+  } catch (const Error& e) {
+    std::cerr << e.what() << "\n";
+    std::_Exit(3);
+  }
+  std::_Exit(0);
+}
+
+}  // namespace
+
+// A map that would outgrow the memory stops with an error that says what
+// to change, not with std::bad_alloc and std::terminate from inside OpenVDB.
+TEST(VolumetricOpenVdbDeathTest, AMapOutgrowingTheMemoryIsAClearError) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(build_too_big_a_map(), ::testing::ExitedWithCode(3),
+              "mission 'A': its occupancy map outgrows the .* GiB of memory free at resolution 0.005 m \\(its "
+              "farthest return is 10000000 m from the sensor");
 }

@@ -32,13 +32,16 @@
 #include "vdb_counts.hpp"
 
 #include <lista_raycast/dda.hpp>
+#include <lista_raycast/memory_budget.hpp>
 
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cstdio>
 #include <mutex>
 #include <thread>
+#include <type_traits>
 
 namespace lista::volumetric {
 
@@ -47,6 +50,23 @@ namespace {
 using namespace lista::raycast;
 using CountLeaf = openvdb::Int32Tree::LeafNodeType;
 using MaskLeaf = openvdb::MaskTree::LeafNodeType;
+
+// Bytes a tree grows by when a leaf is added at `origin`: the leaf, and the
+// two levels of internal nodes above it where they are new too (where
+// beams run far apart, those dominate: a level-1 node holds 4096 slots).
+template <class Accessor>
+uint64_t new_leaf_bytes(const Accessor& acc, const openvdb::Coord& origin) {
+  using Root = typename Accessor::TreeType::RootNodeType;
+  using Upper = typename Root::ChildNodeType;
+  using Lower = typename Upper::ChildNodeType;
+  using Leaf = typename Lower::ChildNodeType;
+  using Value = typename Leaf::ValueType;
+  // A leaf of values keeps them in a buffer of its own; a mask leaf inline.
+  uint64_t bytes = sizeof(Leaf) + (std::is_same_v<Value, openvdb::ValueMask> ? 0 : Leaf::SIZE * sizeof(Value));
+  if (!acc.template probeConstNode<Lower>(origin)) bytes += sizeof(Lower);
+  if (!acc.template probeConstNode<Upper>(origin)) bytes += sizeof(Upper);
+  return bytes;
+}
 
 // A beam stops after this many consecutive voxels its scan already marked
 // free. Measured on the synthetic test scene: 1 -> 0.72 agreement with
@@ -59,6 +79,8 @@ constexpr int kStopRun = 8;
 class ScanMask {
  public:
   ScanMask() : acc_(grid_.getAccessor()) {}
+  // Every leaf the mask adds is charged to `budget` until clear().
+  void charge_to(MemoryBudget* budget) { budget_ = budget; }
 
   // Marks `v`; returns false when it was already marked.
   inline bool mark(const Voxel& v) {
@@ -78,6 +100,11 @@ class ScanMask {
     acc_.clear();
     grid_.tree().clear();
     ox_ = kNoLeaf;
+    if (budget_) budget_->release(charged_);
+    charged_ = 0;
+  }
+  ~ScanMask() {
+    if (budget_) budget_->release(charged_);
   }
 
   const openvdb::MaskTree& tree() const { return grid_.tree(); }
@@ -87,13 +114,22 @@ class ScanMask {
   static constexpr int kNoLeaf = 1;  // no leaf origin is odd
 
   __attribute__((noinline)) void switch_leaf(int ox, int oy, int oz) {
-    MaskLeaf* leaf = acc_.touchLeaf(openvdb::Coord(ox, oy, oz));
+    const openvdb::Coord origin(ox, oy, oz);
+    MaskLeaf* leaf = acc_.probeLeaf(origin);
+    if (!leaf) {
+      const uint64_t bytes = new_leaf_bytes(acc_, origin);
+      if (budget_) budget_->charge(bytes);
+      charged_ += bytes;
+      leaf = acc_.touchLeaf(origin);
+    }
     words_ = &leaf->getValueMask().template getWord<uint64_t>(0);
     ox_ = ox, oy_ = oy, oz_ = oz;
   }
 
   openvdb::MaskGrid grid_;
   openvdb::MaskGrid::Accessor acc_;
+  MemoryBudget* budget_ = nullptr;
+  uint64_t charged_ = 0;
   uint64_t* words_ = nullptr;
   int ox_ = kNoLeaf, oy_ = kNoLeaf, oz_ = kNoLeaf;
 };
@@ -102,10 +138,19 @@ class ScanMask {
 // per voxel, the scans that both hit it and saw through it (a bar, a leg,
 // an edge filling part of the voxel): only hit voxels have one.
 struct SharedCounts {
+  explicit SharedCounts(MemoryBudget& b) : budget(b) {}
   openvdb::Int32Grid::Ptr grid = openvdb::Int32Grid::create(0);
   openvdb::Int32Grid::Ptr partly = openvdb::Int32Grid::create(0);
+  MemoryBudget& budget;
   std::mutex mutex;
 };
+
+// The counter leaf at `origin`, created (and charged to `budget`) if new.
+CountLeaf* counter_leaf(openvdb::Int32Grid::Accessor& acc, const openvdb::Coord& origin, MemoryBudget& budget) {
+  if (CountLeaf* d = acc.probeLeaf(origin)) return d;
+  budget.charge(new_leaf_bytes(acc, origin));
+  return acc.touchLeaf(origin);
+}
 
 struct ThreadWork {
   ScanMask hits, free;
@@ -117,13 +162,13 @@ struct ThreadWork {
 // Adds one hit (`hit`) or one miss to the counters of every voxel set in
 // `mask` and not in `except` (may be null), activating it.
 void add_mask(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& mask, const openvdb::MaskTree* except,
-              bool hit) {
+              bool hit, MemoryBudget& budget) {
   for (auto leaf = mask.cbeginLeaf(); leaf; ++leaf) {
     openvdb::util::NodeMask<3> bits = leaf->getValueMask();
     if (except)
       if (const MaskLeaf* ex = except->probeConstLeaf(leaf->origin())) bits -= ex->getValueMask();
     if (bits.isOff()) continue;
-    CountLeaf* d = acc.touchLeaf(leaf->origin());
+    CountLeaf* d = counter_leaf(acc, leaf->origin(), budget);
     int32_t* data = d->buffer().data();
     for (auto it = bits.beginOn(); it; ++it) data[it.pos()] = counts::add(data[it.pos()], hit, !hit);
     d->getValueMask() |= bits;
@@ -131,14 +176,15 @@ void add_mask(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& mask, 
 }
 
 // Adds one to `acc`'s value of every voxel set in both `a` and `b`.
-void add_both(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& a, const openvdb::MaskTree& b) {
+void add_both(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& a, const openvdb::MaskTree& b,
+              MemoryBudget& budget) {
   for (auto leaf = a.cbeginLeaf(); leaf; ++leaf) {
     const MaskLeaf* other = b.probeConstLeaf(leaf->origin());
     if (!other) continue;
     openvdb::util::NodeMask<3> bits = leaf->getValueMask();
     bits &= other->getValueMask();
     if (bits.isOff()) continue;
-    CountLeaf* d = acc.touchLeaf(leaf->origin());
+    CountLeaf* d = counter_leaf(acc, leaf->origin(), budget);
     int32_t* data = d->buffer().data();
     for (auto it = bits.beginOn(); it; ++it) ++data[it.pos()];
     d->getValueMask() |= bits;
@@ -176,10 +222,10 @@ void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, Thre
   {
     std::lock_guard<std::mutex> lock(shared.mutex);
     auto acc = shared.grid->getAccessor();
-    add_mask(acc, work.hits.tree(), nullptr, true);
-    add_mask(acc, work.free.tree(), &work.hits.tree(), false);
+    add_mask(acc, work.hits.tree(), nullptr, true, shared.budget);
+    add_mask(acc, work.free.tree(), &work.hits.tree(), false, shared.budget);
     auto partly = shared.partly->getAccessor();
-    add_both(partly, work.hits.tree(), work.free.tree());
+    add_both(partly, work.hits.tree(), work.free.tree(), shared.budget);
   }
   work.hits.clear();
   work.free.clear();
@@ -243,20 +289,40 @@ std::unique_ptr<OccupancyMap> build_vdb_map(const Mission& mission, const Volume
   static std::once_flag init;
   std::call_once(init, [] { openvdb::initialize(); });
   const int n_threads = std::max(1, std::min<int>(threads, static_cast<int>(mission.scans.size())));
+  // Three quarters of what is free now: the previous mission's map, the
+  // points and the change decision need the rest.
+  MemoryBudget budget(memory_available_bytes() / 4 * 3, [&](uint64_t limit) {
+    double farthest = 0;
+    for (size_t i = 0; i < mission.scans.size(); ++i)
+      for (const auto& p : mission.scans[i].points->xyz) farthest = std::max(farthest, double(p.norm()));
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "mission '%s': its occupancy map outgrows the %.1f GiB of memory free at resolution %g m (its "
+                  "farthest return is %.0f m from the sensor, max_range %g m); set a coarser resolution or a "
+                  "smaller max_range",
+                  mission.name.c_str(), double(limit) / double(1ull << 30), c.resolution, farthest, c.max_range);
+    return std::string(text);
+  });
   std::vector<ThreadWork> work(n_threads);
-  SharedCounts shared;
+  for (auto& w : work) {
+    w.hits.charge_to(&budget);
+    w.free.charge_to(&budget);
+  }
+  SharedCounts shared(budget);
   std::atomic<size_t> next{0};
+  std::atomic<bool> failed{false};
   std::exception_ptr failure;
   std::mutex failure_mutex;
   auto worker = [&](int t) {
     try {
-      for (size_t i; (i = next.fetch_add(1)) < mission.scans.size();) {
+      for (size_t i; !failed && (i = next.fetch_add(1)) < mission.scans.size();) {
         cast_scan(mission, i, c, work[t], shared);
         if (progress) progress->advance(1);
       }
     } catch (...) {
       std::lock_guard<std::mutex> lock(failure_mutex);
       failure = std::current_exception();
+      failed = true;
     }
   };
   std::vector<std::thread> pool;
