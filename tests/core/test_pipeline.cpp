@@ -147,6 +147,11 @@ TEST(Pipeline, PipelineSettingsAreChecked) {
   expect_one_error("[pipeline]\nthreads = 0\n" + source, 2, "threads must be in");
   expect_one_error("[pipeline]\nseed = 99999999999999999999\n" + source, 2, "seed is too large");
   expect_one_error("[pipeline]\nnmae = \"x\"\n" + source, 2, "unknown key 'nmae'");
+  // A 1 MB key is quoted, not echoed whole.
+  const auto huge = errors_of("[pipeline]\n" + std::string(1 << 20, 'k') + " = 1\n" + source);
+  ASSERT_EQ(huge.size(), 1u);
+  EXPECT_LT(huge[0].str().size(), 600u);
+  EXPECT_NE(huge[0].message.find("characters, cut)"), std::string::npos) << huge[0].message.substr(0, 100);
   expect_one_error(source + "[other]\n", 3, "unknown top-level key");
   expect_one_error("stages = 3\n", 1, "stages must be tables");
   expect_one_error("[stages.\"a.b\"]\nplugin = \"test.source\"\n", 1, "no dots");

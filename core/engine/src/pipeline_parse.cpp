@@ -439,6 +439,15 @@ Override parse_override(const std::string& argument) {
   return o;
 }
 
+std::string shortened(std::string text, size_t most) {
+  if (text.size() <= most) return text;
+  const size_t total = text.size();
+  text.resize(most);
+  while (!text.empty() && (static_cast<unsigned char>(text.back()) & 0xC0) == 0x80) text.pop_back();  // whole UTF-8
+  if (!text.empty() && static_cast<unsigned char>(text.back()) >= 0xC0) text.pop_back();
+  return text + "... (" + std::to_string(total) + " characters, cut)";
+}
+
 std::string Diagnostic::str() const {
   std::string s;
   if (where.known()) s += where.str() + ": ";
