@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One entry point for a fresh Debian 12 machine:
 #   ./setup.sh demo   install what is missing, build, generate the demo dataset, run pipelines/demo.toml
-#   ./setup.sh test   install what is missing, build, run every test suite
+#   ./setup.sh test   install what is missing, build, run every test suite and
+#                     the sanitizer job (fuzz/run.sh: the readers fuzzed under ASan/UBSan)
 #   ./setup.sh build  install what is missing and build
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -10,7 +11,7 @@ PACKAGES=(build-essential cmake ninja-build ccache git pkg-config
   libeigen3-dev libboost-dev libboost-filesystem-dev libboost-system-dev
   libtoml11-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libpcl-dev liboctomap-dev libopenvdb-dev libembree-dev libflann-dev
-  libceres-dev libtbb-dev libtorch-dev libstb-dev chromium unzip python3)
+  libceres-dev libtbb-dev libtorch-dev libstb-dev chromium unzip python3 clang)
 BUILD_DIR=${LISTA_BUILD_DIR:-build}
 
 install_missing() {
@@ -35,7 +36,8 @@ case "${1:-}" in
   build) install_missing; build ;;
   test)
     install_missing; build
-    ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)" ;;
+    ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)"
+    bash fuzz/run.sh "${BUILD_DIR}-fuzz" ;;
   demo)
     install_missing; build
     bash scripts/demo.sh "$BUILD_DIR" ;;
