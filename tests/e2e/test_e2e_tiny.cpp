@@ -322,6 +322,11 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
                                   broken.string() + " --out " + fresh.string() + " --threads 1 2>&1");
   EXPECT_EQ(fresh_run.status, 1) << fresh_run.output;
   EXPECT_FALSE(std::filesystem::exists(fresh)) << fresh_run.output;
+  EXPECT_NE(fresh_run.output.find("removed the empty output folder"), std::string::npos) << fresh_run.output;
+  const auto quiet_run = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
+                                  broken.string() + " --out " + fresh.string() + " --threads 1 -q 2>&1");
+  EXPECT_FALSE(std::filesystem::exists(fresh));
+  EXPECT_EQ(quiet_run.output.find("removed the empty output folder"), std::string::npos) << "-q: " << quiet_run.output;
   const std::filesystem::path made = dir_->path() / "made-out";
   std::filesystem::create_directories(made);
   EXPECT_EQ(e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
@@ -336,7 +341,9 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
   const auto kept = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
                              broken.string() + " --out " + out.string() + " --threads 1 2>&1");
   EXPECT_EQ(kept.status, 1) << kept.output;
-  EXPECT_NE(kept.output.find("report.html (not written by LiSTA's report.html stage)"), std::string::npos) << kept.output;
+  const size_t said = kept.output.find("report.html (not written by LiSTA's report.html stage)");
+  EXPECT_NE(said, std::string::npos) << kept.output;
+  EXPECT_EQ(kept.output.find("not written by LiSTA", said + 40), std::string::npos) << "said once: " << kept.output;
   EXPECT_EQ(e2e::read_file(out / "report.html"), own_page);
   // A page from before the generator mark (the stage's default opening) goes.
   std::ofstream(out / "report.html")

@@ -78,7 +78,9 @@ void remove_report(const std::string& out, const char* why, bool quiet) {
     const fs::path file = fs::path(out) / name;
     if (!fs::is_regular_file(file, ec)) continue;
     if (std::string(name) == "report.html" && !written_by_lista(file)) {
-      if (!quiet) std::cerr << "lista-run: kept " << file.string() << " (not written by LiSTA's report.html stage)\n";
+      static bool said = false;  // once a run: at the start and again after a failure says nothing new
+      if (!quiet && !said) std::cerr << "lista-run: kept " << file.string() << " (not written by LiSTA's report.html stage)\n";
+      said = true;
       continue;
     }
     fs::remove(file, ec);
@@ -89,10 +91,10 @@ void remove_report(const std::string& out, const char* why, bool quiet) {
 // A folder this run created holds nothing worth keeping when the run fails
 // before writing into it: it goes, so a failed run leaves no empty result
 // folder behind. One the user made, or one with files in it, stays.
-void remove_if_created_and_empty(const std::string& out, bool created) {
+void remove_if_created_and_empty(const std::string& out, bool created, bool quiet) {
   std::error_code ec;
   if (out.empty() || !created || !fs::is_directory(out, ec) || !fs::is_empty(out, ec) || ec) return;
-  if (fs::remove(out, ec)) std::cerr << "lista-run: removed the empty output folder " << out << "\n";
+  if (fs::remove(out, ec) && !quiet) std::cerr << "lista-run: removed the empty output folder " << out << "\n";
 }
 
 struct Options {
@@ -222,12 +224,12 @@ int run(const Options& o) {
     execute(plan, options);
   } catch (const lista::Cancelled&) {
     remove_report(output_dir, "the run was cancelled", false);
-    remove_if_created_and_empty(output_dir, created_output);
+    remove_if_created_and_empty(output_dir, created_output, o.quiet);
     std::cerr << "lista-run: cancelled\n";
     return exit_cancelled;
   } catch (const std::exception& e) {
     remove_report(output_dir, "the run did not complete", false);
-    remove_if_created_and_empty(output_dir, created_output);
+    remove_if_created_and_empty(output_dir, created_output, o.quiet);
     return fail(e.what());
   }
   return exit_ok;
