@@ -43,9 +43,18 @@ std::vector<std::string> files_in(const fs::path& dir, bool pcd_only, bool listi
     if (!(pcd_only ? p.extension() == ".pcd" : is_scan_file(p))) continue;
     // A folder or a broken link named like a scan is named here, before a
     // count of scans against poses would blame the poses.
-    if (!regular)
-      throw Error(p.string() + (it->is_directory(type_ec) ? ": is a folder, not a scan file"
-                                                           : ": is not a readable scan file (a broken link?)"));
+    if (!regular) {
+      const fs::file_status st = fs::status(p, type_ec);  // follows links
+      const char* what = st.type() == fs::file_type::directory      ? ": is a folder, not a scan file"
+                         : st.type() == fs::file_type::fifo         ? ": is a pipe (FIFO), not a scan file"
+                         : st.type() == fs::file_type::character ||
+                                 st.type() == fs::file_type::block  ? ": is a device, not a scan file"
+                         : st.type() == fs::file_type::socket       ? ": is a socket, not a scan file"
+                         : fs::is_symlink(fs::symlink_status(p, type_ec))
+                             ? ": is a link to nothing readable (a broken link or a loop of links)"
+                             : ": is not a readable scan file";
+      throw Error(p.string() + what);
+    }
     out.push_back(p.string());
   }
   if (ec) throw Error(dir.string() + ": cannot list (" + ec.message() + ")");
@@ -74,9 +83,21 @@ bool is_mission_dir(const fs::path& dir) {
   return !files_in(dir, true, true).empty();  // VIEWPOINT layout
 }
 
+// std::filesystem throws filesystem_error with its own wording ("filesystem
+// error: status: Too many levels of symbolic links [path]"); the readers
+// say it as every other error: the path, then what is wrong.
+template <class F>
+auto with_plain_fs_errors(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const fs::filesystem_error& e) {
+    throw Error(e.path1().string() + ": cannot be read (" + e.code().message() + ")");
+  }
+}
+
 }  // namespace
 
-std::vector<std::string> list_missions(const std::string& dataset_dir) {
+static std::vector<std::string> list_missions_unchecked(const std::string& dataset_dir) {
   const fs::path root(dataset_dir);
   if (!fs::is_directory(root)) throw Error(dataset_dir + ": dataset folder does not exist");
   std::vector<std::string> names;
@@ -138,7 +159,7 @@ double spacing_for(const std::vector<Eigen::Isometry3d>& poses, const DatasetOpt
   return 0.0;
 }
 
-Mission read_mission(const std::string& mission_dir, const DatasetOptions& options) {
+static Mission read_mission_unchecked(const std::string& mission_dir, const DatasetOptions& options) {
   const fs::path dir(mission_dir);
   if (!fs::is_directory(dir)) throw Error(mission_dir + ": mission folder does not exist");
   Mission m;
@@ -212,10 +233,10 @@ Mission read_mission(const std::string& mission_dir, const DatasetOptions& optio
   return m;
 }
 
-MissionSet read_dataset(const std::string& dataset_dir, const DatasetOptions& options) {
+static MissionSet read_dataset_unchecked(const std::string& dataset_dir, const DatasetOptions& options) {
   MissionSet set;
   set.dataset = dataset_dir;
-  std::vector<std::string> names = options.missions.empty() ? list_missions(dataset_dir) : options.missions;
+  std::vector<std::string> names = options.missions.empty() ? list_missions_unchecked(dataset_dir) : options.missions;
   for (const auto& name : names) {
     const fs::path dir = name == "." ? fs::path(dataset_dir) : fs::path(dataset_dir) / name;
     if (!valid_utf8(name))
@@ -224,10 +245,22 @@ MissionSet read_dataset(const std::string& dataset_dir, const DatasetOptions& op
     if (!fs::is_directory(dir)) throw Error(dataset_dir + ": no mission '" + name + "'");
     for (const auto& seen : set.missions)
       if (seen.name == name) throw Error(dataset_dir + ": mission '" + name + "' listed twice");
-    set.missions.push_back(read_mission(dir.string(), options));
+    set.missions.push_back(read_mission_unchecked(dir.string(), options));
     if (name != ".") set.missions.back().name = name;
   }
   return set;
+}
+
+std::vector<std::string> list_missions(const std::string& dataset_dir) {
+  return with_plain_fs_errors([&] { return list_missions_unchecked(dataset_dir); });
+}
+
+Mission read_mission(const std::string& mission_dir, const DatasetOptions& options) {
+  return with_plain_fs_errors([&] { return read_mission_unchecked(mission_dir, options); });
+}
+
+MissionSet read_dataset(const std::string& dataset_dir, const DatasetOptions& options) {
+  return with_plain_fs_errors([&] { return read_dataset_unchecked(dataset_dir, options); });
 }
 
 }  // namespace lista::io

@@ -283,4 +283,20 @@ TEST(Dataset, OddEntriesAreErrorsNamingThem) {
   make_mission(root / "C\xe9", 1, 4);
   expect_error([&] { read_dataset(root.string(), DatasetOptions{{"C\xe9"}, true, 1}); },
                "mission folder name 'C\\xE9' is not UTF-8");
+  // A pipe, a device and a loop of links named like scans; a loop as scans/.
+  for (const char* name : {"D", "E", "F", "G"}) make_mission(root / name, 1, 4);
+  const fs::path d_scan = root / "D" / "scans" / "000000.pcd", e_scan = root / "E" / "scans" / "000000.pcd";
+  fs::remove(d_scan);
+  ASSERT_EQ(::mkfifo(d_scan.c_str(), 0600), 0);
+  expect_error([&] { read_mission((root / "D").string()); }, "000000.pcd: is a pipe (FIFO), not a scan file");
+  fs::remove(e_scan);
+  fs::create_symlink("/dev/zero", e_scan);
+  expect_error([&] { read_mission((root / "E").string()); }, "000000.pcd: is a device, not a scan file");
+  const fs::path f_scan = root / "F" / "scans" / "000000.pcd";
+  fs::remove(f_scan);
+  fs::create_symlink("000000.pcd", f_scan);
+  expect_error([&] { read_mission((root / "F").string()); }, "000000.pcd: is a link to nothing readable");
+  fs::remove_all(root / "G" / "scans");
+  fs::create_symlink("scans", root / "G" / "scans");
+  expect_error([&] { read_mission((root / "G").string()); }, "G/scans: cannot be read (Too many levels of symbolic links)");
 }
