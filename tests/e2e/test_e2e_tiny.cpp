@@ -317,11 +317,11 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
 
   // A folder the failed run created itself is not left behind empty; one
   // that existed before stays.
-  const std::filesystem::path fresh = dir_->path() / "fresh-out";
+  const std::filesystem::path fresh = dir_->path() / "fresh-parent" / "fresh-out";
   const auto fresh_run = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
                                   broken.string() + " --out " + fresh.string() + " --threads 1 2>&1");
   EXPECT_EQ(fresh_run.status, 1) << fresh_run.output;
-  EXPECT_FALSE(std::filesystem::exists(fresh)) << fresh_run.output;
+  EXPECT_FALSE(std::filesystem::exists(fresh.parent_path())) << "the parent made for it goes too: " << fresh_run.output;
   EXPECT_NE(fresh_run.output.find("removed the empty output folder"), std::string::npos) << fresh_run.output;
   const auto quiet_run = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
                                   broken.string() + " --out " + fresh.string() + " --threads 1 -q 2>&1");

@@ -88,13 +88,37 @@ void remove_report(const std::string& out, const char* why, bool quiet) {
   }
 }
 
-// A folder this run created holds nothing worth keeping when the run fails
-// before writing into it: it goes, so a failed run leaves no empty result
-// folder behind. One the user made, or one with files in it, stays.
-void remove_if_created_and_empty(const std::string& out, bool created, bool quiet) {
+// The folders creating `out` makes: it and its missing parents, deepest
+// first; none when it exists.
+std::vector<fs::path> folders_made_for(const std::string& out) {
+  std::vector<fs::path> made;
   std::error_code ec;
-  if (out.empty() || !created || !fs::is_directory(out, ec) || !fs::is_empty(out, ec) || ec) return;
-  if (fs::remove(out, ec) && !quiet) std::cerr << "lista-run: removed the empty output folder " << out << "\n";
+  if (out.empty()) return made;
+  fs::path p = fs::absolute(out, ec).lexically_normal();
+  if (p.filename().empty()) p = p.parent_path();  // "out/"
+  while (!p.empty() && !fs::exists(p, ec) && !ec) {
+    made.push_back(p);
+    if (p == p.parent_path()) break;
+    p = p.parent_path();
+  }
+  return made;
+}
+
+// The folders this run made hold nothing worth keeping when the run fails
+// before writing into them: they go, deepest first, so a failed run leaves
+// no empty result folder (nor the parents made for it) behind. One the
+// user made, or one with files in it, stays.
+void remove_made_and_empty(const std::vector<fs::path>& made, bool quiet) {
+  std::error_code ec;
+  size_t removed = 0;
+  for (const fs::path& p : made) {
+    if (!fs::is_directory(p, ec) || !fs::is_empty(p, ec) || ec || !fs::remove(p, ec)) break;
+    ++removed;
+  }
+  if (removed && !quiet)
+    std::cerr << "lista-run: removed the empty output folder " << made.front().string()
+              << (removed > 1 ? " and the " + std::to_string(removed - 1) + " folder(s) made for it" : std::string())
+              << "\n";
 }
 
 struct Options {
@@ -204,8 +228,7 @@ int run(const Options& o) {
     return exit_ok;
   }
 
-  std::error_code exists_ec;
-  const bool created_output = !output_dir.empty() && !fs::exists(output_dir, exists_ec);
+  const std::vector<fs::path> made_output = folders_made_for(output_dir);
   if (std::string why = output_problem(output_dir, true); !why.empty()) return fail(why);
   remove_report(output_dir, "left by an earlier run; a complete run writes its own", o.quiet);
 
@@ -224,12 +247,12 @@ int run(const Options& o) {
     execute(plan, options);
   } catch (const lista::Cancelled&) {
     remove_report(output_dir, "the run was cancelled", false);
-    remove_if_created_and_empty(output_dir, created_output, o.quiet);
+    remove_made_and_empty(made_output, o.quiet);
     std::cerr << "lista-run: cancelled\n";
     return exit_cancelled;
   } catch (const std::exception& e) {
     remove_report(output_dir, "the run did not complete", false);
-    remove_if_created_and_empty(output_dir, created_output, o.quiet);
+    remove_made_and_empty(made_output, o.quiet);
     return fail(e.what());
   }
   return exit_ok;
