@@ -51,6 +51,43 @@ bool natural_less(const std::string& a, const std::string& b) {
 // Names sorted by character whose numbers say otherwise ("scan_10" sorts
 // before "scan_2", "week10" before "week2"): the first such pair as
 // "<a> sorts before <b>", or "" when the two orders agree.
+// Scans whose pose lies far off the rest of its mission (a pose 10 000 km
+// away: a corrupt line, a unit mix-up): more than 100 times the median
+// distance of the mission's poses from their median, and over 1 km. "" if
+// none; else the first few named, for a warning.
+std::string far_off_poses(const Mission& m) {
+  if (m.scans.size() < 3) return "";
+  std::vector<double> c[3];
+  for (const auto& s : m.scans)
+    for (int k = 0; k < 3; ++k) c[k].push_back(s.pose.translation()[k]);
+  Eigen::Vector3d centre;
+  for (int k = 0; k < 3; ++k) {
+    std::nth_element(c[k].begin(), c[k].begin() + long(c[k].size() / 2), c[k].end());
+    centre[k] = c[k][c[k].size() / 2];
+  }
+  std::vector<double> d;
+  for (const auto& s : m.scans) d.push_back((s.pose.translation() - centre).norm());
+  std::vector<double> sorted = d;
+  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+  const double limit = std::max(1000.0, 100.0 * sorted[sorted.size() / 2]);
+  std::string named;
+  size_t far = 0;
+  for (size_t i = 0; i < d.size(); ++i) {
+    if (d[i] <= limit) continue;
+    if (++far <= 3) {
+      char text[160];
+      std::snprintf(text, sizeof text, "%sscan %zu (%s) %.3g m", named.empty() ? "" : ", ", i,
+                    std::filesystem::path(m.scans[i].file).filename().c_str(), d[i]);
+      named += text;
+    }
+  }
+  if (far == 0) return "";
+  char text[200];
+  std::snprintf(text, sizeof text, "mission '%s': %zu scan pose(s) lie far from the others (median %.3g m from their "
+                "centre): ", m.name.c_str(), far, sorted[sorted.size() / 2]);
+  return text + named + (far > 3 ? ", ..." : "") + "; a corrupt line of poses.txt? Such a scan is placed there";
+}
+
 std::string misordered(const std::vector<std::string>& sorted_names) {
   for (size_t k = 1; k < sorted_names.size(); ++k)
     if (natural_less(sorted_names[k], sorted_names[k - 1]))
@@ -121,6 +158,7 @@ class MissionsStage : public Stage {
     }
     size_t points = 0, skipped = 0, scans = 0, read = 0;
     for (const auto& m : set.missions) {
+      if (const std::string far = far_off_poses(m); !far.empty()) ctx.warn(far);
       std::vector<Eigen::Isometry3d> poses;
       for (const auto& s : m.scans) poses.push_back(s.pose);
       const double spacing = spacing_for(poses, opt);

@@ -395,3 +395,26 @@ TEST(IoMissions, ScanAndPoseCountsMustAgree) {
     EXPECT_NE(std::string(e.what()).find("2 scan files in scans/ but 3 poses"), std::string::npos) << e.what();
   }
 }
+
+// One pose 10 000 km off the rest of its mission (a corrupt line) is said,
+// not taken in silence; poses spread over a site are not.
+TEST(IoMissions, APoseFarOffTheRestOfItsMissionIsWarnedAbout) {
+  const fs::path root = io::testing::scratch_path("io_missions_far_pose");
+  for (const char* m : {"A", "B"}) {
+    fs::create_directories(root / m / "scans");
+    std::vector<io::PoseRecord> poses(4);
+    for (int s = 0; s < 4; ++s) {
+      PointSet p;
+      p.xyz.emplace_back(1.f, float(s), 0.f);
+      io::write_scan_pcd((root / m / "scans" / ("00" + std::to_string(s) + ".pcd")).string(), p);
+      poses[size_t(s)].timestamp = s;
+      poses[size_t(s)].pose.translation() = Eigen::Vector3d(40.0 * s, 0, 0);  // a 120 m route
+    }
+    if (std::string(m) == "B") poses[2].pose.translation().x() = 1e7;
+    io::write_poses((root / m / "poses.txt").string(), poses);
+  }
+  const std::string all = messages_reading(root);
+  EXPECT_NE(all.find("mission 'B': 1 scan pose(s) lie far from the others"), std::string::npos) << all;
+  EXPECT_NE(all.find("scan 2 (002.pcd) 1e+07 m"), std::string::npos) << all;
+  EXPECT_EQ(all.find("mission 'A': 1 scan pose"), std::string::npos) << all;
+}
