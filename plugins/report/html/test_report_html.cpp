@@ -323,6 +323,29 @@ TEST(ReportHtml, LowConfidenceAndWarningsStandOut) {
   fs::remove_all(dir);
 }
 
+// A scan placed 1000 km away (a stray pose) widens the map, but the raster
+// keeps to its pixel budget instead of taking gigabytes.
+TEST(ReportHtml, AMapKilometresWideKeepsToItsPixels) {
+  Scene s = make_scene();
+  auto far = std::make_shared<lista::PointSet>(*s.missions.missions[1].scans[0].points);
+  for (auto& p : far->xyz) p.x() += 1e6f;
+  lista::Scan stray = s.missions.missions[1].scans[0];
+  stray.points = far;
+  s.missions.missions[1].scans.push_back(stray);
+  const fs::path dir = write_report(s, "far");
+  const std::string html = read(dir / "report.html");
+  const std::string needle = "<svg class=\"topdown\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 ";
+  const size_t at = html.find(needle);
+  ASSERT_NE(at, std::string::npos);
+  std::istringstream box(html.substr(at + needle.size(), 40));
+  double width = 0, height = 0;
+  box >> width >> height;
+  EXPECT_GT(width, 0);
+  EXPECT_LE(width, 1000.0 + 1) << html.substr(at, 120);
+  EXPECT_LE(height, 1000.0 + 1);
+  fs::remove_all(dir);
+}
+
 // What moved during a mission is drawn apart from the changes, as a dotted
 // grey box on its pair's map, and counted in the summary; none, no mention.
 TEST(ReportHtml, DynamicsAreDottedGreyBoxesApartFromTheChanges) {

@@ -132,7 +132,8 @@ Frame frame_of(const std::vector<Eigen::Vector3f>& map, const std::vector<Shown>
   hi += Eigen::Vector2d(0.5, 0.5);
   Raster& r = f.r;
   f.extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
-  r.res = std::clamp(f.extent / std::max(64, options.pixels), 0.01, 1.0);
+  // Never coarser-capped: a map kilometres wide (a stray pose) must still fit options.pixels, not take gigabytes.
+  r.res = std::max(f.extent / std::max(64, options.pixels), 0.01);
   r.width = std::max(1, int(std::ceil((hi.x() - lo.x()) / r.res)));
   r.height = std::max(1, int(std::ceil((hi.y() - lo.y()) / r.res)));
   r.x0 = lo.x();
