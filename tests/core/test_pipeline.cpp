@@ -240,6 +240,25 @@ TEST(Pipeline, DeepNestingIsRefusedBeforeTheParserRecurses) {
   EXPECT_THROW(parse_pipeline_file(std::filesystem::temp_directory_path().string(), d), lista::Error);
 }
 
+// toml11 3.7 read past its buffer on a literal string holding bytes that
+// are not UTF-8 (found by fuzz_pipeline): such a file is refused first.
+TEST(Pipeline, BytesThatAreNotUtf8AreRefusedWithTheirPlace) {
+  Diagnostics d;
+  try {
+    parse_pipeline_text("[pipeline]\nname = ['a', 'b\xb9\xb9']\n", "p.toml", d);
+    ADD_FAILURE() << "accepted";
+  } catch (const lista::Error& e) {
+    EXPECT_EQ(e.location().line, 2);
+    EXPECT_EQ(e.location().column, 16);
+    EXPECT_NE(std::string(e.what()).find("byte 0xB9 is not UTF-8"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(parse_pipeline_text("# caf\xc3\xa9\n[pipeline]\nname = 'd\xc3\xa9j\xc3\xa0'\n", "p.toml", d));
+  // A --set value that is not UTF-8 is the bare word it always was.
+  const Override o = parse_override("src.path=/data/caf\xe9");
+  ASSERT_TRUE(o.value.has_value());
+  EXPECT_EQ(std::get<std::string>(*o.value), "/data/caf\xe9");
+}
+
 TEST(Overrides, ParsedAsTomlOrBareString) {
   auto o = parse_override("src.count=12");
   EXPECT_EQ(o.stage, "src");

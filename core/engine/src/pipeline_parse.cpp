@@ -3,7 +3,7 @@
 #include <lista_core/pipeline.hpp>
 #include <lista_core/text.hpp>
 
-#include "toml_nesting.hpp"
+#include "toml_prechecks.hpp"
 
 #include <toml.hpp>
 
@@ -351,6 +351,7 @@ PipelineSpec parse_stream(std::istream& raw, const std::string& file, Diagnostic
   buffer << raw.rdbuf();
   if (raw.bad()) throw Error("cannot read pipeline file '" + file + "'");
   const std::string text = buffer.str();
+  check_toml_utf8(text, file);
   check_toml_nesting(text, file);
   std::istringstream in(text);
   toml::value root;
@@ -430,6 +431,7 @@ Override parse_override(const std::string& argument) {
     throw Error("--set '" + o.stage + "." + o.param + "=...': the value spans lines; give one TOML value on one line");
   check_toml_nesting(text, "--set " + o.stage + "." + o.param);
   try {
+    check_toml_utf8(text, "--set");  // not UTF-8 (a Latin-1 path): no TOML value, the bare word below
     std::istringstream in("v = " + text);
     const toml::value root = toml::parse(in, "--set");
     o.value = to_param(root.as_table().at("v"), o.problem);

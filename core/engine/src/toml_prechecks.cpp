@@ -1,4 +1,4 @@
-#include "toml_nesting.hpp"
+#include "toml_prechecks.hpp"
 
 namespace lista::core {
 
@@ -42,6 +42,28 @@ void check_toml_nesting(const std::string& text, const std::string& file) {
     } else if ((c == ']' || c == '}') && depth > 0) {
       --depth;
     }
+  }
+}
+
+void check_toml_utf8(const std::string& text, const std::string& file) {
+  int line = 1, column = 1;
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    // Length of the sequence from its lead byte; 0 for a byte that cannot lead one.
+    const size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 && c >= 0xC2 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E && c <= 0xF4 ? 4 : 0;
+    bool ok = len > 0 && i + len <= text.size();
+    for (size_t k = 1; ok && k < len; ++k) ok = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
+    if (!ok)
+      throw Error("byte 0x" + std::string(1, "0123456789ABCDEF"[c >> 4]) + "0123456789ABCDEF"[c & 15] +
+                  " is not UTF-8; a pipeline file is UTF-8 text")
+          .at({file, line, column});
+    if (c == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+    i += len;
   }
 }
 
