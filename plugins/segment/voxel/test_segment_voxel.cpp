@@ -96,13 +96,16 @@ TEST(SegmentVoxel, ClustersMostlySeenFreeInTheirOwnMissionAreDynamics) {
   lista::PointSet a;
   add_box_surface(a, {0, 0, 0}, {0.5f, 0.5f, 0.5f}, 0.05f, 3);  // a cabinet, removed
   const size_t cabinet = a.size();
-  add_box_surface(a, {2, 0, 0}, {2.4f, 0.3f, 1.7f}, 0.05f, 4);  // a person walking by
+  add_box_surface(a, {2, 0, 0}, {2.4f, 0.3f, 1.2f}, 0.05f, 4);  // a person walking by: legs seen through
   const size_t person = a.size() - cabinet;
+  add_box_surface(a, {2.05f, 0.05f, 1.5f}, {2.35f, 0.25f, 1.8f}, 0.05f, 5);  // the torso: apart, never seen through
+  const size_t torso = a.size() - cabinet - person;
   a.changed_against.assign(a.size(), lista::changed_against_next);
   // A few of the cabinet's points were grazed free too; most of the person's.
   for (size_t i = 0; i < cabinet; i += 5) a.changed_against[i] |= lista::seen_free_in_own_mission;
-  for (size_t i = cabinet; i < a.size(); ++i)
+  for (size_t i = cabinet; i < cabinet + person; ++i)
     if (i % 4) a.changed_against[i] |= lista::seen_free_in_own_mission;
+  ASSERT_EQ(cluster_voxels(a.xyz, VoxelClusterConfig{}).size(), 3u) << "cabinet, legs and torso apart";
   lista::PointSet b;
   add_box_surface(b, {5, 5, 0}, {5.4f, 5.4f, 0.4f}, 0.05f, 9);
   b.changed_against.assign(b.size(), lista::changed_against_previous);
@@ -115,9 +118,9 @@ TEST(SegmentVoxel, ClustersMostlySeenFreeInTheirOwnMissionAreDynamics) {
   EXPECT_EQ(objects.objects[1].id, 1);
   ASSERT_EQ(objects.dynamics.size(), 1u);
   EXPECT_EQ(objects.dynamics[0].mission, 0u);
-  EXPECT_EQ(objects.dynamics[0].points, person);
+  EXPECT_EQ(objects.dynamics[0].points, person + torso) << "the torso stands on the legs' footprint";
   EXPECT_NEAR(objects.dynamics[0].centroid.x(), 2.2f, 0.05f);
-  EXPECT_NEAR(objects.dynamics[0].bbox_max.z(), 1.7f, 1e-4f);
+  EXPECT_NEAR(objects.dynamics[0].bbox_max.z(), 1.8f, 1e-4f);
   EXPECT_EQ(ctx.info.metrics.at("segment").at("dynamic_objects"), 1.0);
-  EXPECT_EQ(ctx.info.metrics.at("segment").at("dynamic_points"), double(person));
+  EXPECT_EQ(ctx.info.metrics.at("segment").at("dynamic_points"), double(person + torso));
 }
