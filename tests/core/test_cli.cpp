@@ -141,6 +141,28 @@ TEST(Cli, BrokenPluginsAreWarningsNotFatal) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 3) << r.err;
 }
 
+// The output folder (and the parents made for it) is removed when the run
+// fails with it still empty; a folder that existed before stays.
+TEST(Cli, AFailedRunRemovesTheEmptyOutputFolderItMade) {
+  lista_test::TempDir dir;
+  const std::string file = dir.write(
+      "make.toml", "[stages.src]\nplugin = \"test.source\"\n"
+                   "[stages.m]\nplugin = \"test.make_output_then_fail\"\ninputs = { missions = \"src.missions\" }\n");
+  const std::filesystem::path out = dir.path / "new" / "out";
+  const auto r = lista_run(file + " --out " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_FALSE(std::filesystem::exists(dir.path / "new")) << r.err;
+  EXPECT_NE(r.err.find("removed the empty output folder " + out.string() + " and the 1 folder(s) made for it"),
+            std::string::npos)
+      << r.err;
+  const auto q = lista_run(file + " --out " + out.string() + " -q");
+  EXPECT_FALSE(std::filesystem::exists(dir.path / "new"));
+  EXPECT_EQ(q.err.find("removed the empty output folder"), std::string::npos) << "-q: " << q.err;
+  std::filesystem::create_directories(dir.path / "mine");
+  lista_run(file + " --out " + (dir.path / "mine").string() + " -q");
+  EXPECT_TRUE(std::filesystem::is_directory(dir.path / "mine")) << "a folder the user made is theirs";
+}
+
 // Ctrl-C, and SIGTERM as timeout, systemd and docker send it: the run is
 // cancelled (exit 130, no report left), not killed midway.
 TEST(Cli, CtrlCAndSigtermCancelWithExit130) {

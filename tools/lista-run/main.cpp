@@ -39,14 +39,26 @@ std::string dataset_problem(const std::string& dataset) {
   return "dataset folder " + dataset + " does not exist";
 }
 
-std::string output_problem(const std::string& out, bool create) {
+// With `writable`, also whether the run can write there. A folder that does
+// not exist yet is not made here: the stages that write (io.report,
+// report.html) make it, so a run killed before them (SIGKILL, a second
+// Ctrl-C) leaves no empty folder; its nearest existing parent must take it.
+std::string output_problem(const std::string& out, bool writable) {
   std::error_code ec;
   if (out.empty()) return {};
   if (fs::exists(out, ec) && !fs::is_directory(out, ec))
     return "output " + out + " exists and is not a folder; choose another --out";
-  if (!create) return {};
-  fs::create_directories(out, ec);
-  if (ec) return "cannot create the output folder " + out + ": " + ec.message();
+  if (!writable) return {};
+  if (!fs::is_directory(out, ec)) {
+    fs::path parent = fs::absolute(out, ec).lexically_normal();
+    if (parent.filename().empty()) parent = parent.parent_path();
+    do parent = parent.parent_path();
+    while (!parent.empty() && parent != parent.parent_path() && !fs::exists(parent, ec));
+    if (!fs::is_directory(parent, ec)) return "cannot create the output folder " + out + ": " + parent.string() + " is not a folder";
+    if (::access(parent.c_str(), W_OK | X_OK) != 0)
+      return "cannot create the output folder " + out + ": " + parent.string() + ": " + std::strerror(errno);
+    return {};
+  }
   const fs::path probe = fs::path(out) / (".lista-run-write-test-" + std::to_string(::getpid()));
   if (!std::ofstream(probe)) return "cannot write into the output folder " + out + ": " + std::strerror(errno);
   fs::remove(probe, ec);

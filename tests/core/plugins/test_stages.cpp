@@ -1,5 +1,6 @@
 // Small stages on SDK types for the core's tests: sources, pass-throughs,
 // sinks and stages that misbehave on purpose. Never installed.
+#include <filesystem>
 #include <chrono>
 #include <csignal>
 #include <limits>
@@ -201,6 +202,21 @@ class WaitCancel : public Stage {
   Params p_;
 };
 
+// Makes the run's output folder, as a writer stage does, then fails before
+// writing into it.
+class MakeOutputThenFail : public Stage {
+ public:
+  explicit MakeOutputThenFail(const Params&) {}
+  static StageInfo info() {
+    return declare("test.make_output_then_fail", "makes the output folder, then fails",
+                   {{"missions", "missions", "missions"}}, {}, {});
+  }
+  Outputs run(const Inputs&, Context& ctx) override {
+    std::filesystem::create_directories(ctx.run_info().output_dir);
+    throw Error("failed after making the output folder");
+  }
+};
+
 // Breaks its output contract in the way `mode` says.
 class BadOutput : public Stage {
  public:
@@ -325,6 +341,7 @@ void register_stages(Registrar& r) {
   add<ToPoints>(r);
   add<Sink>(r);
   add<WaitCancel>(r);
+  add<MakeOutputThenFail>(r);
   add<Crash>(r);
   add<BadOutput>(r);
   add<ToObjects>(r);
