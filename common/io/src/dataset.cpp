@@ -4,6 +4,7 @@
 
 #include <lista/error.hpp>
 #include <lista/parallel.hpp>
+#include <lista/utf8.hpp>
 #include <lista_io/dataset.hpp>
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
@@ -60,20 +61,6 @@ std::vector<std::string> files_in(const fs::path& dir, bool pcd_only, bool listi
   if (ec) throw Error(dir.string() + ": cannot list (" + ec.message() + ")");
   std::sort(out.begin(), out.end());  // by file name: same folder, so full path order = name order
   return out;
-}
-
-// Mission names key report.json (UTF-8 JSON) and lista-eval's matching of
-// folders: a name in another encoding cannot round-trip.
-bool valid_utf8(const std::string& s) {
-  for (size_t i = 0; i < s.size();) {
-    const unsigned char c = static_cast<unsigned char>(s[i]);
-    const size_t len = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
-    if (len == 0 || i + len > s.size()) return false;
-    for (size_t k = 1; k < len; ++k)
-      if ((static_cast<unsigned char>(s[i + k]) >> 6) != 0x2) return false;
-    i += len;
-  }
-  return true;
 }
 
 bool is_mission_dir(const fs::path& dir) {
@@ -239,7 +226,9 @@ static MissionSet read_dataset_unchecked(const std::string& dataset_dir, const D
   std::vector<std::string> names = options.missions.empty() ? list_missions_unchecked(dataset_dir) : options.missions;
   for (const auto& name : names) {
     const fs::path dir = name == "." ? fs::path(dataset_dir) : fs::path(dataset_dir) / name;
-    if (!valid_utf8(name))
+    // Mission names key report.json (UTF-8 JSON) and lista-eval's matching
+    // of folders: a name in another encoding cannot round-trip.
+    if (utf8_error_at(name) != std::string_view::npos)
       throw Error(dataset_dir + ": mission folder name '" + detail::escaped(name) +
                   "' is not UTF-8; rename it (report.json names missions in UTF-8)");
     if (!fs::is_directory(dir)) throw Error(dataset_dir + ": no mission '" + name + "'");
