@@ -184,7 +184,7 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
   const PairThresholds thresholds = pair_thresholds(missions, config);
   if (maps.size() != n) throw Error("detect_changes: one map per mission expected");
   MissionPoints out;
-  if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
+  if (stats) *stats = ChangeStats(n);
   for (size_t m = 0; m < n; ++m) {
     const Mission& mission = missions.missions[m];
     PointBits bits = no_bits(mission);
@@ -204,7 +204,7 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   if (n == 0) return {};
   const PairThresholds thresholds = pair_thresholds(missions, config);
   MissionPoints out;
-  if (stats) *stats = ChangeStats{std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0), std::vector<uint64_t>(n, 0)};
+  if (stats) *stats = ChangeStats(n);
   // A point's bit against the previous mission and its bit against the
   // next are decided apart, so one pair of consecutive maps at a time
   // suffices: map m+1 is built while only map m lives, then both missions

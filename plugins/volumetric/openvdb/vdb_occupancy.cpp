@@ -159,36 +159,47 @@ struct ThreadWork {
   uint64_t rays = 0, visits = 0, walked = 0;
 };
 
-// Adds one hit (`hit`) or one miss to the counters of every voxel set in
-// `mask` and not in `except` (may be null), activating it.
-void add_mask(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& mask, const openvdb::MaskTree* except,
-              bool hit, MemoryBudget& budget) {
+// Applies `update` to the counter of every voxel `select` picks from each
+// leaf of `mask` (a NodeMask<3>; empty to skip the leaf), activating it.
+template <class Select, class Update>
+void update_counters(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& mask, const Select& select,
+                     const Update& update, MemoryBudget& budget) {
   for (auto leaf = mask.cbeginLeaf(); leaf; ++leaf) {
-    openvdb::util::NodeMask<3> bits = leaf->getValueMask();
-    if (except)
-      if (const MaskLeaf* ex = except->probeConstLeaf(leaf->origin())) bits -= ex->getValueMask();
+    const openvdb::util::NodeMask<3> bits = select(*leaf);
     if (bits.isOff()) continue;
     CountLeaf* d = counter_leaf(acc, leaf->origin(), budget);
     int32_t* data = d->buffer().data();
-    for (auto it = bits.beginOn(); it; ++it) data[it.pos()] = counts::add(data[it.pos()], hit, !hit);
+    for (auto it = bits.beginOn(); it; ++it) data[it.pos()] = update(data[it.pos()]);
     d->getValueMask() |= bits;
   }
 }
 
-// Adds one to `acc`'s value of every voxel set in both `a` and `b`.
-void add_both(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree& a, const openvdb::MaskTree& b,
-              MemoryBudget& budget) {
-  for (auto leaf = a.cbeginLeaf(); leaf; ++leaf) {
-    const MaskLeaf* other = b.probeConstLeaf(leaf->origin());
-    if (!other) continue;
-    openvdb::util::NodeMask<3> bits = leaf->getValueMask();
-    bits &= other->getValueMask();
-    if (bits.isOff()) continue;
-    CountLeaf* d = counter_leaf(acc, leaf->origin(), budget);
-    int32_t* data = d->buffer().data();
-    for (auto it = bits.beginOn(); it; ++it) ++data[it.pos()];
-    d->getValueMask() |= bits;
-  }
+// One scan into the mission's counters: a hit for its hit voxels, a miss for
+// its free voxels that hold no return of it (a hit wins), and one `partly`
+// for the voxels it did both to.
+void add_scan(SharedCounts& shared, const openvdb::MaskTree& hits, const openvdb::MaskTree& free) {
+  auto acc = shared.grid->getAccessor();
+  update_counters(
+      acc, hits, [](const MaskLeaf& l) { return l.getValueMask(); },
+      [](int32_t v) { return counts::add(v, 1, 0); }, shared.budget);
+  update_counters(
+      acc, free,
+      [&](const MaskLeaf& l) {
+        openvdb::util::NodeMask<3> bits = l.getValueMask();
+        if (const MaskLeaf* hit = hits.probeConstLeaf(l.origin())) bits -= hit->getValueMask();
+        return bits;
+      },
+      [](int32_t v) { return counts::add(v, 0, 1); }, shared.budget);
+  auto partly = shared.partly->getAccessor();
+  update_counters(
+      partly, hits,
+      [&](const MaskLeaf& l) {
+        openvdb::util::NodeMask<3> bits = l.getValueMask();
+        if (const MaskLeaf* seen_through = free.probeConstLeaf(l.origin())) bits &= seen_through->getValueMask();
+        else bits.setOff();
+        return bits;
+      },
+      [](int32_t v) { return v + 1; }, shared.budget);
 }
 
 void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, ThreadWork& work, SharedCounts& shared) {
@@ -221,11 +232,7 @@ void cast_scan(const Mission& mission, size_t i, const VolumetricConfig& c, Thre
   }
   {
     std::lock_guard<std::mutex> lock(shared.mutex);
-    auto acc = shared.grid->getAccessor();
-    add_mask(acc, work.hits.tree(), nullptr, true, shared.budget);
-    add_mask(acc, work.free.tree(), &work.hits.tree(), false, shared.budget);
-    auto partly = shared.partly->getAccessor();
-    add_both(partly, work.hits.tree(), work.free.tree(), shared.budget);
+    add_scan(shared, work.hits.tree(), work.free.tree());
   }
   work.hits.clear();
   work.free.clear();

@@ -44,6 +44,8 @@ struct MapStats {
 };
 
 struct ChangeStats {
+  explicit ChangeStats(size_t missions = 0)
+      : changed_points(missions, 0), changed_voxels(missions, 0), seen_free_points(missions, 0) {}
   std::vector<uint64_t> changed_points, changed_voxels;  // per mission
   std::vector<uint64_t> seen_free_points;                // of the changed points, per mission
 };
