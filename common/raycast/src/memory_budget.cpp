@@ -25,7 +25,7 @@ uint64_t meminfo(const std::string& key) {
   return 0;
 }
 
-// Virtual and resident size of this process, bytes.
+// This process's virtual size and data segment (VmSize, VmData), bytes.
 void process_size(uint64_t& virtual_bytes, uint64_t& data_bytes) {
   std::ifstream in("/proc/self/status");
   std::string line;

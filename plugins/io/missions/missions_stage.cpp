@@ -48,46 +48,42 @@ bool natural_less(const std::string& a, const std::string& b) {
   return a.size() - i < b.size() - j;
 }
 
-// Names sorted by character whose numbers say otherwise ("scan_10" sorts
-// before "scan_2", "week10" before "week2"): the first such pair as
-// "<a> sorts before <b>", or "" when the two orders agree.
 // Scans whose pose lies far off the rest of its mission (a pose 10 000 km
 // away: a corrupt line, a unit mix-up): more than 100 times the median
 // distance of the mission's poses from their median, and over 1 km. "" if
 // none; else the first few named, for a warning.
 std::string far_off_poses(const Mission& m) {
   if (m.scans.size() < 3) return "";
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
   std::vector<double> c[3];
   for (const auto& s : m.scans)
     for (int k = 0; k < 3; ++k) c[k].push_back(s.pose.translation()[k]);
-  Eigen::Vector3d centre;
-  for (int k = 0; k < 3; ++k) {
-    std::nth_element(c[k].begin(), c[k].begin() + long(c[k].size() / 2), c[k].end());
-    centre[k] = c[k][c[k].size() / 2];
-  }
+  const Eigen::Vector3d centre(median(c[0]), median(c[1]), median(c[2]));
   std::vector<double> d;
   for (const auto& s : m.scans) d.push_back((s.pose.translation() - centre).norm());
-  std::vector<double> sorted = d;
-  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
-  const double limit = std::max(1000.0, 100.0 * sorted[sorted.size() / 2]);
+  const double spread = median(d), limit = std::max(1000.0, 100.0 * spread);
   std::string named;
   size_t far = 0;
   for (size_t i = 0; i < d.size(); ++i) {
-    if (d[i] <= limit) continue;
-    if (++far <= 3) {
-      char text[160];
-      std::snprintf(text, sizeof text, "%sscan %zu (%s) %.3g m", named.empty() ? "" : ", ", i,
-                    std::filesystem::path(m.scans[i].file).filename().c_str(), d[i]);
-      named += text;
-    }
+    if (d[i] <= limit || ++far > 3) continue;
+    char text[160];
+    std::snprintf(text, sizeof text, "%sscan %zu (%s) %.3g m", named.empty() ? "" : ", ", i,
+                  std::filesystem::path(m.scans[i].file).filename().c_str(), d[i]);
+    named += text;
   }
   if (far == 0) return "";
   char text[200];
   std::snprintf(text, sizeof text, "mission '%s': %zu scan pose(s) lie far from the others (median %.3g m from their "
-                "centre): ", m.name.c_str(), far, sorted[sorted.size() / 2]);
+                "centre): ", m.name.c_str(), far, spread);
   return text + named + (far > 3 ? ", ..." : "") + "; a corrupt line of poses.txt? Such a scan is placed there";
 }
 
+// Names sorted by character whose numbers say otherwise ("scan_10" sorts
+// before "scan_2", "week10" before "week2"): the first such pair as
+// "<a> sorts before <b>", or "" when the two orders agree.
 std::string misordered(const std::vector<std::string>& sorted_names) {
   for (size_t k = 1; k < sorted_names.size(); ++k)
     if (natural_less(sorted_names[k], sorted_names[k - 1]))
