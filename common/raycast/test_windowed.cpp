@@ -13,27 +13,51 @@ namespace {
 int live_maps = 0, most_live_maps = 0;
 
 // Mission m's map: a voxel is occupied where (x + m) % 3 == 0, observed
-// free elsewhere in x < 20, never observed beyond.
+// free elsewhere in x < 20, never observed beyond. Its own scans also saw
+// free every voxel of row y = `seen_free_row` (none by default).
 class StripeMap : public raycast::OccupancyMap {
  public:
-  explicit StripeMap(int m) : m_(m) { most_live_maps = std::max(most_live_maps, ++live_maps); }
+  explicit StripeMap(int m, int seen_free_row = -1) : m_(m), seen_free_row_(seen_free_row) {
+    most_live_maps = std::max(most_live_maps, ++live_maps);
+  }
   ~StripeMap() override { --live_maps; }
   std::unique_ptr<raycast::OccupancyReader> reader() const override {
     struct Reader : raycast::OccupancyReader {
-      int m;
-      explicit Reader(int mission) : m(mission) {}
+      int m, row;
+      Reader(int mission, int seen_free_row) : m(mission), row(seen_free_row) {}
       bool logodds(const raycast::Voxel& v, float& out) override {
         if (v.x() >= 20) return false;
         out = ((v.x() + m) % 3 + 3) % 3 == 0 ? 3.0f : -2.0f;
         return true;
       }
+      bool seen_free(const raycast::Voxel& v) override { return v.y() == row; }
     };
-    return std::make_unique<Reader>(m_);
+    return std::make_unique<Reader>(m_, seen_free_row_);
   }
 
  private:
-  int m_;
+  int m_, seen_free_row_;
 };
+
+// Five StripeMaps, and the views detect_changes takes.
+struct StripeMaps {
+  std::vector<std::unique_ptr<raycast::OccupancyMap>> maps;
+  std::vector<const raycast::OccupancyMap*> views;
+  explicit StripeMaps(int seen_free_row = -1) {
+    for (int m = 0; m < 5; ++m) {
+      maps.push_back(std::make_unique<StripeMap>(m, seen_free_row));
+      views.push_back(maps.back().get());
+    }
+  }
+};
+
+// Voxels of 1 m, the point's own voxel only.
+raycast::VolumetricConfig unit_voxels() {
+  raycast::VolumetricConfig config;
+  config.resolution = 1.0;
+  config.neighbourhood = 0;
+  return config;
+}
 
 MissionSet five_missions() {
   MissionSet set;
@@ -60,19 +84,12 @@ MissionSet five_missions() {
 
 TEST(DetectChangesWindowed, SameChangesWithAtMostTwoMapsAlive) {
   const MissionSet missions = five_missions();
-  raycast::VolumetricConfig config;
-  config.resolution = 1.0;
-  config.neighbourhood = 0;
+  const raycast::VolumetricConfig config = unit_voxels();
 
-  std::vector<std::unique_ptr<raycast::OccupancyMap>> all;
-  std::vector<const raycast::OccupancyMap*> views;
-  for (int m = 0; m < 5; ++m) {
-    all.push_back(std::make_unique<StripeMap>(m));
-    views.push_back(all.back().get());
-  }
+  auto all = std::make_unique<StripeMaps>();
   raycast::ChangeStats stats_all;
-  const MissionPoints expected = raycast::detect_changes(missions, views, config, 2, &stats_all);
-  all.clear();
+  const MissionPoints expected = raycast::detect_changes(missions, all->views, config, 2, &stats_all);
+  all.reset();
   ASSERT_EQ(live_maps, 0);
 
   most_live_maps = 0;
@@ -100,43 +117,11 @@ TEST(DetectChangesWindowed, SameChangesWithAtMostTwoMapsAlive) {
   EXPECT_EQ(stats_windowed.changed_voxels, stats_all.changed_voxels);
 }
 
-namespace {
-
-// StripeMap, but its own scans also saw free every voxel of row y = 1
-// (where scan 1's points lie): something there for part of the mission.
-class HalfSeenMap : public raycast::OccupancyMap {
- public:
-  explicit HalfSeenMap(int m) : stripes_(m) {}
-  std::unique_ptr<raycast::OccupancyReader> reader() const override {
-    struct Reader : raycast::OccupancyReader {
-      std::unique_ptr<raycast::OccupancyReader> stripes;
-      bool logodds(const raycast::Voxel& v, float& out) override { return stripes->logodds(v, out); }
-      bool seen_free(const raycast::Voxel& v) override { return v.y() == 1; }
-    };
-    auto r = std::make_unique<Reader>();
-    r->stripes = stripes_.reader();
-    return r;
-  }
-
- private:
-  StripeMap stripes_;
-};
-
-}  // namespace
-
+// Scan 1's points lie in row y = 1, which the missions' own scans also saw free.
 TEST(DetectChanges, ChangedPointsTheirOwnMissionSawFreeCarryTheDynamicBit) {
-  const MissionSet missions = five_missions();
-  raycast::VolumetricConfig config;
-  config.resolution = 1.0;
-  config.neighbourhood = 0;
-  std::vector<std::unique_ptr<raycast::OccupancyMap>> all;
-  std::vector<const raycast::OccupancyMap*> views;
-  for (int m = 0; m < 5; ++m) {
-    all.push_back(std::make_unique<HalfSeenMap>(m));
-    views.push_back(all.back().get());
-  }
+  const StripeMaps maps(1);
   raycast::ChangeStats stats;
-  const MissionPoints got = raycast::detect_changes(missions, views, config, 2, &stats);
+  const MissionPoints got = raycast::detect_changes(five_missions(), maps.views, unit_voxels(), 2, &stats);
   for (size_t m = 0; m < got.sets.size(); ++m) {
     const PointSet& set = got.sets[m];
     size_t flagged = 0;

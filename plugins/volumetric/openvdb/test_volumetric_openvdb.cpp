@@ -17,6 +17,7 @@
 #include <limits>
 #include <map>
 #include <fstream>
+#include <functional>
 #include <sys/resource.h>
 
 using namespace lista;
@@ -251,27 +252,43 @@ TEST(VolumetricOpenVdb, OneScanMissionsShowChangeAtTheDefaults) {
 
 namespace {
 
-// One scan from the origin towards a wall at x = 5: a person (label 1) at
-// x = 2 when `person`, a cabinet (label 2) at x = 3 beside it when `cabinet`.
-std::shared_ptr<PointSet> wall_scan(bool person, bool cabinet) {
+// One scan from the origin: a beam along (1, tan az, tan el) for every
+// azimuth and elevation (degrees), ending at the x that `hit` gives it,
+// with the label it gives.
+std::shared_ptr<PointSet> fan_scan(const std::vector<double>& azimuths, const std::vector<double>& elevations,
+                                   const std::function<std::pair<double, uint32_t>(const Eigen::Vector3d&)>& hit) {
   auto pts = std::make_shared<PointSet>();
-  for (int az = -30; az <= 30; ++az)
-    for (int el = -12; el <= 12; ++el) {
-      const Eigen::Vector3d d(1.0, std::tan(az * M_PI / 360.0), std::tan(el * M_PI / 360.0));
-      double x = 5.0;
-      uint32_t label = 0;
-      auto inside = [&](double at, double y0, double y1) {
-        const Eigen::Vector3d p = d * (at / d.x());
-        return p.y() > y0 && p.y() < y1 && std::abs(p.z()) < 0.4;
-      };
-      if (person && inside(2.0, -0.6, -0.1)) x = 2.0, label = 1;
-      if (cabinet && inside(3.0, 0.1, 0.7)) x = 3.0, label = 2;
-      pts->xyz.push_back((d * (x / d.x())).cast<float>());
+  for (double az : azimuths)
+    for (double el : elevations) {
+      const Eigen::Vector3d d(1.0, std::tan(az * M_PI / 180.0), std::tan(el * M_PI / 180.0));
+      const auto [x, label] = hit(d);
+      pts->xyz.push_back((d * x).cast<float>());
       pts->label.push_back(label);
       pts->scan.push_back(0);
       pts->index.push_back(uint32_t(pts->index.size()));
     }
   return pts;
+}
+
+// `first`, `first + step`, ... up to `last`.
+std::vector<double> steps(double first, double last, double step) {
+  std::vector<double> v;
+  for (double a = first; a <= last + 1e-9; a += step) v.push_back(a);
+  return v;
+}
+
+// Towards a wall at x = 5: a person (label 1) at x = 2 when `person`, a
+// cabinet (label 2) at x = 3 beside it when `cabinet`.
+std::shared_ptr<PointSet> wall_scan(bool person, bool cabinet) {
+  return fan_scan(steps(-15, 15, 0.5), steps(-6, 6, 0.5), [&](const Eigen::Vector3d& d) {
+    auto inside = [&](double at, double y0, double y1) {
+      const Eigen::Vector3d p = d * at;
+      return p.y() > y0 && p.y() < y1 && std::abs(p.z()) < 0.4;
+    };
+    if (person && inside(2.0, -0.6, -0.1)) return std::make_pair(2.0, 1u);
+    if (cabinet && inside(3.0, 0.1, 0.7)) return std::make_pair(3.0, 2u);
+    return std::make_pair(5.0, 0u);
+  });
 }
 
 Mission wall_mission(const std::string& name, const std::vector<std::pair<bool, bool>>& scans) {
@@ -314,24 +331,17 @@ TEST(VolumetricOpenVdb, APersonGoneWithinTheMissionIsFlaggedDynamic) {
 
 namespace {
 
-// One scan from the origin towards a wall at x = 5, beams 0.25 deg apart in
-// azimuth from `offset_deg`, 1 deg in elevation; with `pole`, a 1.5 mm
-// pole at x = 3 (label 3) that only the beam at 0.5 deg hits, so the
-// scans offset by 0.1 deg pass beside it through its voxel.
+// Towards a wall at x = 5, beams 0.25 deg apart in azimuth from
+// `offset_deg`, 1 deg in elevation; with `pole`, a 1.5 mm pole at x = 3
+// (label 3) that only the beam at 0.5 deg hits, so the scans offset by
+// 0.1 deg pass beside it through its voxel.
 std::shared_ptr<PointSet> pole_scan(double offset_deg, bool pole) {
-  auto pts = std::make_shared<PointSet>();
-  for (int az = -20; az <= 20; ++az)
-    for (int el = -6; el <= 6; ++el) {
-      const double a = (az * 0.25 + offset_deg) * M_PI / 180.0;
-      const Eigen::Vector3d d(1.0, std::tan(a), std::tan(el * M_PI / 180.0));
-      const Eigen::Vector3d at_pole = d * 3.0;
-      const bool on_pole = pole && at_pole.y() > 0.0255 && at_pole.y() < 0.0270 && std::abs(at_pole.z()) < 0.3;
-      pts->xyz.push_back((on_pole ? at_pole : d * 5.0).cast<float>());
-      pts->label.push_back(on_pole ? 3 : 0);
-      pts->scan.push_back(0);
-      pts->index.push_back(uint32_t(pts->index.size()));
-    }
-  return pts;
+  return fan_scan(steps(-5 + offset_deg, 5 + offset_deg, 0.25), steps(-6, 6, 1), [&](const Eigen::Vector3d& d) {
+    const Eigen::Vector3d at_pole = d * 3.0;
+    if (pole && at_pole.y() > 0.0255 && at_pole.y() < 0.0270 && std::abs(at_pole.z()) < 0.3)
+      return std::make_pair(3.0, 3u);
+    return std::make_pair(5.0, 0u);
+  });
 }
 
 }  // namespace
