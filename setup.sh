@@ -11,7 +11,9 @@ PACKAGES=(build-essential cmake ninja-build ccache git pkg-config
   libeigen3-dev libboost-dev libboost-filesystem-dev libboost-system-dev
   libtoml11-dev nlohmann-json3-dev libcli11-dev libgtest-dev libgmock-dev
   libpcl-dev liboctomap-dev libopenvdb-dev libembree-dev libflann-dev
-  libceres-dev libtbb-dev libtorch-dev libstb-dev chromium unzip python3 clang)
+  libceres-dev libtbb-dev libtorch-dev libstb-dev chromium unzip python3 clang
+  librosbag-storage-dev librosbag-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
+  libtf2-dev libtf2-msgs-dev libsqlite3-dev libzstd-dev liblz4-dev)
 BUILD_DIR=${LISTA_BUILD_DIR:-build}
 
 install_missing() {

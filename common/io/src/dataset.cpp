@@ -63,7 +63,25 @@ std::vector<std::string> files_in(const fs::path& dir, bool pcd_only, bool listi
   return out;
 }
 
+bool has_file_ending(const fs::path& dir, const std::vector<std::string>& endings) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code type_ec;
+    if (!it->is_regular_file(type_ec)) continue;
+    std::string ext = it->path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (std::find(endings.begin(), endings.end(), ext) != endings.end()) return true;
+  }
+  return false;
+}
+
+bool is_ros2_bag_dir(const fs::path& dir) {
+  std::error_code ec;
+  return fs::is_regular_file(dir / "metadata.yaml", ec) || has_file_ending(dir, {".db3", ".mcap"});
+}
+
 bool is_mission_dir(const fs::path& dir) {
+  if (is_bag_mission(dir.string())) return true;
   // Any poses.txt (a folder by mistake too): reading it then says what is wrong.
   std::error_code ec;
   if (fs::exists(fs::symlink_status(dir / "poses.txt", ec))) return true;
@@ -83,6 +101,20 @@ auto with_plain_fs_errors(F&& f) -> decltype(f()) {
 }
 
 }  // namespace
+
+bool is_bag_mission(const std::string& mission_dir) {
+  const fs::path dir(mission_dir);
+  if (has_file_ending(dir, {".bag"}) || is_ros2_bag_dir(dir)) return true;
+  std::error_code ec;
+  size_t folders = 0, bags = 0;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code type_ec;
+    if (!it->is_directory(type_ec) || it->path().filename() == "scans") continue;
+    ++folders;
+    bags += is_ros2_bag_dir(it->path());
+  }
+  return folders == 1 && bags == 1;
+}
 
 static std::vector<std::string> list_missions_unchecked(const std::string& dataset_dir) {
   const fs::path root(dataset_dir);
@@ -149,6 +181,14 @@ double spacing_for(const std::vector<Eigen::Isometry3d>& poses, const DatasetOpt
 static Mission read_mission_unchecked(const std::string& mission_dir, const DatasetOptions& options) {
   const fs::path dir(mission_dir);
   if (!fs::is_directory(dir)) throw Error(mission_dir + ": mission folder does not exist");
+  if (is_bag_mission(mission_dir)) {
+    if (!options.read_bag_mission)
+      throw Error(mission_dir + ": a mission recorded as ROS bags, which this program does not read; run lista-run on it");
+    Mission m = options.read_bag_mission(mission_dir, options);
+    m.dir = mission_dir;
+    m.name = fs::weakly_canonical(dir).filename().string();
+    return m;
+  }
   Mission m;
   m.dir = mission_dir;
   m.name = fs::weakly_canonical(dir).filename().string();

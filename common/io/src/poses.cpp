@@ -16,7 +16,7 @@ namespace {
 constexpr double kMaxPosition = 1e8;  // m
 }
 
-std::vector<PoseRecord> read_poses(const std::string& path) {
+std::vector<PoseRecord> read_poses(const std::string& path, PoseFormat* format) {
   std::string text = detail::read_whole_file(path);
   if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);  // a UTF-8 byte-order mark some editors add
   std::vector<PoseRecord> out;
@@ -79,6 +79,7 @@ std::vector<PoseRecord> read_poses(const std::string& path) {
     rec.pose.translation() = t;
     out.push_back(rec);
   }
+  if (format) *format = layout == 12 ? PoseFormat::kitti : PoseFormat::tum;
   return out;
 }
 

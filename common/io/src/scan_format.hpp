@@ -2,6 +2,7 @@
 #pragma once
 
 #include <lista_io/pcd.hpp>
+#include <lista_io/scan_fields.hpp>
 
 #include <array>
 #include <cmath>
@@ -24,22 +25,8 @@ inline void add_point(ScanFile& s, uint32_t scan_id, uint32_t index, float x, fl
 
 ScanFile read_ply(const std::string& path, uint32_t scan_id);
 
-// Where a point's intensity is, best first (field names matched without
-// regard to case): PCL's name, CloudCompare's scalar field, and a driver's
-// calibrated reflectivity when that is all.
-inline constexpr std::array<const char*, 3> kIntensityNames = {"intensity", "scalar_intensity", "reflectivity"};
-
-// A label read as a number: the contract's labels are uint32 object ids.
-// Another tool's -1, 1.5 or NaN (casting them would be undefined) marks the
-// scan's labels unusable: ScanFile::bad_labels, and the channel is dropped
-// (a run does not need labels; scoring says the scan has none).
-inline uint32_t to_label(double v, ScanFile& s) {
-  if (v >= 0.0 && v <= 4294967295.0 && v == std::floor(v)) return static_cast<uint32_t>(v);
-  s.bad_labels = true;
-  return 0;
-}
-inline void drop_bad_labels(ScanFile& s) {
-  if (s.bad_labels) s.points.label.clear();
-}
+using io::kIntensityNames;
+using io::to_label;
+using io::drop_bad_labels;
 
 }  // namespace lista::io::detail

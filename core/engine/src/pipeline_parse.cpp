@@ -3,7 +3,7 @@
 #include <lista_core/pipeline.hpp>
 #include <lista_core/text.hpp>
 
-#include "toml_prechecks.hpp"
+#include <lista/toml_prechecks.hpp>
 
 #include <toml.hpp>
 

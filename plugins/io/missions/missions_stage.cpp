@@ -1,5 +1,6 @@
 // io.missions: reads a dataset of missions (data contract, sect. 1).
 #include <lista/lista.hpp>
+#include <lista_bag/bag_mission.hpp>
 #include <lista_io/dataset.hpp>
 
 #include <algorithm>
@@ -105,7 +106,12 @@ class MissionsStage : public Stage {
         min_range_(p.get<double>("min_range")),
         scan_spacing_(p.get<double>("scan_spacing")),
         dense_spacing_(p.get<double>("dense_spacing")),
-        scan_turn_(p.get<double>("scan_turn")) {}
+        scan_turn_(p.get<double>("scan_turn")) {
+    bag_.cloud_topic = p.get<std::string>("cloud_topic");
+    bag_.poses = p.get<std::string>("poses");
+    bag_.fixed_frame = p.get<std::string>("fixed_frame");
+    bag_.body_frame = p.get<std::string>("body_frame");
+  }
 
   Outputs run(const Inputs&, Context& ctx) override {
     const std::string dataset = path_.empty() ? ctx.run_info().dataset : path_;
@@ -123,6 +129,10 @@ class MissionsStage : public Stage {
     opt.scan_spacing = scan_spacing_;
     opt.dense_spacing = dense_spacing_;
     opt.scan_turn_deg = scan_turn_;
+    bag::BagMissionLog bag_log;
+    opt.read_bag_mission = [&](const std::string& dir, const DatasetOptions& o) {
+      return bag::read_bag_mission(dir, o, bag_, &bag_log);
+    };
     MissionSet set;
     set.dataset = dataset;
     size_t near_dropped = 0, zero_dropped = 0;
@@ -131,7 +141,9 @@ class MissionsStage : public Stage {
       ctx.throw_if_cancelled();
       DatasetOptions one = opt;
       one.missions = {name};
+      bag_log = {};
       MissionSet part = read_dataset(dataset, one);
+      if (!bag_log.bag.empty()) say_bag(part.missions[0].name, bag_log, ctx);
       for (const auto& seen : set.missions)
         if (seen.name == part.missions[0].name) throw Error("mission '" + name + "' listed twice in 'missions'");
       const auto [near, zero] = drop_near_points(part.missions[0]);
@@ -243,6 +255,16 @@ class MissionsStage : public Stage {
     return {near, zero};
   }
 
+  // What a bag mission was read from, and what of it could not be used.
+  void say_bag(const std::string& mission, const bag::BagMissionLog& log, Context& ctx) const {
+    ctx.info("mission '" + mission + "': " + log.bag + ", " + std::to_string(log.clouds) + " clouds on " + log.cloud_topic +
+             ", poses from " + log.pose_source);
+    if (log.outside_poses > 0)
+      ctx.warn("mission '" + mission + "': " + std::to_string(log.outside_poses) + " of " + std::to_string(log.clouds) +
+               " clouds lie outside the time range of their poses (" + log.pose_source + ") and were skipped");
+    for (const auto& note : log.notes) ctx.warn("mission '" + mission + "': " + note);
+  }
+
   // A log of many scans taken close together (a 10 Hz LiDAR) costs time and
   // memory in every later stage for little new evidence: said once per
   // mission, with what was read of it and the parameter that decides.
@@ -264,18 +286,21 @@ class MissionsStage : public Stage {
   std::string path_;
   std::vector<std::string> missions_;
   double min_range_, scan_spacing_, dense_spacing_, scan_turn_;
+  bag::BagOptions bag_;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "io.missions";
-  s.version = "1.3.0";
-  s.summary = "reads a dataset of missions (poses.txt + scans/, or the VIEWPOINT layout)";
+  s.version = "1.4.0";
+  s.summary = "reads a dataset of missions (poses.txt + scans/, the VIEWPOINT layout, or ROS 1/ROS 2 bags)";
   s.doc =
       "Reads the missions of a dataset folder as in the data contract, section 1: per mission poses.txt "
       "(TUM or KITTI layout) and scans/ (.pcd ascii/binary/binary_compressed, .ply, KITTI .bin) sorted by "
       "name, or a folder of map-frame .pcd scans carrying the sensor pose in VIEWPOINT; poses_gt.txt when "
-      "present. Scans are read in parallel. Non-finite points are skipped and counted; points at exactly (0, 0, 0) "
+      "present. A mission folder holding ROS bags (.bag files, or a ROS 2 bag: metadata.yaml with .db3 or .mcap) "
+      "is read as a robot recorded it: clouds from cloud_topic, poses from poses (tf, a topic or a TUM file), a "
+      "mission.toml beside the bags overriding these keys for that mission (docs/formats.md). Scans are read in parallel. Non-finite points are skipped and counted; points at exactly (0, 0, 0) "
       "in the sensor frame (a driver's missing return) are dropped, metric dropped_zero. Errors: scan count "
       "!= pose count, unreadable or malformed file (with its line), non-orthonormal rotation, empty "
       "mission. With scan_spacing > 0, only scans that far apart (or turned scan_turn) are read, the others "
@@ -305,6 +330,15 @@ StageInfo info() {
                       "reads every scan of it")
           .range(0, 100)
           .unit("m"),
+      ParamSpec::text("cloud_topic", "", "bag missions: the sensor_msgs/PointCloud2 topic; empty = the only one"),
+      ParamSpec::text("poses", "",
+                      "bag missions: where the clouds' poses come from: tf, an odometry or pose topic, or a TUM file "
+                      "in the mission folder; empty = tf when the cloud's frame hangs under a moving tf frame, else the "
+                      "only odometry or pose topic"),
+      ParamSpec::text("fixed_frame", "", "bag missions with tf poses: the map frame; empty = the root of the cloud frame's tf tree"),
+      ParamSpec::text("body_frame", "",
+                      "bag missions with a pose topic or file: the frame they give poses of; empty = the odometry's "
+                      "child frame, else the cloud's frame (the sensor hangs under it through tf)"),
       ParamSpec::real("scan_turn", 30.0, "when thinning (scan_spacing or dense_spacing), a scan turned this far from the last one read is read too")
           .range(0.1, 180)
           .unit("deg")};

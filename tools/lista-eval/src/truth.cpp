@@ -1,6 +1,7 @@
 #include "truth.hpp"
 
 #include <lista/error.hpp>
+#include <lista_bag/bag_mission.hpp>
 #include <lista_io/dataset.hpp>
 
 #include <Eigen/Geometry>
@@ -42,6 +43,10 @@ Truth load_truth(const std::string& dataset, const std::vector<std::string>& wan
   io::DatasetOptions opt;
   opt.missions = names;
   opt.threads = threads;
+  // Bag missions with what their bags and mission.toml say (io.missions' defaults).
+  opt.read_bag_mission = [](const std::string& dir, const io::DatasetOptions& o) {
+    return bag::read_bag_mission(dir, o, bag::BagOptions{});
+  };
   t.missions = io::read_dataset(dataset, opt);
 
   for (const auto& m : t.missions.missions) {

@@ -32,7 +32,7 @@ void prepare_output(const Scenario& sc, const WriteOptions& opt) {
   // A previous run with more missions would leave extra mission folders.
   for (char c = char('A' + sc.missions.size()); c <= 'Z'; ++c) {
     const fs::path extra = fs::path(opt.out) / std::string(1, c);
-    if (fs::exists(extra / "poses.txt")) {
+    if (fs::exists(extra / "poses.txt") || fs::exists(extra / "mission.bag") || fs::exists(extra / "bag")) {
       if (!opt.overwrite) throw Error("lista-sim: " + extra.string() + " is left from another dataset (pass --overwrite)");
       fs::remove_all(extra);
     }
@@ -82,7 +82,9 @@ WriteStats write_dataset(const Scenario& sc, const SensorModel& sensor, const Wr
   for (size_t mi = 0; mi < sc.missions.size(); ++mi) {
     const MissionPlan& m = sc.missions[mi];
     const fs::path dir = fs::path(opt.out) / m.name;
-    fs::create_directories(dir / "scans");
+    fs::create_directories(opt.bag ? dir : dir / "scans");
+    std::optional<MissionBagWriter> bag;
+    if (opt.bag) bag.emplace(dir.string(), *opt.bag);
     RayScene scene;
     build_static_scene(sc, m, scene);
     size_t points = 0;
@@ -103,11 +105,15 @@ WriteStats write_dataset(const Scenario& sc, const SensorModel& sensor, const Wr
       so.mixed_pixels = opt.mixed_pixels;
       so.dark_dropouts = opt.dark_dropouts;
       const PointSet cloud = sweep(scene, people.empty() ? nullptr : &people, sensor, m.poses_true[i], so);
-      char name[32];
-      std::snprintf(name, sizeof(name), "%06zu.pcd", i);
-      io::write_scan_pcd((dir / "scans" / name).string(), cloud, io::PcdEncoding::binary);
+      const double stamp = (opt.bag ? kBagStartTime : 0.0) + 0.1 * double(i);  // 10 Hz, the sensors' rate
+      if (bag) {
+        bag->add(stamp, cloud, m.poses_estimated[i]);
+      } else {
+        char name[32];
+        std::snprintf(name, sizeof(name), "%06zu.pcd", i);
+        io::write_scan_pcd((dir / "scans" / name).string(), cloud, io::PcdEncoding::binary);
+      }
       points += cloud.size();
-      const double stamp = 0.1 * double(i);  // 10 Hz, the sensors' rate
       estimated.push_back({stamp, m.poses_estimated[i]});
       truth.push_back({stamp, m.poses_true[i]});
       if (opt.progress)
@@ -115,8 +121,13 @@ WriteStats write_dataset(const Scenario& sc, const SensorModel& sensor, const Wr
     }
     if (opt.progress) std::fprintf(stderr, "\n");
     io::write_poses((dir / "poses_gt.txt").string(), truth, io::PoseFormat::tum);
-    // poses.txt last: a mission folder without it is visibly incomplete.
-    io::write_poses((dir / "poses.txt").string(), estimated, io::PoseFormat::tum);
+    if (bag) {
+      bag->close();
+      io::write_poses((dir / "trajectory.txt").string(), estimated, io::PoseFormat::tum);
+    } else {
+      // poses.txt last: a mission folder without it is visibly incomplete.
+      io::write_poses((dir / "poses.txt").string(), estimated, io::PoseFormat::tum);
+    }
     stats.points_per_mission.push_back(points);
     stats.scans_per_mission.push_back(m.poses_true.size());
   }

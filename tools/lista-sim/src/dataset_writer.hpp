@@ -2,10 +2,12 @@
 // contract, sect. 1, plus ground_truth.json (sect. 3).
 #pragma once
 
+#include "bag_writer.hpp"
 #include "scenario.hpp"
 #include "sensor.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +21,8 @@ struct WriteOptions {
   bool progress = false;  // progress lines on stderr
   bool body = false;      // a robot's back in every scan (SweepOptions::body)
   bool mixed_pixels = false, dark_dropouts = false;  // SweepOptions' sensor effects
+  // Missions as the data contract's folders (none), or as recorded bags.
+  std::optional<BagFormat> bag;
 };
 
 struct WriteStats {

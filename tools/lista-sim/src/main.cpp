@@ -33,7 +33,8 @@ std::vector<lista::sim::Shape> furniture_from(const std::string& folder, const c
 
 int run_dataset(const std::string& preset_name, const std::string& out, uint64_t seed, int missions,
                 int scans, const std::string& sensor_name, int threads, bool overwrite, const std::string& furniture,
-                bool body, const std::vector<std::string>& effects, double drift, double map_tilt, int people) {
+                bool body, const std::vector<std::string>& effects, double drift, double map_tilt, int people,
+                const std::string& format) {
   using namespace lista::sim;
   Preset preset = make_preset(preset_name);
   // Real furniture beside the procedural classes: about a third of the
@@ -61,6 +62,9 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
   options.overwrite = overwrite;
   options.progress = isatty(STDERR_FILENO);
   options.body = body;
+  if (format == "bag") options.bag = BagFormat::ros1;
+  if (format == "ros2") options.bag = BagFormat::ros2_sqlite3;
+  if (format == "mcap") options.bag = BagFormat::ros2_mcap;
   for (const std::string& e : effects) {
     if (e == "mixed-pixels" || e == "all") options.mixed_pixels = true;
     if (e == "dark-dropouts" || e == "all") options.dark_dropouts = true;
@@ -129,6 +133,13 @@ int main(int argc, char** argv) {
                  "(default: the preset's, 1 to 3)")
       ->check(CLI::Range(0, 50))
       ->default_str("preset");
+  std::string format = "pcd";
+  app.add_option("--format", format,
+                 "how missions are written: pcd (the data contract's folders), bag (a ROS 1 .bag per mission), ros2 "
+                 "(a ROS 2 bag, .db3) or mcap (a ROS 2 bag, .mcap); bags carry the clouds on /points, the poses on "
+                 "/tf and /odom, and trajectory.txt beside them (docs/formats.md)")
+      ->check(CLI::IsMember({"pcd", "bag", "ros2", "mcap"}))
+      ->capture_default_str();
   std::string scene_furniture;
   app.add_option("--furniture", scene_furniture,
                  "also place Sweet Home 3D furniture from this folder, about a third of the objects "
@@ -177,7 +188,7 @@ int main(int argc, char** argv) {
       std::cerr << "lista-sim: --preset and --out are required (or use the 'views' subcommand); see --help\n";
       return 2;
     }
-    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt, people);
+    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt, people, format);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;

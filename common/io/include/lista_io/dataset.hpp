@@ -3,6 +3,7 @@
 
 #include <lista/missions.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,15 @@ struct DatasetOptions {
   // scan_spacing = dense_spacing; 0 reads it whole. 0 here so that tools
   // which score or inspect a dataset see every point; io.missions turns it on.
   double dense_spacing = 0.0;  // m
+  // Reads a mission recorded as ROS bags (is_bag_mission): liblista_bag's
+  // reader, set by those who link it (io.missions, lista-eval); unset, such
+  // a mission is an error that says so.
+  std::function<Mission(const std::string& mission_dir, const struct DatasetOptions& options)> read_bag_mission = nullptr;
 };
+
+// A mission recorded as ROS bags: a folder holding .bag files, or a ROS 2
+// bag (metadata.yaml, or .db3 / .mcap files), itself or as its only subfolder.
+bool is_bag_mission(const std::string& mission_dir);
 
 // A dense log: at least kDenseLogScans scans whose sensors lie under
 // kDenseLogStep apart at the median (a 10 Hz LiDAR at walking pace, or a

@@ -13,11 +13,13 @@ struct PoseRecord {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 
+enum class PoseFormat { tum, kitti };
+
 // Throws lista::Error "file:line: ..." for a malformed line, a mixed layout or
 // a rotation that is not orthonormal (tolerance 1e-3, then re-orthonormalised).
-std::vector<PoseRecord> read_poses(const std::string& path);
+// `format`, when given, receives the layout found (tum for an empty file).
+std::vector<PoseRecord> read_poses(const std::string& path, PoseFormat* format = nullptr);
 
-enum class PoseFormat { tum, kitti };
 void write_poses(const std::string& path, const std::vector<PoseRecord>& poses,
                  PoseFormat format = PoseFormat::tum);  // atomic
 

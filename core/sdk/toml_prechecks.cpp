@@ -1,10 +1,10 @@
-#include "toml_prechecks.hpp"
+#include <lista/toml_prechecks.hpp>
 
 #include <lista/utf8.hpp>
 
 #include <algorithm>
 
-namespace lista::core {
+namespace lista {
 
 namespace {
 
@@ -51,4 +51,4 @@ void check_toml_utf8(const std::string& text, const std::string& file) {
       .at(location_of(text, bad, file));
 }
 
-}  // namespace lista::core
+}  // namespace lista

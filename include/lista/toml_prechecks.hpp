@@ -11,7 +11,7 @@
 
 #include <string>
 
-namespace lista::core {
+namespace lista {
 
 inline constexpr int kMaxTomlNesting = 64;
 
@@ -22,4 +22,4 @@ void check_toml_nesting(const std::string& text, const std::string& file);
 // Throws lista::Error at the first byte of `text` that is not UTF-8.
 void check_toml_utf8(const std::string& text, const std::string& file);
 
-}  // namespace lista::core
+}  // namespace lista

@@ -1,0 +1,288 @@
+// A bag mission: which topic and which poses (bag_mission.hpp), then two
+// passes over the bag: cloud headers, tf and poses first (small), then the
+// clouds to keep, converted one at a time so memory follows what is kept,
+// not the bag's length.
+#include "mission_file.hpp"
+#include "tf_tree.hpp"
+#include "trajectory.hpp"
+
+#include <lista/error.hpp>
+#include <lista_bag/bag_mission.hpp>
+#include <lista_bag/cloud_points.hpp>
+#include <lista_bag/ros1.hpp>
+#include <lista_bag/ros2.hpp>
+#include <lista_io/poses.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+
+namespace fs = std::filesystem;
+
+namespace lista::bag {
+
+namespace {
+
+std::vector<std::string> files_ending(const fs::path& dir, const std::string& ending) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (e.is_regular_file() && ext == ending && e.path().filename().string().front() != '.') out.push_back(e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::unique_ptr<Reader> open_mission_bags(const fs::path& dir) {
+  const std::vector<std::string> ros1 = files_ending(dir, ".bag");
+  std::vector<std::string> ros2 = files_ending(dir, ".db3");
+  for (const auto& f : files_ending(dir, ".mcap")) ros2.push_back(f);
+  const bool ros2_here = fs::exists(dir / "metadata.yaml") || !ros2.empty();
+  if (!ros1.empty()) {
+    if (ros2_here)
+      throw Error(dir.string() + ": holds both ROS 1 .bag files and a ROS 2 bag; keep one recording per mission folder");
+    return open_ros1(ros1);
+  }
+  if (ros2_here) {
+    if (fs::exists(dir / "metadata.yaml")) return open_ros2(dir.string());
+    if (ros2.size() != 1)
+      throw Error(dir.string() + ": " + std::to_string(ros2.size()) + " ROS 2 storage files and no metadata.yaml; " +
+                  "keep the bag's metadata.yaml beside them, or one file per mission");
+    return open_ros2(ros2[0]);
+  }
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_directory() && is_ros2_bag(e.path().string())) return open_ros2(e.path().string());
+  throw Error(dir.string() + ": no .bag file and no ROS 2 bag");
+}
+
+std::string topic_list(const std::vector<TopicInfo>& topics) {
+  std::string s;
+  for (const auto& t : topics) s += (s.empty() ? "" : ", ") + t.name + " (" + t.type + ")";
+  return s.empty() ? "none" : s;
+}
+
+std::vector<const TopicInfo*> of_kind(const std::vector<TopicInfo>& topics, std::initializer_list<MessageKind> kinds) {
+  std::vector<const TopicInfo*> out;
+  for (const auto& t : topics)
+    if (std::find(kinds.begin(), kinds.end(), t.kind) != kinds.end()) out.push_back(&t);
+  return out;
+}
+
+const TopicInfo& cloud_topic(const std::vector<TopicInfo>& topics, const std::string& wanted, const std::string& bag) {
+  if (!wanted.empty()) {
+    for (const auto& t : topics)
+      if (t.name == wanted) {
+        if (t.kind != MessageKind::point_cloud)
+          throw Error(bag + ": cloud_topic " + wanted + " is a " + t.type + ", not a sensor_msgs/PointCloud2");
+        return t;
+      }
+    throw Error(bag + ": no topic " + wanted + " (cloud_topic); the bag has " + topic_list(topics));
+  }
+  const auto clouds = of_kind(topics, {MessageKind::point_cloud});
+  if (clouds.size() == 1) return *clouds[0];
+  if (clouds.empty()) throw Error(bag + ": no sensor_msgs/PointCloud2 topic; the bag has " + topic_list(topics));
+  std::string names;
+  for (const auto* t : clouds) names += (names.empty() ? "" : ", ") + t->name;
+  throw Error(bag + ": " + std::to_string(clouds.size()) + " point cloud topics (" + names +
+              "); name one as cloud_topic in mission.toml or --set <io stage>.cloud_topic=...");
+}
+
+struct CloudHeader {
+  double stamp;
+  std::string frame;
+};
+
+// What the first pass gathers.
+struct FirstPass {
+  std::vector<CloudHeader> clouds;
+  TfTree tf;
+  bool has_tf = false;
+  std::map<std::string, std::vector<StampedPose>> pose_topics;
+};
+
+FirstPass first_pass(Reader& reader, const std::vector<TopicInfo>& topics, const std::string& cloud) {
+  FirstPass p;
+  std::vector<std::string> wanted = {cloud};
+  for (const auto* t : of_kind(topics, {MessageKind::tf, MessageKind::tf_static, MessageKind::odometry, MessageKind::pose_stamped}))
+    wanted.push_back(t->name);
+  Visitor v;
+  v.cloud = [&](const std::string&, Cloud&& c) { p.clouds.push_back({c.stamp, c.frame_id}); };
+  v.tf = [&](const std::string&, std::vector<FrameTransform>&& t, bool is_static) {
+    p.tf.add(t, is_static);
+    p.has_tf = true;
+  };
+  v.pose = [&](const std::string& topic, StampedPose&& pose) { p.pose_topics[topic].push_back(std::move(pose)); };
+  reader.read(wanted, v, true);
+  p.tf.finish();
+  return p;
+}
+
+// The sensor pose of each cloud in the mission's map frame (nullopt: outside
+// the poses' time range), and how they were found.
+struct Placement {
+  std::vector<std::optional<Eigen::Isometry3d>> poses;
+  std::string source;
+};
+
+Placement place_by_tf(const FirstPass& p, const std::string& fixed_frame, const std::string& bag) {
+  Placement out;
+  const std::string sensor = p.clouds.front().frame;
+  const std::string fixed = fixed_frame.empty() ? p.tf.root_of(sensor) : fixed_frame;
+  if (!p.tf.knows(fixed)) throw Error(bag + ": fixed_frame '" + fixed + "' is not in /tf");
+  for (const auto& c : p.clouds) {
+    if (!p.tf.knows(c.frame)) throw Error(bag + ": the cloud's frame '" + c.frame + "' is not in /tf");
+    out.poses.push_back(p.tf.lookup(fixed, c.frame, c.stamp));
+  }
+  out.source = "tf (" + fixed + " -> " + sensor + ")";
+  return out;
+}
+
+Placement place_by_trajectory(const FirstPass& p, const Trajectory& body_poses, const std::string& body,
+                              const std::string& source, BagMissionLog& log) {
+  Placement out;
+  out.source = source;
+  std::map<std::string, Eigen::Isometry3d> mount;  // T_body_sensor per cloud frame
+  for (const auto& c : p.clouds) {
+    auto it = mount.find(c.frame);
+    if (it == mount.end()) {
+      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+      if (!body.empty() && body != c.frame) {
+        if (p.tf.knows(body) && p.tf.knows(c.frame) && p.tf.root_of(body) == p.tf.root_of(c.frame)) {
+          // A sensor mount is static; at stamp 0 tf2 gives the latest.
+          T = p.tf.lookup(body, c.frame, 0.0).value_or(Eigen::Isometry3d::Identity());
+        } else {
+          log.notes.push_back("no tf from '" + body + "' to the cloud's frame '" + c.frame + "': the sensor is taken at the " +
+                              "pose of '" + body + "' (set body_frame, or record /tf_static)");
+        }
+      }
+      it = mount.emplace(c.frame, T).first;
+    }
+    const auto at = body_poses.at(c.stamp);
+    out.poses.push_back(at ? std::optional<Eigen::Isometry3d>(*at * it->second) : std::nullopt);
+  }
+  return out;
+}
+
+Placement place(const FirstPass& p, const BagOptions& o, const fs::path& dir, const std::vector<TopicInfo>& topics,
+                const std::string& bag, BagMissionLog& log) {
+  const std::string sensor = p.clouds.front().frame;
+  std::string source = o.poses;
+  if (source.empty()) {
+    if (p.has_tf && p.tf.knows(sensor) && p.tf.moves_under_root(sensor)) {
+      source = "tf";
+    } else {
+      const auto streams = of_kind(topics, {MessageKind::odometry, MessageKind::pose_stamped});
+      if (streams.size() != 1) {
+        std::string names;
+        for (const auto* t : streams) names += (names.empty() ? "" : ", ") + t->name;
+        throw Error(bag + ": no poses for the clouds: their frame '" + sensor + "' " +
+                    (p.tf.knows(sensor) ? "hangs under no moving /tf frame" : "is not in /tf") + " and the bag has " +
+                    (streams.empty() ? std::string("no odometry or pose topic") : std::to_string(streams.size()) + " (" + names + ")") +
+                    "; set poses in mission.toml to tf, a topic or a TUM file (docs/formats.md)");
+      }
+      source = streams[0]->name;
+    }
+  }
+  if (source == "tf") {
+    if (!p.has_tf) throw Error(bag + ": poses = tf, but the bag has no /tf");
+    return place_by_tf(p, o.fixed_frame, bag);
+  }
+  if (p.pose_topics.count(source) || std::any_of(topics.begin(), topics.end(), [&](const TopicInfo& t) { return t.name == source; })) {
+    const auto it = std::find_if(topics.begin(), topics.end(), [&](const TopicInfo& t) { return t.name == source; });
+    if (it->kind != MessageKind::odometry && it->kind != MessageKind::pose_stamped)
+      throw Error(bag + ": poses topic " + source + " is a " + it->type + ", not nav_msgs/Odometry or geometry_msgs/PoseStamped");
+    const auto found = p.pose_topics.find(source);
+    std::vector<StampedPose> stream = found == p.pose_topics.end() ? std::vector<StampedPose>{} : found->second;
+    if (stream.empty()) throw Error(bag + ": poses topic " + source + " has no messages");
+    const std::string body = !o.body_frame.empty() ? o.body_frame : !stream.front().child_frame.empty() ? stream.front().child_frame : sensor;
+    return place_by_trajectory(p, Trajectory(std::move(stream)), body, source, log);
+  }
+  const fs::path file = fs::path(source).is_absolute() ? fs::path(source) : dir / source;
+  if (!fs::is_regular_file(file))
+    throw Error(bag + ": poses '" + source + "' is neither tf, a topic of the bag (" + topic_list(topics) + ") nor a file in " +
+                dir.string());
+  std::vector<StampedPose> stream;
+  io::PoseFormat format;
+  for (const auto& r : io::read_poses(file.string(), &format)) stream.push_back({r.timestamp, "", "", r.pose});
+  if (format == io::PoseFormat::kitti)
+    throw Error(file.string() + ": KITTI poses carry no timestamps to match the clouds' stamps; write the trajectory as TUM "
+                "(timestamp tx ty tz qx qy qz qw)");
+  const std::string body = o.body_frame.empty() ? sensor : o.body_frame;
+  return place_by_trajectory(p, Trajectory(std::move(stream)), body, file.filename().string(), log);
+}
+
+}  // namespace
+
+Mission read_bag_mission(const std::string& mission_dir, const io::DatasetOptions& options, const BagOptions& defaults,
+                         BagMissionLog* log_out) {
+  const fs::path dir(mission_dir);
+  const MissionFile file = read_mission_file((dir / "mission.toml").string(), defaults);
+  const BagOptions& o = file.options;
+  io::DatasetOptions opt = options;
+  if (file.scan_spacing) opt.scan_spacing = *file.scan_spacing;
+
+  BagMissionLog log;
+  std::unique_ptr<Reader> reader = open_mission_bags(dir);
+  const std::string bag = reader->path();
+  log.bag = bag;
+  const std::vector<TopicInfo> topics = reader->topics();
+  const std::string topic = cloud_topic(topics, o.cloud_topic, bag).name;
+  log.cloud_topic = topic;
+
+  FirstPass p = first_pass(*reader, topics, topic);
+  if (p.clouds.empty()) throw Error(bag + ": topic " + topic + " has no messages");
+  log.clouds = p.clouds.size();
+  const Placement placed = place(p, o, dir, topics, bag, log);
+  log.pose_source = placed.source;
+
+  // Scans: the clouds that have a pose, in the bag's order.
+  std::vector<size_t> scan_of_cloud(p.clouds.size(), SIZE_MAX);
+  Mission m;
+  for (size_t k = 0; k < p.clouds.size(); ++k) {
+    if (!placed.poses[k]) {
+      ++log.outside_poses;
+      continue;
+    }
+    scan_of_cloud[k] = m.scans.size();
+    Scan s;
+    s.file = bag + ":" + topic + "#" + std::to_string(k);
+    s.timestamp = p.clouds[k].stamp;
+    s.pose = *placed.poses[k];
+    s.points = std::make_shared<const PointSet>();
+    m.scans.push_back(std::move(s));
+  }
+  if (m.scans.empty())
+    throw Error(bag + ": none of the " + std::to_string(p.clouds.size()) + " clouds on " + topic + " lies in the time range of its poses (" +
+                placed.source + ")");
+  std::vector<Eigen::Isometry3d> poses;
+  for (const auto& s : m.scans) poses.push_back(s.pose);
+  const std::vector<char> keep = io::scans_to_read(poses, io::spacing_for(poses, opt), opt.scan_turn_deg);
+
+  if (opt.load_points) {
+    size_t k = 0;
+    Visitor v;
+    v.cloud = [&](const std::string&, Cloud&& c) {
+      const size_t cloud = k++;
+      const size_t i = cloud < scan_of_cloud.size() ? scan_of_cloud[cloud] : SIZE_MAX;
+      if (i == SIZE_MAX || !keep[i]) return;
+      io::ScanFile f = cloud_points(c, uint32_t(i), m.scans[i].file);
+      m.scans[i].points_in_file = f.points_in_file;
+      m.skipped_nonfinite += f.skipped_nonfinite;
+      m.scans[i].points = std::make_shared<const PointSet>(std::move(f.points));
+    };
+    reader->read({topic}, v, false);
+  }
+  if (fs::is_regular_file(dir / "poses_gt.txt")) {
+    const auto gt = io::read_poses((dir / "poses_gt.txt").string());
+    if (gt.size() == m.scans.size())
+      for (const auto& r : gt) m.poses_gt.push_back(r.pose);
+    else
+      log.notes.push_back("poses_gt.txt has " + std::to_string(gt.size()) + " poses for " + std::to_string(m.scans.size()) +
+                          " clouds with poses: not used");
+  }
+  if (log_out) *log_out = std::move(log);
+  return m;
+}
+
+}  // namespace lista::bag

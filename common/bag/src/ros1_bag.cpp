@@ -1,0 +1,249 @@
+// ROS 1 bags through rosbag_storage: the message classes of sensor_msgs,
+// tf2_msgs, nav_msgs and geometry_msgs decode and encode; this file only
+// converts them to and from the plain structs of messages.hpp.
+#include <lista/error.hpp>
+#include <lista_bag/ros1.hpp>
+
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace lista::bag {
+
+namespace {
+
+Eigen::Isometry3d to_isometry(const geometry_msgs::Point& t, const geometry_msgs::Quaternion& q, const std::string& where) {
+  Eigen::Quaterniond r(q.w, q.x, q.y, q.z);
+  const double n = r.norm();
+  if (!std::isfinite(n) || n < 1e-6) throw Error(where + ": a rotation quaternion of zero length or not finite");
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(r.coeffs() / n).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(t.x, t.y, t.z);
+  if (!T.matrix().allFinite()) throw Error(where + ": a translation that is not finite");
+  return T;
+}
+
+geometry_msgs::Point to_point(const Eigen::Vector3d& t) {
+  geometry_msgs::Point p;
+  p.x = t.x(), p.y = t.y(), p.z = t.z();
+  return p;
+}
+
+geometry_msgs::Quaternion to_quaternion(const Eigen::Matrix3d& R) {
+  const Eigen::Quaterniond q(R);
+  geometry_msgs::Quaternion out;
+  out.x = q.x(), out.y = q.y(), out.z = q.z(), out.w = q.w();
+  return out;
+}
+
+double seconds(const ros::Time& t) { return t.toSec(); }
+
+ros::Time ros_time(double s, const std::string& what) {
+  if (!(s >= 0.0 && s < 4294967295.0)) throw Error(what + ": a time ROS 1 cannot store (" + std::to_string(s) + " s)");
+  return ros::Time(s);
+}
+
+Cloud from_ros(const sensor_msgs::PointCloud2& m, bool headers_only) {
+  Cloud c;
+  c.stamp = seconds(m.header.stamp);
+  c.frame_id = m.header.frame_id;
+  c.height = m.height, c.width = m.width, c.point_step = m.point_step, c.row_step = m.row_step;
+  c.is_bigendian = m.is_bigendian, c.is_dense = m.is_dense;
+  for (const auto& f : m.fields) c.fields.push_back({f.name, f.offset, f.datatype, f.count});
+  if (!headers_only) c.data = m.data;
+  return c;
+}
+
+class Ros1Reader : public Reader {
+ public:
+  explicit Ros1Reader(const std::vector<std::string>& files) : files_(files) {
+    if (files_.empty()) throw Error("no .bag file to read");
+    for (const auto& f : files_) {
+      auto bag = std::make_unique<rosbag::Bag>();
+      guarded(f, [&] { bag->open(f, rosbag::bagmode::Read); });
+      bags_.push_back(std::move(bag));
+    }
+    std::map<std::string, TopicInfo> by_name;
+    for (size_t b = 0; b < bags_.size(); ++b)
+      guarded(files_[b], [&] {
+        rosbag::View view(*bags_[b]);
+        for (const rosbag::ConnectionInfo* c : view.getConnections()) {
+          TopicInfo& t = by_name[c->topic];
+          if (!t.type.empty() && t.type != c->datatype)
+            throw Error("topic " + c->topic + " has two types (" + t.type + ", " + c->datatype + ")");
+          t.name = c->topic, t.type = c->datatype, t.kind = kind_of(c->topic, c->datatype);
+        }
+        for (auto& [name, t] : by_name) t.messages += rosbag::View(*bags_[b], rosbag::TopicQuery(name)).size();
+      });
+    for (auto& [name, t] : by_name) topics_.push_back(t);
+  }
+
+  std::vector<TopicInfo> topics() const override { return topics_; }
+  std::string path() const override { return files_.size() == 1 ? files_[0] : files_[0] + " (and " + std::to_string(files_.size() - 1) + " more)"; }
+
+  void read(const std::vector<std::string>& topics, const Visitor& visitor, bool clouds_headers_only) override {
+    std::map<std::string, MessageKind> kinds;
+    for (const auto& name : topics) {
+      const auto it = std::find_if(topics_.begin(), topics_.end(), [&](const TopicInfo& t) { return t.name == name; });
+      if (it == topics_.end()) throw Error(path() + ": no topic " + name);
+      if (it->kind == MessageKind::other)
+        throw Error(path() + ": topic " + name + " is a " + it->type + ", not a point cloud, tf, odometry or pose");
+      kinds[name] = it->kind;
+    }
+    rosbag::View view;
+    for (auto& b : bags_) view.addQuery(*b, rosbag::TopicQuery(topics));
+    guarded(path(), [&] {
+      for (const rosbag::MessageInstance& m : view) {
+        const std::string& topic = m.getTopic();
+        const MessageKind kind = kinds.at(topic);
+        if (kind == MessageKind::point_cloud && visitor.cloud) {
+          visitor.cloud(topic, from_ros(*must<sensor_msgs::PointCloud2>(m), clouds_headers_only));
+        } else if ((kind == MessageKind::tf || kind == MessageKind::tf_static) && visitor.tf) {
+          const auto msg = must<tf2_msgs::TFMessage>(m);
+          std::vector<FrameTransform> out;
+          for (const auto& t : msg->transforms) {
+            geometry_msgs::Point p;
+            p.x = t.transform.translation.x, p.y = t.transform.translation.y, p.z = t.transform.translation.z;
+            out.push_back({seconds(t.header.stamp), t.header.frame_id, t.child_frame_id,
+                           to_isometry(p, t.transform.rotation, path() + ": " + topic)});
+          }
+          visitor.tf(topic, std::move(out), kind == MessageKind::tf_static);
+        } else if (kind == MessageKind::odometry && visitor.pose) {
+          const auto msg = must<nav_msgs::Odometry>(m);
+          visitor.pose(topic, {seconds(msg->header.stamp), msg->header.frame_id, msg->child_frame_id,
+                               to_isometry(msg->pose.pose.position, msg->pose.pose.orientation, path() + ": " + topic)});
+        } else if (kind == MessageKind::pose_stamped && visitor.pose) {
+          const auto msg = must<geometry_msgs::PoseStamped>(m);
+          visitor.pose(topic, {seconds(msg->header.stamp), msg->header.frame_id, "",
+                               to_isometry(msg->pose.position, msg->pose.orientation, path() + ": " + topic)});
+        }
+      }
+    });
+  }
+
+ private:
+  template <class T>
+  boost::shared_ptr<T> must(const rosbag::MessageInstance& m) const {
+    auto msg = m.instantiate<T>();
+    if (!msg) throw Error(path() + ": topic " + m.getTopic() + " does not decode as " + m.getDataType() + " (another message definition?)");
+    return msg;
+  }
+
+  // rosbag and the serializers throw their own exceptions; say them as every
+  // other error: the file, then what is wrong.
+  template <class F>
+  static void guarded(const std::string& file, F&& f) {
+    try {
+      f();
+    } catch (const rosbag::BagUnindexedException&) {
+      throw Error(file + ": the bag is not indexed (recording was cut short?); repair it with `rosbag reindex`");
+    } catch (const rosbag::BagException& e) {
+      throw Error(file + ": not a readable ROS 1 bag (" + std::string(e.what()) + ")");
+    } catch (const ros::Exception& e) {
+      throw Error(file + ": a message that does not decode (" + std::string(e.what()) + "); a truncated bag?");
+    } catch (const std::bad_alloc&) {
+      throw Error(file + ": a message too large to hold in memory (a corrupt length?)");
+    }
+  }
+
+  std::vector<std::string> files_;
+  std::vector<std::unique_ptr<rosbag::Bag>> bags_;
+  std::vector<TopicInfo> topics_;
+};
+
+class Ros1Writer : public Writer {
+ public:
+  Ros1Writer(const std::string& file, bool compress) : file_(file) {
+    try {
+      bag_.open(file, rosbag::bagmode::Write);
+      if (compress) bag_.setCompression(rosbag::compression::LZ4);
+    } catch (const rosbag::BagException& e) {
+      throw Error(file + ": cannot write (" + std::string(e.what()) + ")");
+    }
+  }
+  ~Ros1Writer() override {
+    try {
+      close();
+    } catch (...) {
+    }
+  }
+
+  void write_cloud(const std::string& topic, const Cloud& c, double t) override {
+    sensor_msgs::PointCloud2 m;
+    m.header.stamp = ros_time(c.stamp, file_), m.header.frame_id = c.frame_id;
+    m.height = c.height, m.width = c.width, m.point_step = c.point_step, m.row_step = c.row_step;
+    m.is_bigendian = c.is_bigendian, m.is_dense = c.is_dense;
+    for (const auto& f : c.fields) {
+      sensor_msgs::PointField pf;
+      pf.name = f.name, pf.offset = f.offset, pf.datatype = f.datatype, pf.count = f.count;
+      m.fields.push_back(pf);
+    }
+    m.data = c.data;
+    put(topic, t, m);
+  }
+  void write_tf(const std::string& topic, const std::vector<FrameTransform>& transforms, double t) override {
+    tf2_msgs::TFMessage m;
+    for (const auto& f : transforms) {
+      geometry_msgs::TransformStamped ts;
+      ts.header.stamp = ros_time(f.stamp, file_), ts.header.frame_id = f.parent_frame, ts.child_frame_id = f.child_frame;
+      ts.transform.translation.x = f.transform.translation().x();
+      ts.transform.translation.y = f.transform.translation().y();
+      ts.transform.translation.z = f.transform.translation().z();
+      ts.transform.rotation = to_quaternion(f.transform.linear());
+      m.transforms.push_back(ts);
+    }
+    put(topic, t, m);
+  }
+  void write_odometry(const std::string& topic, const StampedPose& p, double t) override {
+    nav_msgs::Odometry m;
+    m.header.stamp = ros_time(p.stamp, file_), m.header.frame_id = p.frame_id, m.child_frame_id = p.child_frame;
+    m.pose.pose.position = to_point(p.pose.translation());
+    m.pose.pose.orientation = to_quaternion(p.pose.linear());
+    put(topic, t, m);
+  }
+  void write_pose_stamped(const std::string& topic, const StampedPose& p, double t) override {
+    geometry_msgs::PoseStamped m;
+    m.header.stamp = ros_time(p.stamp, file_), m.header.frame_id = p.frame_id;
+    m.pose.position = to_point(p.pose.translation());
+    m.pose.orientation = to_quaternion(p.pose.linear());
+    put(topic, t, m);
+  }
+  void close() override {
+    if (!bag_.isOpen()) return;
+    try {
+      bag_.close();
+    } catch (const rosbag::BagException& e) {
+      throw Error(file_ + ": cannot finish the bag (" + std::string(e.what()) + ")");
+    }
+  }
+
+ private:
+  template <class M>
+  void put(const std::string& topic, double t, const M& m) {
+    try {
+      bag_.write(topic, ros_time(t, file_), m);
+    } catch (const rosbag::BagException& e) {
+      throw Error(file_ + ": cannot write topic " + topic + " (" + std::string(e.what()) + ")");
+    }
+  }
+
+  std::string file_;
+  rosbag::Bag bag_;
+};
+
+}  // namespace
+
+std::unique_ptr<Reader> open_ros1(const std::vector<std::string>& bag_files) { return std::make_unique<Ros1Reader>(bag_files); }
+
+std::unique_ptr<Writer> create_ros1(const std::string& bag_file, bool compress) {
+  return std::make_unique<Ros1Writer>(bag_file, compress);
+}
+
+}  // namespace lista::bag

@@ -1,0 +1,202 @@
+// Bag missions end to end through the real rosbag library: small bags written
+// here, read back as Missions.
+#include <gtest/gtest.h>
+#include <lista/error.hpp>
+#include <lista_bag/bag_mission.hpp>
+#include <lista_bag/ros1.hpp>
+#include <lista_io/poses.hpp>
+#include <lista_io/test_scratch.hpp>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+using namespace lista;
+using namespace lista::bag;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double t0 = 1.7e9;
+
+fs::path fresh_dir(const std::string& name) {
+  const auto dir = io::testing::scratch_path("bag_" + name);
+  fs::create_directories(dir);
+  return dir;
+}
+
+Cloud cloud_at(double stamp, const std::string& frame, float x) {
+  Cloud c;
+  c.stamp = stamp;
+  c.frame_id = frame;
+  c.height = 1, c.width = 2, c.point_step = 12, c.row_step = 24;
+  c.fields = {{"x", 0, float32, 1}, {"y", 4, float32, 1}, {"z", 8, float32, 1}};
+  c.data.resize(24);
+  const float v[6] = {x, 0, 0, x, 1, 0};
+  std::memcpy(c.data.data(), v, 24);
+  return c;
+}
+
+Eigen::Isometry3d pose_xyz_yaw(double x, double y, double z, double yaw_deg) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(x, y, z);
+  return T;
+}
+
+const Eigen::Isometry3d kMount = pose_xyz_yaw(0.2, 0, 0.5, 90);
+
+// Base poses at t0 + 0, 1, 2 s: 1 m a second along x, turning 10 deg a second.
+Eigen::Isometry3d base_at(double s) { return pose_xyz_yaw(s, 0, 0, 10 * s); }
+
+// Clouds at t0 + 0, 0.5, 1, 1.5, 2 and 3 (the last one after the poses end).
+void write_clouds(Writer& w, const std::string& topic = "/points") {
+  for (double s : {0.0, 0.5, 1.0, 1.5, 2.0, 3.0}) w.write_cloud(topic, cloud_at(t0 + s, "lidar", float(s)), t0 + s);
+}
+
+void write_tf(Writer& w) {
+  w.write_tf("/tf_static", {{t0, "map", "odom", Eigen::Isometry3d::Identity()}, {t0, "base_link", "lidar", kMount}}, t0);
+  for (double s : {0.0, 1.0, 2.0}) w.write_tf("/tf", {{t0 + s, "odom", "base_link", base_at(s)}}, t0 + s);
+}
+
+template <class Fn>
+void expect_error(Fn fn, const std::string& needle) {
+  try {
+    fn();
+    ADD_FAILURE() << "no error thrown, expected one containing '" << needle << "'";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+void expect_near(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const std::string& what) {
+  EXPECT_LT((a.matrix() - b.matrix()).cwiseAbs().maxCoeff(), 1e-9) << what << "\n" << a.matrix() << "\n" << b.matrix();
+}
+
+Mission read(const fs::path& dir, const BagOptions& o = {}, BagMissionLog* log = nullptr) {
+  io::DatasetOptions opt;
+  return read_bag_mission(dir.string(), opt, o, log);
+}
+
+}  // namespace
+
+TEST(BagMission, PlacesEachCloudByTfAtItsStampAndSkipsThoseOutsideThePoses) {
+  const auto dir = fresh_dir("tf");
+  {
+    auto w = create_ros1((dir / "a.bag").string());
+    write_tf(*w);
+    write_clouds(*w);
+    w->close();
+  }
+  EXPECT_TRUE(io::is_bag_mission(dir.string()));
+  BagMissionLog log;
+  const Mission m = read(dir, {}, &log);
+  EXPECT_EQ(log.cloud_topic, "/points");
+  EXPECT_EQ(log.pose_source, "tf (map -> lidar)");
+  EXPECT_EQ(log.clouds, 6u);
+  EXPECT_EQ(log.outside_poses, 1u) << "the cloud at t0 + 3 s lies after the last pose";
+  ASSERT_EQ(m.scans.size(), 5u);
+  expect_near(m.scans[2].pose, base_at(1) * kMount, "a cloud on a tf stamp");
+  // Half way: translation half way, yaw half way (slerp).
+  expect_near(m.scans[1].pose, base_at(0.5) * kMount, "a cloud between two tf stamps");
+  EXPECT_DOUBLE_EQ(m.scans[3].timestamp, t0 + 1.5);
+  ASSERT_TRUE(m.scans[4].points);
+  ASSERT_EQ(m.scans[4].points->size(), 2u);
+  EXPECT_FLOAT_EQ(m.scans[4].points->xyz[0].x(), 2.0f) << "points stay in the sensor frame";
+  EXPECT_EQ(m.scans[4].points_in_file, 2u);
+}
+
+TEST(BagMission, FallsBackToTheOnlyOdometryTopicAndMountsTheSensorThroughTfStatic) {
+  const auto dir = fresh_dir("odom");
+  {
+    auto w = create_ros1((dir / "a.bag").string());
+    w->write_tf("/tf_static", {{t0, "base_link", "lidar", kMount}}, t0);
+    for (double s : {0.0, 1.0, 2.0}) w->write_odometry("/odom", {t0 + s, "odom", "base_link", base_at(s)}, t0 + s);
+    write_clouds(*w);
+    w->close();
+  }
+  BagMissionLog log;
+  const Mission m = read(dir, {}, &log);
+  EXPECT_EQ(log.pose_source, "/odom") << "lidar hangs under base_link by a static transform only: tf cannot place it";
+  ASSERT_EQ(m.scans.size(), 5u);
+  expect_near(m.scans[3].pose, base_at(1.5) * kMount, "odometry interpolated, then the mount");
+  EXPECT_TRUE(log.notes.empty());
+}
+
+TEST(BagMission, TakesPosesFromATumFileNamedInMissionToml) {
+  const auto dir = fresh_dir("tum");
+  {
+    auto w = create_ros1((dir / "a.bag").string());
+    write_clouds(*w);
+    w->close();
+  }
+  std::vector<io::PoseRecord> tum;
+  for (double s : {0.0, 1.0, 2.0, 3.0}) tum.push_back({t0 + s, base_at(s) * kMount});
+  io::write_poses((dir / "slam.txt").string(), tum);
+  expect_error([&] { read(dir); }, "no poses for the clouds");
+  std::ofstream(dir / "mission.toml") << "poses = \"slam.txt\"\n";
+  BagMissionLog log;
+  const Mission m = read(dir, {}, &log);
+  EXPECT_EQ(log.pose_source, "slam.txt");
+  ASSERT_EQ(m.scans.size(), 6u);
+  expect_near(m.scans[5].pose, base_at(3) * kMount, "the TUM poses are the sensor's");
+  expect_near(m.scans[2].pose, base_at(1) * kMount, "on a stamp");
+}
+
+TEST(BagMission, SeveralCloudTopicsNeedOneNamed) {
+  const auto dir = fresh_dir("two_clouds");
+  {
+    auto w = create_ros1((dir / "a.bag").string());
+    write_tf(*w);
+    write_clouds(*w, "/front");
+    write_clouds(*w, "/rear");
+    w->close();
+  }
+  expect_error([&] { read(dir); }, "2 point cloud topics (/front, /rear); name one as cloud_topic");
+  std::ofstream(dir / "mission.toml") << "cloud_topic = \"/rear\"\n";
+  BagMissionLog log;
+  read(dir, {}, &log);
+  EXPECT_EQ(log.cloud_topic, "/rear");
+  BagOptions wrong;
+  wrong.cloud_topic = "/tf";
+  std::filesystem::remove(dir / "mission.toml");
+  expect_error([&] { read(dir, wrong); }, "cloud_topic /tf is a tf2_msgs/TFMessage, not a sensor_msgs/PointCloud2");
+}
+
+TEST(BagMission, BadInputIsOneLineNamingTheFileKeyOrFrame) {
+  const auto dir = fresh_dir("bad");
+  {
+    auto w = create_ros1((dir / "a.bag").string());
+    write_tf(*w);
+    write_clouds(*w);
+    w->close();
+  }
+  std::ofstream(dir / "mission.toml") << "# mine\ncloud_topc = \"/points\"\n";
+  expect_error([&] { read(dir); }, "mission.toml:2: cloud_topc: unknown key");
+  std::ofstream(dir / "mission.toml") << "fixed_frame = \"world\"\n";
+  expect_error([&] { read(dir); }, "fixed_frame 'world' is not in /tf");
+  std::ofstream(dir / "mission.toml") << "poses = \"/gps\"\n";
+  expect_error([&] { read(dir); }, "poses '/gps' is neither tf, a topic of the bag");
+  std::filesystem::remove(dir / "mission.toml");
+
+  // A bag cut short: rosbag cannot read it, and the error names the file.
+  const auto cut = fresh_dir("cut");
+  const auto size = std::filesystem::file_size(dir / "a.bag");
+  std::filesystem::copy_file(dir / "a.bag", cut / "a.bag");
+  std::filesystem::resize_file(cut / "a.bag", size / 2);
+  expect_error([&] { read(cut); }, (cut / "a.bag").string() + ": ");
+
+  // Frames that never connect: the clouds' frame is in another tf tree.
+  const auto apart = fresh_dir("apart");
+  {
+    auto w = create_ros1((apart / "a.bag").string());
+    write_tf(*w);
+    for (double s : {0.0, 1.0}) w->write_cloud("/points", cloud_at(t0 + s, "lidar", 0), t0 + s);
+    w->write_tf("/tf", {{t0, "elsewhere", "camera", Eigen::Isometry3d::Identity()}}, t0);
+    w->close();
+  }
+  BagOptions o;
+  o.poses = "tf";
+  o.fixed_frame = "elsewhere";
+  expect_error([&] { read(apart, o); }, "tf: no transform from frame 'lidar' to 'elsewhere'");
+}
