@@ -22,7 +22,8 @@ WORK=$(mktemp -d "${TMPDIR:-/tmp}/lista-fuzz.XXXXXX")
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 status=0
-for pair in pcd:pcd ply:ply bin:bin poses:poses report:report ground_truth:ground_truth pipeline:pipeline; do
+for pair in pcd:pcd ply:ply bin:bin poses:poses report:report ground_truth:ground_truth pipeline:pipeline \
+            cdr:cdr mcap:mcap; do
   harness=fuzz_${pair%%:*}
   corpus="$WORK/${pair#*:}"
   mkdir -p "$corpus"
