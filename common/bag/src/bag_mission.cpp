@@ -2,6 +2,7 @@
 // passes over the bag: cloud headers, tf and poses first (small), then the
 // clouds to keep, converted one at a time so memory follows what is kept,
 // not the bag's length.
+#include "deskew.hpp"
 #include "mission_file.hpp"
 #include "tf_tree.hpp"
 #include "trajectory.hpp"
@@ -14,6 +15,7 @@
 #include <lista_io/poses.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 
@@ -123,6 +125,10 @@ FirstPass first_pass(Reader& reader, const std::vector<TopicInfo>& topics, const
 struct Placement {
   std::vector<std::optional<Eigen::Isometry3d>> poses;
   std::string source;
+  // The pose of a cloud frame at any time (deskew), and the median time
+  // between the pose samples it interpolates.
+  std::function<std::optional<Eigen::Isometry3d>(const std::string& frame, double stamp)> pose_at;
+  double pose_interval = 0.0;
 };
 
 Placement place_by_tf(const FirstPass& p, const std::string& fixed_frame, const std::string& bag) {
@@ -135,17 +141,21 @@ Placement place_by_tf(const FirstPass& p, const std::string& fixed_frame, const 
     out.poses.push_back(p.tf.lookup(fixed, c.frame, c.stamp));
   }
   out.source = "tf (" + fixed + " -> " + sensor + ")";
+  out.pose_at = [&tf = p.tf, fixed](const std::string& frame, double t) { return tf.lookup(fixed, frame, t); };
+  out.pose_interval = p.tf.median_interval(sensor);
   return out;
 }
 
-Placement place_by_trajectory(const FirstPass& p, const Trajectory& body_poses, const std::string& body,
+Placement place_by_trajectory(const FirstPass& p, std::shared_ptr<const Trajectory> trajectory, const std::string& body,
                               const std::string& source, BagMissionLog& log) {
+  const Trajectory& body_poses = *trajectory;
   Placement out;
   out.source = source;
-  std::map<std::string, Eigen::Isometry3d> mount;  // T_body_sensor per cloud frame
+  out.pose_interval = body_poses.median_interval();
+  auto mount = std::make_shared<std::map<std::string, Eigen::Isometry3d>>();  // T_body_sensor per cloud frame
   for (const auto& c : p.clouds) {
-    auto it = mount.find(c.frame);
-    if (it == mount.end()) {
+    auto it = mount->find(c.frame);
+    if (it == mount->end()) {
       Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
       if (!body.empty() && body != c.frame) {
         if (p.tf.knows(body) && p.tf.knows(c.frame) && p.tf.root_of(body) == p.tf.root_of(c.frame)) {
@@ -156,11 +166,17 @@ Placement place_by_trajectory(const FirstPass& p, const Trajectory& body_poses, 
                               "pose of '" + body + "' (set body_frame, or record /tf_static)");
         }
       }
-      it = mount.emplace(c.frame, T).first;
+      it = mount->emplace(c.frame, T).first;
     }
     const auto at = body_poses.at(c.stamp);
     out.poses.push_back(at ? std::optional<Eigen::Isometry3d>(*at * it->second) : std::nullopt);
   }
+  out.pose_at = [trajectory, mount](const std::string& frame, double t) -> std::optional<Eigen::Isometry3d> {
+    const auto at = trajectory->at(t);
+    const auto m = mount->find(frame);
+    if (!at || m == mount->end()) return std::nullopt;
+    return *at * m->second;
+  };
   return out;
 }
 
@@ -196,7 +212,7 @@ Placement place(const FirstPass& p, const BagOptions& o, const fs::path& dir, co
     std::vector<StampedPose> stream = found == p.pose_topics.end() ? std::vector<StampedPose>{} : found->second;
     if (stream.empty()) throw Error(bag + ": poses topic " + source + " has no messages");
     const std::string body = !o.body_frame.empty() ? o.body_frame : !stream.front().child_frame.empty() ? stream.front().child_frame : sensor;
-    return place_by_trajectory(p, Trajectory(std::move(stream)), body, source, log);
+    return place_by_trajectory(p, std::make_shared<const Trajectory>(std::move(stream)), body, source, log);
   }
   const fs::path file = fs::path(source).is_absolute() ? fs::path(source) : dir / source;
   if (!fs::is_regular_file(file))
@@ -209,7 +225,7 @@ Placement place(const FirstPass& p, const BagOptions& o, const fs::path& dir, co
     throw Error(file.string() + ": KITTI poses carry no timestamps to match the clouds' stamps; write the trajectory as TUM "
                 "(timestamp tx ty tz qx qy qz qw)");
   const std::string body = o.body_frame.empty() ? sensor : o.body_frame;
-  return place_by_trajectory(p, Trajectory(std::move(stream)), body, file.filename().string(), log);
+  return place_by_trajectory(p, std::make_shared<const Trajectory>(std::move(stream)), body, file.filename().string(), log);
 }
 
 }  // namespace
@@ -266,12 +282,29 @@ Mission read_bag_mission(const std::string& mission_dir, const io::DatasetOption
       const size_t cloud = k++;
       const size_t i = cloud < scan_of_cloud.size() ? scan_of_cloud[cloud] : SIZE_MAX;
       if (i == SIZE_MAX || !keep[i]) return;
-      io::ScanFile f = cloud_points(c, uint32_t(i), m.scans[i].file);
+      std::vector<double> times;
+      io::ScanFile f = cloud_points(c, uint32_t(i), m.scans[i].file, o.deskew ? &times : nullptr);
+      if (!times.empty()) {
+        ++log.timed;
+        // Pose samples farther apart than two sweeps cannot tell the motion
+        // within one: read such clouds as they are.
+        const auto [lo, hi] = std::minmax_element(times.begin(), times.end());
+        if (placed.pose_interval > 0.0 && placed.pose_interval <= 2.0 * (*hi - *lo) &&
+            deskew(f.points, times, c.stamp, [&](double t) { return placed.pose_at(c.frame_id, t); }))
+          ++log.deskewed;
+      }
       m.scans[i].points_in_file = f.points_in_file;
       m.skipped_nonfinite += f.skipped_nonfinite;
       m.scans[i].points = std::make_shared<const PointSet>(std::move(f.points));
     };
     reader->read({topic}, v, false);
+    if (log.timed > log.deskewed) {
+      char text[240];
+      std::snprintf(text, sizeof text, "%zu of %zu clouds with per-point times not deskewed: poses every %.3g s (%s), "
+                    "too sparse for their sweeps, or not covering them", log.timed - log.deskewed, log.timed,
+                    placed.pose_interval, placed.source.c_str());
+      log.notes.push_back(text);
+    }
   }
   if (fs::is_regular_file(dir / "poses_gt.txt")) {
     const auto gt = io::read_poses((dir / "poses_gt.txt").string());

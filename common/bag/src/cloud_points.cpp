@@ -49,10 +49,11 @@ std::string lower(std::string s) {
 
 }  // namespace
 
-io::ScanFile cloud_points(const Cloud& c, uint32_t scan_id, const std::string& where) {
+io::ScanFile cloud_points(const Cloud& c, uint32_t scan_id, const std::string& where, std::vector<double>* point_times) {
   const PointField* axis[3] = {nullptr, nullptr, nullptr};
   const PointField* intensity = nullptr;
   const PointField* label = nullptr;
+  const PointField* time = nullptr;
   size_t intensity_rank = io::kIntensityNames.size();
   for (const auto& f : c.fields) {
     const size_t size = type_size(f.datatype);
@@ -64,6 +65,7 @@ io::ScanFile cloud_points(const Cloud& c, uint32_t scan_id, const std::string& w
     if (n == "x" || n == "y" || n == "z") axis[n[0] - 'x'] = &f;
     else if (rank < intensity_rank) intensity = &f, intensity_rank = rank;
     else if (n == "label" && !label) label = &f;
+    else if (!time && std::find(kTimeNames.begin(), kTimeNames.end(), n) != kTimeNames.end()) time = &f;
   }
   for (int k = 0; k < 3; ++k)
     if (!axis[k]) throw Error(where + ": the cloud has no '" + std::string(1, char('x' + k)) + "' field");
@@ -81,6 +83,9 @@ io::ScanFile cloud_points(const Cloud& c, uint32_t scan_id, const std::string& w
   s.points_in_file = uint32_t(points);
   s.points.reserve(size_t(points));
   const bool swap = c.is_bigendian;  // every machine LiSTA builds for is little-endian
+  if (point_times) point_times->clear();
+  const bool timed = point_times && time;
+  const bool integer_time = time && time->datatype != float32 && time->datatype != float64;
   uint32_t index = 0;
   for (uint32_t row = 0; row < c.height; ++row)
     for (uint32_t col = 0; col < c.width; ++col, ++index) {
@@ -95,6 +100,12 @@ io::ScanFile cloud_points(const Cloud& c, uint32_t scan_id, const std::string& w
       s.points.xyz.emplace_back(x, y, z);
       if (intensity) s.points.intensity.push_back(float(value(p + intensity->offset, intensity->datatype, swap)));
       if (label) s.points.label.push_back(io::to_label(value(p + label->offset, label->datatype, swap), s));
+      if (timed) {
+        double t = value(p + time->offset, time->datatype, swap);
+        if (integer_time || t > 1e15) t *= 1e-9;
+        if (t > 1e6) t -= c.stamp;  // an absolute time
+        point_times->push_back(t);
+      }
       s.points.scan.push_back(scan_id);
       s.points.index.push_back(index);
     }

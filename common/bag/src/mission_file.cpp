@@ -46,6 +46,11 @@ MissionFile read_mission_file(const std::string& path, const BagOptions& default
     auto where = [&, &key = key, &value = value](const std::string& what) {
       return Error(path + ":" + std::to_string(value.location().line()) + ": " + key + ": " + what);
     };
+    if (key == "deskew") {
+      if (!value.is_boolean()) throw where("expected true or false");
+      out.options.deskew = value.as_boolean();
+      continue;
+    }
     if (key == "scan_spacing") {
       if (!value.is_floating() && !value.is_integer()) throw where("expected a number of metres");
       const double v = value.is_floating() ? value.as_floating() : double(value.as_integer());
@@ -55,7 +60,7 @@ MissionFile read_mission_file(const std::string& path, const BagOptions& default
     }
     const auto it = std::find_if(std::begin(texts), std::end(texts), [&, &key = key](const auto& t) { return key == t.first; });
     if (it == std::end(texts))
-      throw where("unknown key; a mission.toml knows cloud_topic, poses, fixed_frame, body_frame and scan_spacing");
+      throw where("unknown key; a mission.toml knows cloud_topic, poses, fixed_frame, body_frame, deskew and scan_spacing");
     if (!value.is_string()) throw where("expected a string");
     out.options.*(it->second) = value.as_string().str;
   }

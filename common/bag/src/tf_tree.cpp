@@ -1,5 +1,7 @@
 #include "tf_tree.hpp"
 
+#include "trajectory.hpp"
+
 #include <lista/error.hpp>
 
 #include <console_bridge/console.h>
@@ -16,6 +18,7 @@ void TfTree::add(const std::vector<FrameTransform>& transforms, bool is_static) 
     Edge& e = parent_of_[t.child_frame];
     e.parent = t.parent_frame;
     e.is_static = is_static;
+    if (!is_static) stamps_of_[t.child_frame].push_back(t.stamp);
     pending_.emplace_back(t, is_static);
   }
 }
@@ -70,6 +73,18 @@ bool TfTree::moves_under_root(const std::string& frame) const {
     f = it->second.parent;
   }
   return false;
+}
+
+double TfTree::median_interval(const std::string& frame) const {
+  double coarsest = 0.0;
+  std::string f = frame;
+  for (size_t steps = 0; steps <= parent_of_.size(); ++steps) {
+    const auto it = parent_of_.find(f);
+    if (it == parent_of_.end()) break;
+    if (const auto s = stamps_of_.find(f); s != stamps_of_.end()) coarsest = std::max(coarsest, lista::bag::median_interval(s->second));
+    f = it->second.parent;
+  }
+  return coarsest;
 }
 
 std::optional<Eigen::Isometry3d> TfTree::lookup(const std::string& target, const std::string& source, double stamp) const {

@@ -25,6 +25,9 @@ class TfTree {
   // the chain covers (tf2 would extrapolate); throws lista::Error when the
   // frames never connect.
   std::optional<Eigen::Isometry3d> lookup(const std::string& target, const std::string& source, double stamp) const;
+  // The median time between the samples of the moving transforms above
+  // `frame` (the coarsest of them); 0 when none moves.
+  double median_interval(const std::string& frame) const;
 
  private:
   struct Edge {
@@ -32,6 +35,7 @@ class TfTree {
     bool is_static = false;
   };
   std::map<std::string, Edge> parent_of_;
+  std::map<std::string, std::vector<double>> stamps_of_;  // moving edges: child frame -> stamps
   std::vector<std::pair<FrameTransform, bool>> pending_;
   std::unique_ptr<tf2::BufferCore> buffer_;
 };

@@ -22,4 +22,19 @@ std::optional<Eigen::Isometry3d> Trajectory::at(double stamp) const {
   return T;
 }
 
+double median_interval(std::vector<double> stamps) {
+  if (stamps.size() < 2) return 0.0;
+  std::sort(stamps.begin(), stamps.end());
+  std::vector<double> gaps;
+  for (size_t i = 1; i < stamps.size(); ++i) gaps.push_back(stamps[i] - stamps[i - 1]);
+  std::nth_element(gaps.begin(), gaps.begin() + long(gaps.size() / 2), gaps.end());
+  return gaps[gaps.size() / 2];
+}
+
+double Trajectory::median_interval() const {
+  std::vector<double> stamps;
+  for (const auto& p : poses_) stamps.push_back(p.stamp);
+  return lista::bag::median_interval(std::move(stamps));
+}
+
 }  // namespace lista::bag

@@ -16,9 +16,13 @@ class Trajectory {
   explicit Trajectory(std::vector<StampedPose> poses);
   std::optional<Eigen::Isometry3d> at(double stamp) const;
   bool empty() const { return poses_.empty(); }
+  double median_interval() const;  // s between consecutive poses; 0 for fewer than two
 
  private:
   std::vector<StampedPose> poses_;
 };
+
+// The median gap between sorted stamps; 0 for fewer than two.
+double median_interval(std::vector<double> stamps);
 
 }  // namespace lista::bag

@@ -200,3 +200,69 @@ TEST(BagMission, BadInputIsOneLineNamingTheFileKeyOrFrame) {
   o.fixed_frame = "elsewhere";
   expect_error([&] { read(apart, o); }, "tf: no transform from frame 'lidar' to 'elsewhere'");
 }
+
+namespace {
+
+// A sweep of a wall at x = 5 taken in 0.1 s while the sensor turns 9 deg and
+// moves 0.1 m: each point is given in the sensor frame of its own time, in a
+// float32 "time" field (Velodyne's). The true wall points are returned.
+std::vector<Eigen::Vector3d> write_skewed_sweep(Writer& w, double tf_step) {
+  auto sensor_at = [](double tau) { return pose_xyz_yaw(0, tau, 0, 90 * tau); };
+  for (double s = 0.0; s <= 0.2 + 1e-9; s += tf_step)
+    w.write_tf("/tf", {{t0 + s, "map", "lidar", sensor_at(s)}}, t0 + s);
+  Cloud c;
+  c.stamp = t0, c.frame_id = "lidar", c.height = 1, c.width = 200, c.point_step = 16, c.row_step = 16 * 200;
+  c.fields = {{"x", 0, float32, 1}, {"y", 4, float32, 1}, {"z", 8, float32, 1}, {"time", 12, float32, 1}};
+  c.data.resize(c.row_step);
+  std::vector<Eigen::Vector3d> wall;
+  for (uint32_t k = 0; k < c.width; ++k) {
+    const double tau = 0.1 * k / c.width;
+    wall.emplace_back(5.0, -2.0 + 4.0 * k / c.width, 0.3);
+    const Eigen::Vector3f p = (sensor_at(tau).inverse() * wall.back()).cast<float>();
+    const float v[4] = {p.x(), p.y(), p.z(), float(tau)};
+    std::memcpy(c.data.data() + 16 * k, v, 16);
+  }
+  w.write_cloud("/points", c, t0);
+  return wall;
+}
+
+double worst_wall_error(const Mission& m, const std::vector<Eigen::Vector3d>& wall) {
+  const PointSet& p = *m.scans.at(0).points;
+  double worst = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+    worst = std::max(worst, (m.scans[0].pose * p.xyz[i].cast<double>() - wall[p.index[i]]).norm());
+  return worst;
+}
+
+}  // namespace
+
+TEST(BagMission, DeskewsASweepByThePosesMotionWhenTheyAreDenseEnough) {
+  const auto dir = fresh_dir("skew");
+  std::vector<Eigen::Vector3d> wall;
+  {
+    auto w = create_ros1((dir / "a.bag").string());
+    wall = write_skewed_sweep(*w, 0.05);
+    w->close();
+  }
+  BagMissionLog log;
+  const Mission m = read(dir, {}, &log);
+  EXPECT_EQ(log.timed, 1u);
+  EXPECT_EQ(log.deskewed, 1u);
+  EXPECT_LT(worst_wall_error(m, wall), 1e-4) << "deskewed points lie on the wall";
+  std::ofstream(dir / "mission.toml") << "deskew = false\n";
+  const Mission raw = read(dir);
+  EXPECT_GT(worst_wall_error(raw, wall), 0.5) << "the raw sweep is skewed: 9 deg at 5 m";
+
+  // Poses 1 s apart cannot tell the motion within a 0.1 s sweep.
+  const auto sparse = fresh_dir("skew_sparse");
+  {
+    auto w = create_ros1((sparse / "a.bag").string());
+    write_skewed_sweep(*w, 0.2);
+    w->close();
+  }
+  const Mission kept = read(sparse, {}, &log);
+  EXPECT_EQ(log.deskewed, 0u);
+  ASSERT_EQ(log.notes.size(), 1u);
+  EXPECT_NE(log.notes[0].find("1 of 1 clouds with per-point times not deskewed: poses every 0.2 s"), std::string::npos)
+      << log.notes[0];
+}

@@ -111,6 +111,7 @@ class MissionsStage : public Stage {
     bag_.poses = p.get<std::string>("poses");
     bag_.fixed_frame = p.get<std::string>("fixed_frame");
     bag_.body_frame = p.get<std::string>("body_frame");
+    bag_.deskew = p.get<bool>("deskew");
   }
 
   Outputs run(const Inputs&, Context& ctx) override {
@@ -262,6 +263,8 @@ class MissionsStage : public Stage {
     if (log.outside_poses > 0)
       ctx.warn("mission '" + mission + "': " + std::to_string(log.outside_poses) + " of " + std::to_string(log.clouds) +
                " clouds lie outside the time range of their poses (" + log.pose_source + ") and were skipped");
+    if (log.deskewed > 0)
+      ctx.info("mission '" + mission + "': " + std::to_string(log.deskewed) + " clouds deskewed by their per-point times");
     for (const auto& note : log.notes) ctx.warn("mission '" + mission + "': " + note);
   }
 
@@ -339,6 +342,9 @@ StageInfo info() {
       ParamSpec::text("body_frame", "",
                       "bag missions with a pose topic or file: the frame they give poses of; empty = the odometry's "
                       "child frame, else the cloud's frame (the sensor hangs under it through tf)"),
+      ParamSpec::boolean("deskew", true,
+                         "bag missions: clouds with per-point times (Ouster t, Velodyne time, ...) are deskewed by "
+                         "the poses' motion during the sweep, when the poses are sampled at least every two sweeps"),
       ParamSpec::real("scan_turn", 30.0, "when thinning (scan_spacing or dense_spacing), a scan turned this far from the last one read is read too")
           .range(0.1, 180)
           .unit("deg")};

@@ -10,7 +10,7 @@ namespace lista::sim {
 
 namespace {
 
-bag::Cloud to_cloud(double stamp, const PointSet& p) {
+bag::Cloud to_cloud(double stamp, const PointSet& p, const std::vector<float>& times) {
   bag::Cloud c;
   c.stamp = stamp;
   c.frame_id = kBagSensorFrame;
@@ -20,6 +20,7 @@ bag::Cloud to_cloud(double stamp, const PointSet& p) {
   uint32_t step = 12;
   if (p.has_intensity()) c.fields.push_back({"intensity", step, bag::float32, 1}), step += 4;
   if (p.has_label()) c.fields.push_back({"label", step, bag::uint32, 1}), step += 4;
+  if (!times.empty()) c.fields.push_back({"time", step, bag::float32, 1}), step += 4;
   c.point_step = step;
   c.row_step = step * c.width;
   c.is_dense = true;
@@ -29,7 +30,8 @@ bag::Cloud to_cloud(double stamp, const PointSet& p) {
     std::memcpy(out, p.xyz[i].data(), 12);
     size_t at = 12;
     if (p.has_intensity()) std::memcpy(out + at, &p.intensity[i], 4), at += 4;
-    if (p.has_label()) std::memcpy(out + at, &p.label[i], 4);
+    if (p.has_label()) std::memcpy(out + at, &p.label[i], 4), at += 4;
+    if (!times.empty()) std::memcpy(out + at, &times[i], 4);
   }
   return c;
 }
@@ -56,12 +58,17 @@ MissionBagWriter::MissionBagWriter(const std::string& mission_dir, BagFormat for
                     kBagStartTime);
 }
 
-void MissionBagWriter::add(double stamp, const PointSet& points, const Eigen::Isometry3d& sensor_pose) {
+void MissionBagWriter::add(double stamp, const PointSet& points, const std::vector<float>& times,
+                           const Eigen::Isometry3d& sensor_pose) {
+  add_pose(stamp, sensor_pose);
+  writer_->write_cloud(kBagCloudTopic, to_cloud(stamp, points, times), stamp);
+}
+
+void MissionBagWriter::add_pose(double stamp, const Eigen::Isometry3d& sensor_pose) {
   // The robot's odometry gives the base; the sensor hangs under it by mount().
   const Eigen::Isometry3d base = sensor_pose * mount().inverse();
   writer_->write_tf("/tf", {{stamp, "odom", "base_link", base}}, stamp);
   writer_->write_odometry(kBagOdometryTopic, {stamp, "odom", "base_link", base}, stamp);
-  writer_->write_cloud(kBagCloudTopic, to_cloud(stamp, points), stamp);
 }
 
 void MissionBagWriter::close() {

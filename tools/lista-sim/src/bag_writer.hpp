@@ -24,8 +24,12 @@ class MissionBagWriter {
  public:
   MissionBagWriter(const std::string& mission_dir, BagFormat format);
   // One sweep at `stamp` (s), its points in the sensor frame, its sensor
-  // pose as the robot estimated it.
-  void add(double stamp, const PointSet& points, const Eigen::Isometry3d& estimated_sensor_pose);
+  // pose as the robot estimated it. `times` (empty, or one per point): each
+  // point's time after `stamp`, s, written as a float32 field "time" as
+  // Velodyne's driver does.
+  void add(double stamp, const PointSet& points, const std::vector<float>& times, const Eigen::Isometry3d& estimated_sensor_pose);
+  // A pose with no sweep (where the last skewed sweep ends): /tf and /odom.
+  void add_pose(double stamp, const Eigen::Isometry3d& estimated_sensor_pose);
   // Finishes the bag (indexes, metadata).
   void close();
 

@@ -104,10 +104,17 @@ WriteStats write_dataset(const Scenario& sc, const SensorModel& sensor, const Wr
       so.body = opt.body;
       so.mixed_pixels = opt.mixed_pixels;
       so.dark_dropouts = opt.dark_dropouts;
+      // A skewed sweep ends where the next one starts (the last one goes on
+      // as the step before it did).
+      Eigen::Isometry3d sweep_end = m.poses_true[i];
+      if (i + 1 < m.poses_true.size()) sweep_end = m.poses_true[i + 1];
+      else if (i > 0) sweep_end = m.poses_true[i] * (m.poses_true[i - 1].inverse() * m.poses_true[i]);
+      std::vector<float> times;
+      if (opt.skew) so.sweep_end = &sweep_end, so.times = &times;
       const PointSet cloud = sweep(scene, people.empty() ? nullptr : &people, sensor, m.poses_true[i], so);
       const double stamp = (opt.bag ? kBagStartTime : 0.0) + 0.1 * double(i);  // 10 Hz, the sensors' rate
       if (bag) {
-        bag->add(stamp, cloud, m.poses_estimated[i]);
+        bag->add(stamp, cloud, times, m.poses_estimated[i]);
       } else {
         char name[32];
         std::snprintf(name, sizeof(name), "%06zu.pcd", i);
@@ -122,6 +129,12 @@ WriteStats write_dataset(const Scenario& sc, const SensorModel& sensor, const Wr
     if (opt.progress) std::fprintf(stderr, "\n");
     io::write_poses((dir / "poses_gt.txt").string(), truth, io::PoseFormat::tum);
     if (bag) {
+      // The last skewed sweep ends 0.1 s after its stamp: the odometry goes
+      // on that far, as a robot's would.
+      const size_t n = m.poses_estimated.size();
+      if (opt.skew && n >= 2)
+        bag->add_pose(estimated.back().timestamp + 0.1,
+                      m.poses_estimated[n - 1] * (m.poses_estimated[n - 2].inverse() * m.poses_estimated[n - 1]));
       bag->close();
       io::write_poses((dir / "trajectory.txt").string(), estimated, io::PoseFormat::tum);
     } else {

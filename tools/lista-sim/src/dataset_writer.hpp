@@ -23,6 +23,9 @@ struct WriteOptions {
   bool mixed_pixels = false, dark_dropouts = false;  // SweepOptions' sensor effects
   // Missions as the data contract's folders (none), or as recorded bags.
   std::optional<BagFormat> bag;
+  // Sweeps take 0.1 s while the sensor moves on to the next scan's pose
+  // (SweepOptions::sweep_end): skewed scans; bags carry each point's time.
+  bool skew = false;
 };
 
 struct WriteStats {

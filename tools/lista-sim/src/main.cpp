@@ -34,7 +34,7 @@ std::vector<lista::sim::Shape> furniture_from(const std::string& folder, const c
 int run_dataset(const std::string& preset_name, const std::string& out, uint64_t seed, int missions,
                 int scans, const std::string& sensor_name, int threads, bool overwrite, const std::string& furniture,
                 bool body, const std::vector<std::string>& effects, double drift, double map_tilt, int people,
-                const std::string& format) {
+                const std::string& format, bool skew, double spin) {
   using namespace lista::sim;
   Preset preset = make_preset(preset_name);
   // Real furniture beside the procedural classes: about a third of the
@@ -46,6 +46,7 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
   preset.route.drift_per_m *= drift;
   preset.route.yaw_drift_deg_per_m *= drift;
   preset.route.map_tilt_deg = map_tilt;
+  preset.route.spin_deg_per_s = spin;
   int columns = preset.columns;
   if (!sensor_name.empty() && sensor_name != preset.sensor) {
     preset.sensor = sensor_name;
@@ -62,6 +63,7 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
   options.overwrite = overwrite;
   options.progress = isatty(STDERR_FILENO);
   options.body = body;
+  options.skew = skew;
   if (format == "bag") options.bag = BagFormat::ros1;
   if (format == "ros2") options.bag = BagFormat::ros2_sqlite3;
   if (format == "mcap") options.bag = BagFormat::ros2_mcap;
@@ -133,6 +135,14 @@ int main(int argc, char** argv) {
                  "(default: the preset's, 1 to 3)")
       ->check(CLI::Range(0, 50))
       ->default_str("preset");
+  bool skew = false;
+  app.add_flag("--skew", skew,
+               "sweeps take 0.1 s while the sensor moves on: each ray is cast from where the sensor is at its time, "
+               "so a moving sensor's scans come out skewed as real spinning LiDARs' do (bags also carry each "
+               "point's time, field 'time', for deskewing)");
+  double spin = 0.0;
+  app.add_option("--spin", spin, "the sensor also turns about its up axis at this rate, deg/s (a robot turning on the spot)")
+      ->check(CLI::Range(-720.0, 720.0));
   std::string format = "pcd";
   app.add_option("--format", format,
                  "how missions are written: pcd (the data contract's folders), bag (a ROS 1 .bag per mission), ros2 "
@@ -188,7 +198,7 @@ int main(int argc, char** argv) {
       std::cerr << "lista-sim: --preset and --out are required (or use the 'views' subcommand); see --help\n";
       return 2;
     }
-    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt, people, format);
+    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt, people, format, skew, spin);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;

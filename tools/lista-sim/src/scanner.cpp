@@ -38,7 +38,15 @@ Hit body_hit(const Eigen::Vector3f& dir_s) {
   return h;
 }
 
-// Sensor-frame unit directions of one sweep, in ray order.
+// The pose a `fraction` of the way from a to b: translation linear, rotation by slerp.
+Eigen::Isometry3d between(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double fraction) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(a.linear()).slerp(fraction, Eigen::Quaterniond(b.linear())).toRotationMatrix();
+  T.translation() = (1.0 - fraction) * a.translation() + fraction * b.translation();
+  return T;
+}
+
+// Sensor-frame unit directions of one sweep, in ray order (the order in time).
 std::vector<Eigen::Vector3f> ray_directions(const SensorModel& sensor, uint64_t key) {
   std::vector<Eigen::Vector3f> dirs(sensor.rays());
   if (sensor.non_repetitive()) {
@@ -83,11 +91,9 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
   std::vector<float> intensity(rays);
   std::vector<uint32_t> label(rays);
   std::vector<uint8_t> valid(rays, 0);
+  std::vector<float> time(rays, 0.0f);
 
-  const Eigen::Matrix3f R = T_world_sensor.linear().cast<float>();
-  const Eigen::Vector3f origin = T_world_sensor.translation().cast<float>();
-
-  const auto cast = [&](const Eigen::Vector3f& dir_s) {
+  const auto cast = [&](const Eigen::Matrix3f& R, const Eigen::Vector3f& origin, const Eigen::Vector3f& dir_s) {
     const Eigen::Vector3f dir = R * dir_s;
     Hit hit = scene.intersect(origin, dir, float(sensor.min_range), float(sensor.max_range));
     if (dynamic_scene) {
@@ -107,9 +113,13 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
 
 #pragma omp parallel for schedule(dynamic, 1024) num_threads(std::max(1, options.threads))
   for (size_t r = 0; r < rays; ++r) {
+    const double fraction = options.sweep_end ? double(r) / double(rays) : 0.0;
+    const Eigen::Isometry3d at = options.sweep_end ? between(T_world_sensor, *options.sweep_end, fraction) : T_world_sensor;
+    const Eigen::Matrix3f R = at.linear().cast<float>();
+    const Eigen::Vector3f origin = at.translation().cast<float>();
     const Eigen::Vector3f& dir_s = directions[r];
     const Eigen::Vector3f dir = R * dir_s;
-    const Hit hit = cast(dir_s);
+    const Hit hit = cast(R, origin, dir_s);
     if (hit.t < 0) continue;
     const uint64_t h = hash_combine(options.key, r);
     const float cos_inc = std::abs(hit.normal.dot(dir));
@@ -130,7 +140,7 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
       const double phi = 2.0 * M_PI * hash_uniform(mix64(h + 3));
       const float half = float(std::tan(0.5 * sensor.divergence));
       const Eigen::Vector3f rim = (dir_s + half * (float(std::cos(phi)) * u + float(std::sin(phi)) * v)).normalized();
-      const Hit other = cast(rim);
+      const Hit other = cast(R, origin, rim);
       if (other.t > 0 && std::abs(other.t - hit.t) > 0.05f)
         true_range = hit.t + hash_uniform(mix64(h + 4)) * double(other.t - hit.t);
     }
@@ -139,6 +149,7 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
     // Calibrated reflectivity: Lambertian in the incidence angle, 5% noise.
     const double value = 255.0 * hit.reflectivity * std::max(0.05f, cos_inc) * (1.0 + 0.05 * hash_normal(mix64(h + 2)));
     xyz[r] = dir_s * float(range);
+    time[r] = float(fraction * options.sweep_period);
     intensity[r] = float(std::clamp(value, 0.0, 255.0));
     label[r] = hit.label;
     valid[r] = 1;
@@ -155,6 +166,7 @@ PointSet sweep(const RayScene& scene, const RayScene* dynamic_scene, const Senso
     out.intensity.push_back(intensity[r]);
     out.label.push_back(label[r]);
     out.index.push_back(uint32_t(out.index.size()));
+    if (options.times) options.times->push_back(time[r]);
   }
   out.scan.assign(out.size(), options.scan_id);
   return out;

@@ -26,6 +26,13 @@ struct SweepOptions {
   // (reflectivity x cos(incidence) / range^2, against a 10 % target met
   // head-on at SensorModel::range_dark) is below that is lost in proportion.
   bool dark_dropouts = false;
+  // A sweep takes time (sweep_period): ray r is cast at r / rays of it, from
+  // the pose between T_world_sensor and *sweep_end (interpolated), and its
+  // point is given in the sensor frame of that moment, as a driver delivers
+  // it: a moving sensor's scan comes out skewed. Null: all rays at once.
+  const Eigen::Isometry3d* sweep_end = nullptr;
+  double sweep_period = 0.1;  // s
+  std::vector<float>* times = nullptr;  // when set: each point's time after the sweep's start, s
 };
 
 // The robot's back of SweepOptions::body: 1.1 x 0.5 m, its top 0.15 m and its

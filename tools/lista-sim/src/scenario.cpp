@@ -268,6 +268,8 @@ void plan_route(const Scenario& sc, MissionPlan& m, int index, const RouteParams
                   Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
                      .toRotationMatrix();
     t.translation() = Eigen::Vector3d(xy.x(), xy.y(), l.sensor_height + 0.01 * std::sin(s * 3.0));
+    if (p.spin_deg_per_s != 0.0)
+      t.linear() = t.linear() * Eigen::AngleAxisd(p.spin_deg_per_s * M_PI / 180.0 * 0.1 * i, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     m.poses_true.push_back(t);
   }
 

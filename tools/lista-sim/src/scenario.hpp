@@ -46,6 +46,9 @@ struct RouteParams {
   // Each mission's map frame tilted by this in a random direction (a SLAM
   // run started on a slope, a handheld scanner's first frame); 0 = level.
   double map_tilt_deg = 0.0;
+  // The sensor also turns about its own up axis at this rate (scans 0.1 s
+  // apart): a robot turning on the spot, a rotating mount; 0 = as the route.
+  double spin_deg_per_s = 0.0;
 };
 
 struct Person {

@@ -23,6 +23,10 @@ struct BagOptions {
   // odometry's child frame, else the cloud's frame. The sensor is placed
   // through tf's body -> cloud frame transform when tf has one.
   std::string body_frame;
+  // Clouds with per-point times (cloud_points.hpp) are deskewed: each point
+  // moved into the sensor frame at the cloud's stamp by the poses' motion,
+  // when the poses are sampled at least every two sweeps.
+  bool deskew = true;
 };
 
 // What reading one bag mission found, for the run's messages.
@@ -32,6 +36,7 @@ struct BagMissionLog {
   std::string pose_source;    // e.g. "tf (map -> velodyne)", "/odom", "trajectory.txt"
   size_t clouds = 0;          // on the cloud topic
   size_t outside_poses = 0;   // skipped: stamp outside the poses' time range
+  size_t timed = 0, deskewed = 0;  // read clouds with per-point times, and those deskewed
   std::vector<std::string> notes;  // assumptions worth a line (no body -> sensor tf, ...)
 };
 
