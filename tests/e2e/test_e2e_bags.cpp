@@ -109,6 +109,17 @@ TEST_F(BagScene, Ros1BagsGiveTheFoldersReportWithPosesFromTfOdometryOrTum) {
   EXPECT_EQ(b.at("points"), a.at("points"));
 }
 
+// The reading benchmark on the same missions: every cloud counted, the
+// thinning of io.missions, time and memory printed.
+TEST_F(BagScene, TheReadingBenchmarkReadsBagsAsIoMissionsDoes) {
+  run_on("bag", "");
+  const auto r = e2e::run(e2e::bin("lista-bench") + " bagread " + (dir_->path() / "data-bag" / "A").string() + " 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("mission.bag)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("scans       10, 10 read"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("peak RSS"), std::string::npos) << r.output;
+}
+
 TEST_F(BagScene, Ros2BagsInSqliteAndMcapGiveTheFoldersReport) {
   expect_same_report(run_on("ros2", ""), "ROS 2, .db3, tf");
   expect_same_report(run_on("mcap", "--set load.poses=/odom"), "ROS 2, .mcap, /odom");

@@ -93,6 +93,7 @@ const TopicInfo& cloud_topic(const std::vector<TopicInfo>& topics, const std::st
 struct CloudHeader {
   double stamp;
   std::string frame;
+  uint64_t points;
 };
 
 // What the first pass gathers.
@@ -109,7 +110,7 @@ FirstPass first_pass(Reader& reader, const std::vector<TopicInfo>& topics, const
   for (const auto* t : of_kind(topics, {MessageKind::tf, MessageKind::tf_static, MessageKind::odometry, MessageKind::pose_stamped}))
     wanted.push_back(t->name);
   Visitor v;
-  v.cloud = [&](const std::string&, Cloud&& c) { p.clouds.push_back({c.stamp, c.frame_id}); };
+  v.cloud = [&](const std::string&, Cloud&& c) { p.clouds.push_back({c.stamp, c.frame_id, uint64_t(c.width) * c.height}); };
   v.tf = [&](const std::string&, std::vector<FrameTransform>&& t, bool is_static) {
     p.tf.add(t, is_static);
     p.has_tf = true;
@@ -249,6 +250,7 @@ Mission read_bag_mission(const std::string& mission_dir, const io::DatasetOption
   FirstPass p = first_pass(*reader, topics, topic);
   if (p.clouds.empty()) throw Error(bag + ": topic " + topic + " has no messages");
   log.clouds = p.clouds.size();
+  for (const auto& c : p.clouds) log.cloud_points += c.points;
   const Placement placed = place(p, o, dir, topics, bag, log);
   log.pose_source = placed.source;
 

@@ -35,6 +35,7 @@ struct BagMissionLog {
   std::string cloud_topic;
   std::string pose_source;    // e.g. "tf (map -> velodyne)", "/odom", "trajectory.txt"
   size_t clouds = 0;          // on the cloud topic
+  uint64_t cloud_points = 0;  // in all of them (width x height), read or not
   size_t outside_poses = 0;   // skipped: stamp outside the poses' time range
   size_t timed = 0, deskewed = 0;  // read clouds with per-point times, and those deskewed
   std::vector<std::string> notes;  // assumptions worth a line (no body -> sensor tf, ...)
