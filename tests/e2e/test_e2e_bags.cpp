@@ -92,6 +92,19 @@ TEST_F(BagScene, Ros1BagsGiveTheFoldersReportWithPosesFromTfOdometryOrTum) {
   };
   EXPECT_EQ(strip(json::parse(e2e::read_file(tum + "/report.json"))),
             strip(json::parse(e2e::read_file(folders_ + "/report.json"))));
+  // One dataset may mix the two: a bag mission beside a folder mission.
+  const std::filesystem::path mixed = dir_->path() / "data-mixed";
+  std::filesystem::create_directories(mixed);
+  std::filesystem::copy(dir_->path() / "data-bag" / "A", mixed / "A", std::filesystem::copy_options::recursive);
+  std::filesystem::copy(dir_->path() / "data-pcd" / "B", mixed / "B", std::filesystem::copy_options::recursive);
+  std::filesystem::copy(dir_->path() / "data-pcd" / "ground_truth.json", mixed / "ground_truth.json");
+  const std::string mixed_out = (dir_->path() / "out-mixed").string();
+  const auto r = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " + mixed.string() +
+                          " --out " + mixed_out + " --threads 2 --set load.poses=trajectory.txt 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_EQ(strip(json::parse(e2e::read_file(mixed_out + "/report.json"))),
+            strip(json::parse(e2e::read_file(folders_ + "/report.json"))));
+
   const std::string tf = run_on("bag", "");
   EXPECT_NE(last_run_.output.find("clouds on /points, poses from tf (map -> lidar)"), std::string::npos) << last_run_.output;
   expect_same_report(tf, "ROS 1, tf");

@@ -266,3 +266,22 @@ TEST(BagMission, DeskewsASweepByThePosesMotionWhenTheyAreDenseEnough) {
   EXPECT_NE(log.notes[0].find("1 of 1 clouds with per-point times not deskewed: poses every 0.2 s"), std::string::npos)
       << log.notes[0];
 }
+
+TEST(BagMission, SeveralBagFilesAreReadAsOneRecording) {
+  const auto dir = fresh_dir("split");
+  {
+    auto first = create_ros1((dir / "run_0.bag").string());
+    write_tf(*first);
+    for (double s : {0.0, 0.5}) first->write_cloud("/points", cloud_at(t0 + s, "lidar", float(s)), t0 + s);
+    first->close();
+    auto second = create_ros1((dir / "run_1.bag").string(), true);  // LZ4 chunks
+    for (double s : {1.0, 1.5, 2.0}) second->write_cloud("/points", cloud_at(t0 + s, "lidar", float(s)), t0 + s);
+    second->close();
+  }
+  BagMissionLog log;
+  const Mission m = read(dir, {}, &log);
+  EXPECT_NE(log.bag.find("run_0.bag (and 1 more)"), std::string::npos) << log.bag;
+  ASSERT_EQ(m.scans.size(), 5u);
+  expect_near(m.scans[4].pose, base_at(2) * kMount, "a cloud of the second file, placed by the first's tf");
+  EXPECT_FLOAT_EQ(m.scans[3].points->xyz[0].x(), 1.5f);
+}
