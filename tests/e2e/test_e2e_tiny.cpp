@@ -22,6 +22,9 @@
 #include <utility>
 #include <vector>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 using nlohmann::json;
 
 namespace {
@@ -308,9 +311,21 @@ TEST_F(TinyScene, AFailedRunLeavesNoReportBehind) {
     std::ofstream(broken / m / "poses.txt") << "0 0 0 0 0 0 0 1\n";
     std::ofstream(broken / m / "scans" / "000000.pcd") << "not a point cloud\n";
   }
+  // What a run killed while writing (SIGKILL) leaves: the report's temp
+  // folder and a page's temp file, named by the dead process's id.
+  const pid_t dead = fork();
+  if (dead == 0) _exit(0);
+  ASSERT_GT(dead, 0);
+  waitpid(dead, nullptr, 0);
+  const std::filesystem::path left_folder = out / (".lista-report.tmp." + std::to_string(dead));
+  const std::filesystem::path left_file = out / ("report.html.tmp." + std::to_string(dead));
+  std::filesystem::create_directories(left_folder / "changes");
+  std::ofstream(left_file) << "<html>half a page";
   const auto failed = e2e::run(e2e::bin("lista-run") + " " + e2e::source("pipelines/lista.toml") + " --dataset " +
                                broken.string() + " --out " + out.string() + " --threads 1 2>&1");
   EXPECT_EQ(failed.status, 1) << failed.output;
+  EXPECT_FALSE(std::filesystem::exists(left_folder)) << "a killed run's temp folder survives a rerun that fails early";
+  EXPECT_FALSE(std::filesystem::exists(left_file));
   EXPECT_NE(failed.output.find("report.json (left by an earlier run"), std::string::npos) << failed.output;
   EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
   EXPECT_FALSE(std::filesystem::exists(out / "report.html")) << "the earlier run's page beside a failed rerun";

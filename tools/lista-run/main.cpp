@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 #include <lista_cli/folders.hpp>
+#include <lista_io/atomic_file.hpp>
 #include <lista_cli/parse.hpp>
 
 #include <cerrno>
@@ -243,6 +244,8 @@ int run(const Options& o) {
   const std::vector<fs::path> made_output = folders_made_for(output_dir);
   if (std::string why = output_problem(output_dir, true); !why.empty()) return fail(why);
   remove_report(output_dir, "left by an earlier run; a complete run writes its own", o.quiet);
+  // Half-written files of a run killed while writing, before this run can fail.
+  if (std::error_code ec; !output_dir.empty() && fs::is_directory(output_dir, ec)) lista::io::remove_dead_temps(output_dir);
 
   RunOptions options;
   options.jobs = o.jobs;

@@ -3,8 +3,11 @@
 #include <lista/error.hpp>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <unistd.h>
 
@@ -35,6 +38,22 @@ void commit_file(const std::string& temp_path, const std::string& final_path) {
     std::remove(temp_path.c_str());
     throw Error(final_path + ": cannot move into place (" + why + ")");
   }
+}
+
+size_t remove_dead_temps(const std::string& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  size_t removed = 0;
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const size_t at = name.rfind(".tmp.");
+    if (at == std::string::npos || at + 5 == name.size()) continue;
+    char* end = nullptr;
+    const long pid = std::strtol(name.c_str() + at + 5, &end, 10);
+    if (*end != '\0' || pid <= 0) continue;
+    if (::kill(pid_t(pid), 0) != 0 && errno == ESRCH && fs::remove_all(entry.path(), ec) > 0) ++removed;
+  }
+  return removed;
 }
 
 }  // namespace lista::io

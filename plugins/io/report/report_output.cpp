@@ -24,15 +24,8 @@ void write_output(const std::string& out_dir, const Built& built) {
   const fs::path out(out_dir);
   // An older report must not survive a failed run looking current.
   fs::remove(out / "report.json", ec);
-  // Temp folders of runs killed while writing (SIGKILL, power loss) go too;
-  // one whose process still runs (a second run into this folder) stays.
-  const std::string prefix = ".lista-report.tmp.";
-  for (const auto& entry : fs::directory_iterator(out, ec)) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const long pid = std::strtol(name.c_str() + prefix.size(), nullptr, 10);
-    if (pid <= 0 || (::kill(pid_t(pid), 0) != 0 && errno == ESRCH)) fs::remove_all(entry.path(), ec);
-  }
+  // Temp folders of runs killed while writing go too.
+  io::remove_dead_temps(out_dir);
   const fs::path tmp = out / (".lista-report.tmp." + std::to_string(::getpid()));
   fs::remove_all(tmp, ec);
   fs::create_directories(tmp / "changes", ec);
