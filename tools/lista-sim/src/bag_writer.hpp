@@ -33,7 +33,7 @@ class MissionBagWriter {
   // Finishes the bag (indexes, metadata).
   void close();
 
-  // The sensor's mount on the robot's base (a rotated, raised LiDAR).
+  // The sensor's mount on the robot's base (/tf_static base_link -> lidar).
   static Eigen::Isometry3d mount();
 
  private:
