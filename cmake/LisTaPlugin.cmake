@@ -8,11 +8,47 @@
 # the core; out of LiSTA's tree (find_package(lista)) the RUNPATH also names
 # the SDK's own folder, so the library loads on its own too (ldd, Python). The test executable links the plugin itself (its classes are
 # visible) and gets LISTA_PLUGIN_PATH pointing at the plugin folder.
+# A plugin knows no other plugin: its sources, tests and the files they
+# include (with "...") lie in its own folder, and it links no plugin target.
+# What plugins share lives in common/; what their tests share in
+# common/testing (lista::test_support, linked into every plugin test).
+function(lista_check_plugin_isolation name)
+  set(own ${CMAKE_CURRENT_SOURCE_DIR})
+  foreach(file ${ARGN})
+    get_filename_component(path ${file} ABSOLUTE BASE_DIR ${own})
+    file(RELATIVE_PATH rel ${own} ${path})
+    if(rel MATCHES "^\\.\\./")
+      message(FATAL_ERROR "plugin ${name}: ${file} lies outside the plugin's folder; move shared code to common/")
+    endif()
+  endforeach()
+  file(GLOB_RECURSE own_files ${own}/*.cpp ${own}/*.hpp ${own}/*.h)
+  foreach(path ${own_files})
+    file(STRINGS ${path} includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"[^\"]+\"")
+    get_filename_component(dir ${path} DIRECTORY)
+    foreach(line ${includes})
+      string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([^\"]+)\".*" "\\1" header "${line}")
+      get_filename_component(target ${header} ABSOLUTE BASE_DIR ${dir})
+      file(RELATIVE_PATH rel ${own} ${target})
+      if(rel MATCHES "^\\.\\./")
+        file(RELATIVE_PATH shown ${own} ${path})
+        message(FATAL_ERROR "plugin ${name}: ${shown} includes \"${header}\" from outside the plugin's folder; "
+                            "move what plugins share to common/ (tests: common/testing)")
+      endif()
+    endforeach()
+  endforeach()
+endfunction()
+
 function(lista_add_plugin)
   cmake_parse_arguments(P "" "NAME" "SOURCES;LIBS;TESTS;TEST_LIBS" ${ARGN})
   if(NOT P_NAME OR NOT P_SOURCES)
     message(FATAL_ERROR "lista_add_plugin: NAME and SOURCES are required")
   endif()
+  lista_check_plugin_isolation(${P_NAME} ${P_SOURCES} ${P_TESTS})
+  foreach(lib ${P_LIBS} ${P_TEST_LIBS})
+    if(lib IN_LIST LISTA_ALL_PLUGIN_TARGETS)
+      message(FATAL_ERROR "plugin ${P_NAME} links ${lib}, another plugin; share code through common/ instead")
+    endif()
+  endforeach()
   string(REGEX REPLACE "[.-]" "_" id "${P_NAME}")
   set(target lista_${id})
   add_library(${target} SHARED ${P_SOURCES})
@@ -31,7 +67,7 @@ function(lista_add_plugin)
 
   if(LISTA_BUILD_TESTS AND P_TESTS)
     add_executable(test_${id} ${P_TESTS})
-    target_link_libraries(test_${id} PRIVATE ${target} lista::sdk ${P_LIBS} ${P_TEST_LIBS}
+    target_link_libraries(test_${id} PRIVATE ${target} lista::sdk ${P_LIBS} ${P_TEST_LIBS} lista::test_support
                           GTest::gtest GTest::gtest_main)
     target_compile_definitions(test_${id} PRIVATE
       LISTA_PLUGIN_DIR="${LISTA_PLUGIN_OUTPUT_DIR}"

@@ -9,7 +9,7 @@
 #include "filter/mls/mls_smoothing.hpp"
 #include "filter/morphology/morphology.hpp"
 #include "segment/euclidean/euclidean_clustering.hpp"
-#include "segment/voxel/voxel_clustering.hpp"
+#include <lista_segmentation/voxel_clustering.hpp>
 #include "synthetic_changes.hpp"
 
 #include <lista_io/pcd.hpp>

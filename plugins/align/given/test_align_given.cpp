@@ -1,8 +1,9 @@
-#include "../../io/missions/make_stage.hpp"
+#include <lista_testing/plugin_stage.hpp>
 #include "given_transforms.hpp"
 
 #include <gtest/gtest.h>
 #include <lista/basic_context.hpp>
+#include <lista_io/test_scratch.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -50,7 +51,7 @@ TEST(AlignGiven, GroundTruthRecoversMapToWorldAndSharesPoints) {
   const Eigen::Isometry3d b = pose(3, -2, 0.7);
   const MissionSet set = two_missions(b);
   BasicContext ctx("align");
-  auto out = io_test::make_stage("align.given", {{"mode", std::string("ground-truth")}})->run(inputs_of(set), ctx);
+  auto out = plugin_test::make_stage("align.given", {{"mode", std::string("ground-truth")}})->run(inputs_of(set), ctx);
   const auto& aligned = out.at("missions").as<MissionSet>();
   EXPECT_TRUE(aligned.missions[0].to_common.isApprox(Eigen::Isometry3d::Identity(), 1e-9));
   EXPECT_TRUE(aligned.missions[1].to_common.isApprox(b, 1e-9));
@@ -66,7 +67,7 @@ TEST(AlignGiven, GroundTruthPosesTakeTheDriftOut) {
     set.missions[1].scans[i].pose.translation() += Eigen::Vector3d(0.05 * i, -0.03 * i, 0.0);
   for (const char* mode : {"ground-truth", "ground-truth-poses"}) {
     BasicContext ctx("align");
-    auto out = io_test::make_stage("align.given", {{"mode", std::string(mode)}})->run(inputs_of(set), ctx);
+    auto out = plugin_test::make_stage("align.given", {{"mode", std::string(mode)}})->run(inputs_of(set), ctx);
     const Mission& m = out.at("missions").as<MissionSet>().missions[1];
     double worst = 0;
     for (size_t i = 0; i < m.scans.size(); ++i)
@@ -94,7 +95,7 @@ TEST(AlignGiven, FileModeAndItsErrors) {
   const std::string path = (dir / "t.txt").string();
   std::ofstream(path) << "# mission  4x4\nA 1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1\nB 0 -1 0 2  1 0 0 3  0 0 1 4\n";
   BasicContext ctx;
-  auto out = io_test::make_stage("align.given", {{"mode", std::string("file")}, {"file", path}})
+  auto out = plugin_test::make_stage("align.given", {{"mode", std::string("file")}, {"file", path}})
                  ->run(inputs_of(two_missions(Eigen::Isometry3d::Identity())), ctx);
   const auto& b = out.at("missions").as<MissionSet>().missions[1].to_common;
   EXPECT_EQ(b.translation(), Eigen::Vector3d(2, 3, 4));
@@ -102,7 +103,7 @@ TEST(AlignGiven, FileModeAndItsErrors) {
 
   std::ofstream(path) << "A 1 0 0 0  0 1 0 0  0 0 1 0\n";
   try {
-    io_test::make_stage("align.given", {{"mode", std::string("file")}, {"file", path}})
+    plugin_test::make_stage("align.given", {{"mode", std::string("file")}, {"file", path}})
         ->run(inputs_of(two_missions(Eigen::Isometry3d::Identity())), ctx);
     FAIL();
   } catch (const Error& e) {
@@ -123,15 +124,15 @@ TEST(AlignGiven, FileModeAndItsErrors) {
     EXPECT_NE(std::string(e.what()).find("t.txt:2: rotation of 'B' is not orthonormal"), std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(io_test::make_stage("align.given", {{"mode", std::string("file")}}), Error);
-  EXPECT_THROW(io_test::make_stage("align.given", {{"mode", std::string("magic")}}), Error);
+  EXPECT_THROW(plugin_test::make_stage("align.given", {{"mode", std::string("file")}}), Error);
+  EXPECT_THROW(plugin_test::make_stage("align.given", {{"mode", std::string("magic")}}), Error);
 }
 
 TEST(AlignGiven, IdentityModeResetsEveryMissionAndKeepsPoses) {
   MissionSet set = two_missions(pose(3, -2, 0.7));
   set.missions[1].to_common = pose(1, 1, 1.0);  // e.g. left over from an earlier alignment
   BasicContext ctx;
-  auto out = io_test::make_stage("align.given")->run(inputs_of(set), ctx);  // default mode: identity
+  auto out = plugin_test::make_stage("align.given")->run(inputs_of(set), ctx);  // default mode: identity
   const auto& aligned = out.at("missions").as<MissionSet>();
   ASSERT_EQ(aligned.missions.size(), 2u);
   for (size_t k = 0; k < 2; ++k) {

@@ -1,4 +1,4 @@
-#include "../../segment/testing/test_support.hpp"
+#include <lista_testing/point_scenes.hpp>
 #include "body_detector.hpp"
 
 #include <lista_alignkit/synthetic_scene.hpp>

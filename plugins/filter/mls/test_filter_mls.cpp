@@ -1,5 +1,5 @@
 #include "mls_smoothing.hpp"
-#include "../../segment/testing/test_support.hpp"
+#include <lista_testing/point_scenes.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // group.agglomerative: hierarchical clustering of descriptors, the ablation
-// alternative to group.kmeans. Same outputs and confidences (group_result.hpp).
-#include "../kmeans/group_result.hpp"
+// alternative to group.kmeans. Same outputs and confidences (lista_grouping/group_result.hpp).
+#include <lista_grouping/group_result.hpp>
 #include "agglomerative.hpp"
 
 #include <lista/lista.hpp>

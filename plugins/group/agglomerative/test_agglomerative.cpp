@@ -1,4 +1,4 @@
-#include "../kmeans/stage_harness.hpp"
+#include <lista_testing/plugin_stage.hpp>
 #include "agglomerative.hpp"
 
 #include <lista/basic_context.hpp>
@@ -47,7 +47,7 @@ DescriptorSet clusters_on_a_line(const std::vector<double>& positions, int per, 
 }
 
 Groups run_stage(const DescriptorSet& d, std::map<std::string, ParamValue> p = {}, BasicContext* log = nullptr) {
-  auto stage = stage_test::make_stage("group.agglomerative", p);
+  auto stage = plugin_test::make_stage("group.agglomerative", p);
   BasicContext own;
   BasicContext& ctx = log ? *log : own;
   Inputs in;

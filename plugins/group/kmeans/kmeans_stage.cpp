@@ -1,7 +1,7 @@
 // group.kmeans: the paper's grouping. Descriptors are clustered with K-means
 // for K = 1..k_max and K is taken at the elbow of the WCSS curve (see
 // kmeans.hpp for the exact rule), unless `k` fixes it.
-#include "group_result.hpp"
+#include <lista_grouping/group_result.hpp>
 #include "kmeans.hpp"
 
 #include <lista/lista.hpp>

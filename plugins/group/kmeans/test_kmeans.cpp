@@ -1,6 +1,6 @@
-#include "group_result.hpp"
+#include <lista_grouping/group_result.hpp>
 #include "kmeans.hpp"
-#include "stage_harness.hpp"
+#include <lista_testing/plugin_stage.hpp>
 
 #include <lista/basic_context.hpp>
 
@@ -32,7 +32,7 @@ DescriptorSet blobs(int k, int per, int dim, double spread, uint64_t seed) {
 }
 
 Groups run_stage(const DescriptorSet& d, std::map<std::string, ParamValue> p = {}, uint64_t seed = 7) {
-  auto stage = stage_test::make_stage("group.kmeans", p);
+  auto stage = plugin_test::make_stage("group.kmeans", p);
   BasicContext ctx("group", 1, seed);
   Inputs in;
   in.set("descriptors", Data::make(d));

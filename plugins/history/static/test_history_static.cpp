@@ -1,6 +1,6 @@
 // history.static on synthetic missions of one scan each (identity poses, so
 // scan points are common-frame points): boxes that move, vanish or stay.
-#include "../../group/kmeans/stage_harness.hpp"
+#include <lista_testing/plugin_stage.hpp>
 #include "still_history.hpp"
 
 #include <lista/basic_context.hpp>
@@ -333,7 +333,7 @@ TEST(HistoryStatic, StageCarriesGroupsAndRecordsCopies) {
   g.group = {3, 3};
   g.confidence = {0.9, 0.7};
   g.count = 4;
-  auto stage = stage_test::make_stage("history.static");
+  auto stage = plugin_test::make_stage("history.static");
   Inputs in;
   in.set("missions", Data::make(s.missions));
   in.set("objects", Data::make(s.objects));

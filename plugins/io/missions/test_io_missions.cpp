@@ -1,4 +1,5 @@
-#include "make_stage.hpp"
+#include <lista_testing/plugin_stage.hpp>
+#include <lista_io/test_scratch.hpp>
 
 #include <gtest/gtest.h>
 #include <lista/basic_context.hpp>
@@ -36,7 +37,7 @@ fs::path make_dataset(const std::string& tag) {
 std::string messages_reading(const fs::path& root) {
   BasicContext ctx;
   ctx.info.dataset = root.string();
-  io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  plugin_test::make_stage("io.missions")->run(Inputs{}, ctx);
   std::string all;
   for (const auto& m : ctx.messages) all += m + "\n";
   return all;
@@ -55,14 +56,14 @@ TEST(IoMissions, ReadsTheRunDatasetSortedOrListed) {
   const fs::path root = make_dataset("a");
   BasicContext ctx("read", 2);
   ctx.info.dataset = root.string();
-  auto all = io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  auto all = plugin_test::make_stage("io.missions")->run(Inputs{}, ctx);
   const auto& set = all.at("missions").as<MissionSet>();
   ASSERT_EQ(set.missions.size(), 2u);
   EXPECT_EQ(set.missions[0].name, "t0");
   EXPECT_EQ(set.missions[1].point_count(), 8u);
   EXPECT_EQ(ctx.info.metrics["read"]["points"], 16.0);
 
-  auto listed = io_test::make_stage("io.missions", {{"path", root.string()},
+  auto listed = plugin_test::make_stage("io.missions", {{"path", root.string()},
                                                      {"missions", std::vector<std::string>{"t1", "t0"}}})
                     ->run(Inputs{}, ctx);
   EXPECT_EQ(listed.at("missions").as<MissionSet>().missions[0].name, "t1");
@@ -74,7 +75,7 @@ TEST(IoMissions, PointsNearTheSensorAreDroppedKeepingFileIndices) {
   const fs::path root = make_dataset("near");
   BasicContext ctx("read", 2);
   ctx.info.dataset = root.string();
-  auto out = io_test::make_stage("io.missions", {{"min_range", 1.2}})->run(Inputs{}, ctx);
+  auto out = plugin_test::make_stage("io.missions", {{"min_range", 1.2}})->run(Inputs{}, ctx);
   const auto& m = out.at("missions").as<MissionSet>().missions[0];
   ASSERT_EQ(m.scans[0].points->size(), 3u);
   EXPECT_EQ(m.scans[0].points->index[0], 1u);
@@ -87,7 +88,7 @@ TEST(IoMissions, PointsNearTheSensorAreDroppedKeepingFileIndices) {
   EXPECT_EQ(ctx.info.metrics["read"]["points"], 12.0);
   // Everything inside the range: the mission is empty, and the error says why.
   try {
-    io_test::make_stage("io.missions", {{"min_range", 5.0}})->run(Inputs{}, ctx);
+    plugin_test::make_stage("io.missions", {{"min_range", 5.0}})->run(Inputs{}, ctx);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("farther than min_range"), std::string::npos) << e.what();
@@ -103,7 +104,7 @@ TEST(IoMissions, PointsAtTheSensorOriginAreMissingReturns) {
   io::write_scan_pcd((root / "t0" / "scans" / "001.pcd").string(), p);
   BasicContext ctx("read", 2);
   ctx.info.dataset = root.string();
-  auto out = io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  auto out = plugin_test::make_stage("io.missions")->run(Inputs{}, ctx);
   const auto& scan = out.at("missions").as<MissionSet>().missions[0].scans[1];
   ASSERT_EQ(scan.points->size(), 2u);
   EXPECT_EQ(scan.points->index, (std::vector<uint32_t>{1, 3}));
@@ -130,7 +131,7 @@ TEST(IoMissions, ScanSpacingThinsADenseLogWithoutCallingTheRestEmpty) {
   }
   BasicContext ctx("read", 2);
   ctx.info.dataset = root.string();
-  auto out = io_test::make_stage("io.missions", {{"scan_spacing", 1.0}})->run(Inputs{}, ctx);
+  auto out = plugin_test::make_stage("io.missions", {{"scan_spacing", 1.0}})->run(Inputs{}, ctx);
   const auto& a = out.at("missions").as<MissionSet>().missions[0];
   ASSERT_EQ(a.scans.size(), 5u);
   EXPECT_EQ(a.point_count(), 3u);  // scans 0, 2 and 4
@@ -169,7 +170,7 @@ struct Read {
 Read read_log(const fs::path& root, const std::map<std::string, ParamValue>& params = {}) {
   BasicContext ctx("test", 2);
   ctx.info.dataset = root.string();
-  auto out = io_test::make_stage("io.missions", params)->run(Inputs{}, ctx);
+  auto out = plugin_test::make_stage("io.missions", params)->run(Inputs{}, ctx);
   Read r;
   for (const auto& scan : out.at("missions").as<MissionSet>().missions[0].scans) r.scans_read += !scan.points->empty();
   for (const auto& m : ctx.messages) r.messages += m + "\n";
@@ -213,13 +214,13 @@ TEST(IoMissions, ClearErrors) {
   const fs::path root = make_dataset("b");
   BasicContext ctx;
   try {
-    io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+    plugin_test::make_stage("io.missions")->run(Inputs{}, ctx);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no dataset"), std::string::npos) << e.what();
   }
   try {
-    io_test::make_stage("io.missions", {{"path", root.string()}, {"missions", std::vector<std::string>{"t9"}}})
+    plugin_test::make_stage("io.missions", {{"path", root.string()}, {"missions", std::vector<std::string>{"t9"}}})
         ->run(Inputs{}, ctx);
     FAIL() << "expected an error";
   } catch (const Error& e) {
@@ -235,7 +236,7 @@ TEST(IoMissions, AMissionWithScansButNoPosesIsAnError) {
   BasicContext ctx;
   ctx.info.dataset = root.string();
   try {
-    io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+    plugin_test::make_stage("io.missions")->run(Inputs{}, ctx);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("t1: has scans/ but no poses.txt"), std::string::npos) << e.what();
@@ -277,7 +278,7 @@ TEST(IoMissions, MissionNamesOutOfNumericOrderAreWarnedAbout) {
   EXPECT_NE(all.find(".missions=[...]"), std::string::npos) << all;
 
   BasicContext ctx;
-  io_test::make_stage("io.missions", {{"path", root.string()},
+  plugin_test::make_stage("io.missions", {{"path", root.string()},
                                       {"missions", std::vector<std::string>{"week2", "week9", "week10"}}})
       ->run(Inputs{}, ctx);
   for (const auto& m : ctx.messages) EXPECT_EQ(m.find("sorts before"), std::string::npos) << m;
@@ -300,7 +301,7 @@ TEST(IoMissions, AMissionWithNoPointsIsAnError) {
   BasicContext ctx("load", 1);
   ctx.info.dataset = root.string();
   try {
-    io_test::make_stage("io.missions")->run(Inputs{}, ctx);
+    plugin_test::make_stage("io.missions")->run(Inputs{}, ctx);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("mission 't1': none of its 2 scans has a finite point off the sensor origin; leave it out with "
@@ -360,7 +361,7 @@ TEST(IoMissions, EveryScanFormatInOneMission) {
     io::write_poses((root / m / "poses.txt").string(), poses, io::PoseFormat::kitti);
   }
   BasicContext ctx("read", 1);
-  auto out = io_test::make_stage("io.missions", {{"path", root.string()}})->run(Inputs{}, ctx);
+  auto out = plugin_test::make_stage("io.missions", {{"path", root.string()}})->run(Inputs{}, ctx);
   const auto& set = out.at("missions").as<MissionSet>();
   ASSERT_EQ(set.missions.size(), 2u);
   const Mission& a = set.missions[0];
@@ -389,7 +390,7 @@ TEST(IoMissions, ScanAndPoseCountsMustAgree) {
   io::write_poses((root / "t0" / "poses.txt").string(), std::vector<io::PoseRecord>(3));
   BasicContext ctx;
   try {
-    io_test::make_stage("io.missions", {{"path", root.string()}})->run(Inputs{}, ctx);
+    plugin_test::make_stage("io.missions", {{"path", root.string()}})->run(Inputs{}, ctx);
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("2 scan files in scans/ but 3 poses"), std::string::npos) << e.what();

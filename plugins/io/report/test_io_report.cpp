@@ -1,4 +1,5 @@
-#include "../missions/make_stage.hpp"
+#include <lista_testing/plugin_stage.hpp>
+#include <lista_io/test_scratch.hpp>
 
 #include <algorithm>
 
@@ -100,7 +101,7 @@ TEST(IoReport, WritesTheContractAndReadsBack) {
   ctx.info.threads = 8;
   ctx.info.jobs = 2;
   ctx.info.notes["describe"]["weights"] = "/models/describe-learned.bin";
-  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  plugin_test::make_stage("io.report")->run(f.inputs(), ctx);
 
   const io::Report r = io::read_report((out / "report.json").string());
   EXPECT_EQ(r.missions, (std::vector<std::string>{"A", "B"}));
@@ -174,7 +175,7 @@ TEST(IoReport, ChangeCloudsOfMissionsNotInTheRunAreRemoved) {
   std::ofstream(out / "poses" / "C.txt") << "0 0 0 0 0 0 0 1\n";
   BasicContext ctx("report");
   ctx.info.output_dir = out.string();
-  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  plugin_test::make_stage("io.report")->run(f.inputs(), ctx);
   EXPECT_TRUE(fs::exists(out / "changes" / "A.pcd"));
   EXPECT_TRUE(fs::exists(out / "changes" / "B.pcd"));
   EXPECT_FALSE(fs::exists(out / "changes" / "C.pcd"));
@@ -198,7 +199,7 @@ TEST(IoReport, TempFoldersOfDeadRunsAreCleared) {
   fs::create_directories(running);
   BasicContext ctx("report");
   ctx.info.output_dir = out.string();
-  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  plugin_test::make_stage("io.report")->run(f.inputs(), ctx);
   EXPECT_FALSE(fs::exists(left));
   EXPECT_TRUE(fs::exists(running)) << "a live run's temp folder is not ours to remove";
   EXPECT_TRUE(fs::exists(out / "report.json"));
@@ -208,7 +209,7 @@ TEST(IoReport, WithoutMatchesStatusFollowsMissionOrder) {
   Fixture f;
   const fs::path out = out_dir("nomatch");
   BasicContext ctx;
-  io_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(false, false), ctx);
+  plugin_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(false, false), ctx);
   const io::Report r = io::read_report((out / "report.json").string());
   EXPECT_EQ(r.objects[0].status, "removed");
   EXPECT_EQ(r.objects[1].status, "added");
@@ -219,7 +220,7 @@ TEST(IoReport, FailuresLeaveNoReport) {
   Fixture f;
   BasicContext ctx;
   try {
-    io_test::make_stage("io.report")->run(f.inputs(), ctx);
+    plugin_test::make_stage("io.report")->run(f.inputs(), ctx);
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no output folder"), std::string::npos);
@@ -229,7 +230,7 @@ TEST(IoReport, FailuresLeaveNoReport) {
   std::ofstream(out / "report.json") << "{}";  // a stale report from an earlier run
   f.changes.missions = {"A", "Z"};
   try {
-    io_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(), ctx);
+    plugin_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(), ctx);
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("mission 'Z'"), std::string::npos) << e.what();
@@ -237,7 +238,7 @@ TEST(IoReport, FailuresLeaveNoReport) {
   f.changes.missions = {"A", "B"};
   // Writing fails: "changes" is a file, so the change clouds cannot be moved in.
   std::ofstream(out / "changes") << "x";
-  EXPECT_THROW(io_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(), ctx), Error);
+  EXPECT_THROW(plugin_test::make_stage("io.report", {{"path", out.string()}})->run(f.inputs(), ctx), Error);
   EXPECT_FALSE(fs::exists(out / "report.json"));
   size_t entries = 0;
   for (auto& e : fs::directory_iterator(out)) (void)e, ++entries;
@@ -250,7 +251,7 @@ static io::PcdTable changes_of_b_with_scan_0_unread(Fixture& f, const fs::path& 
   f.missions.missions[1].scans[0].file = file.string();
   f.missions.missions[1].scans[0].points = std::make_shared<const PointSet>();
   ctx.info.output_dir = run.string();
-  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  plugin_test::make_stage("io.report")->run(f.inputs(), ctx);
   return io::read_pcd_table((run / "changes" / "B.pcd").string());
 }
 
@@ -318,7 +319,7 @@ TEST(IoReport, ListsDynamicsApartFromTheObjects) {
   BasicContext ctx("report");
   ctx.min_level = LogLevel::error;
   ctx.info.output_dir = out.string();
-  io_test::make_stage("io.report")->run(f.inputs(), ctx);
+  plugin_test::make_stage("io.report")->run(f.inputs(), ctx);
   std::ifstream in(out / "report.json");
   const nlohmann::json j = nlohmann::json::parse(in);
   ASSERT_EQ(j.at("dynamics").size(), 1u);

@@ -1,4 +1,4 @@
-#include "../../group/kmeans/stage_harness.hpp"
+#include <lista_testing/plugin_stage.hpp>
 #include "weighted_matcher.hpp"
 
 #include <lista_objreg/upright.hpp>
@@ -117,7 +117,7 @@ Groups groups_of(std::vector<int> ids, std::vector<int> group, std::vector<doubl
 }
 
 Matches run_stage(const Scene& s, std::map<std::string, ParamValue> p = {}, const Groups* g = nullptr) {
-  auto stage = stage_test::make_stage("match.weighted", p);
+  auto stage = plugin_test::make_stage("match.weighted", p);
   BasicContext ctx;
   Inputs in;
   in.set("objects", Data::make(s.objects));
@@ -411,8 +411,8 @@ TEST(MatchWeighted, BadInputIsAnError) {
   s.objects.missions = {"A"};
   s.add(3, {0, 0, 0}, chair);
   EXPECT_THROW(run_stage(s), Error);
-  EXPECT_THROW(stage_test::make_stage("match.weighted", {{"alpha", 0.0}, {"beta", 0.0}, {"shape_weight", 0.0}}), Error);
-  EXPECT_THROW(stage_test::make_stage("match.weighted", {{"min_shape_fit", 1.5}}), Error);
+  EXPECT_THROW(plugin_test::make_stage("match.weighted", {{"alpha", 0.0}, {"beta", 0.0}, {"shape_weight", 0.0}}), Error);
+  EXPECT_THROW(plugin_test::make_stage("match.weighted", {{"min_shape_fit", 1.5}}), Error);
 }
 
 TEST(MatchWeighted, ShapeCheckKeepsUnlikeShapesApart) {

@@ -1,6 +1,6 @@
 // register.icp: refines each moved object's transform with PCL (G)ICP from
 // the SVD guess, its axis flips and yaw hypotheses; see lista_objreg/icp_refine.hpp.
-#include "../svd/register_objects.hpp"
+#include <lista_objreg/register_objects.hpp>
 #include <lista_objreg/icp_refine.hpp>
 #include <lista_objreg/upright.hpp>
 

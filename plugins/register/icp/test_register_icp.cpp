@@ -1,4 +1,4 @@
-#include "../../group/kmeans/stage_harness.hpp"
+#include <lista_testing/plugin_stage.hpp>
 #include <lista_objreg/svd_registration.hpp>
 #include <lista_objreg/icp_refine.hpp>
 
@@ -112,7 +112,7 @@ Matches register_moved_pair(const std::vector<Eigen::Vector3f>& a, const std::ve
   m.objects.resize(2);
   m.objects[0].object_id = 10, m.objects[0].status = ChangeStatus::moved, m.objects[0].match = 11;
   m.objects[1].object_id = 11, m.objects[1].status = ChangeStatus::moved, m.objects[1].match = 10;
-  auto stage = stage_test::make_stage("register.icp", params);
+  auto stage = plugin_test::make_stage("register.icp", params);
   BasicContext ctx("icp", 2);
   Inputs in;
   in.set("objects", Data::make(objects));

@@ -1,6 +1,6 @@
 // register.svd: the paper's registration of moved objects (shared centroid,
 // orientation from the SVD of the covariance); see lista_objreg/svd_registration.hpp.
-#include "register_objects.hpp"
+#include <lista_objreg/register_objects.hpp>
 #include <lista_objreg/svd_registration.hpp>
 
 #include <lista/lista.hpp>

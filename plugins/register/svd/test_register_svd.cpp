@@ -1,4 +1,4 @@
-#include "../../group/kmeans/stage_harness.hpp"
+#include <lista_testing/plugin_stage.hpp>
 #include <lista_objreg/svd_registration.hpp>
 
 #include <lista/basic_context.hpp>
@@ -78,7 +78,7 @@ TEST(SvdRegistration, StageFillsInverseTransformsForBothEnds) {
   m.objects[0] = change(0, ChangeStatus::moved, 1);
   m.objects[1] = change(1, ChangeStatus::moved, 0);
   m.objects[2] = change(2, ChangeStatus::removed, -1);
-  auto stage = stage_test::make_stage("register.svd");
+  auto stage = plugin_test::make_stage("register.svd");
   BasicContext ctx("reg", 2);
   Inputs in;
   in.set("objects", Data::make(objects));
@@ -108,7 +108,7 @@ TEST(SvdRegistration, MatchesNamingUnknownObjectsAreAnError) {
   objects.objects = {make_object(0, 0, chair_points(4))};
   Matches m;
   m.objects = {change(0, ChangeStatus::moved, 7)};
-  auto stage = stage_test::make_stage("register.svd");
+  auto stage = plugin_test::make_stage("register.svd");
   BasicContext ctx;
   Inputs in;
   in.set("objects", Data::make(objects));

@@ -1,7 +1,7 @@
 // segment.carve: a crate seen whole in mission 0 and, turned and moved, in
 // mission 1 against a taller shelf that changed too (one cluster there).
 #include "carve_rule.hpp"
-#include "../testing/test_support.hpp"
+#include <lista_testing/point_scenes.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // segment.complete on a synthetic two-mission scene: a floor, a box moved by
 // less than its size (only slivers detected), a static box nearby.
-#include "../testing/test_support.hpp"
+#include <lista_testing/point_scenes.hpp>
 #include "completion.hpp"
 
 #include <lista_geometry/object_geometry.hpp>
@@ -443,11 +443,8 @@ TEST(SegmentComplete, UnknownMissionIsAClearError) {
 
 TEST(SegmentComplete, StageRunsThroughItsManifest) {
   const Scene s = make_scene();
-  test_support::Captured reg;
-  lista_plugin_detail::manifest()->register_stages(reg);
-  auto& [info, factory] = reg.stages.at("segment.complete");
-  EXPECT_EQ(info.inputs.size(), 2u);
-  auto stage = factory(Params::defaults(info.params));
+  EXPECT_EQ(plugin_test::stage_info("segment.complete").inputs.size(), 2u);
+  auto stage = plugin_test::make_stage("segment.complete");
   Inputs in;
   in.set("objects", Data::make(slivers(s)));
   in.set("missions", Data::make(s.missions));

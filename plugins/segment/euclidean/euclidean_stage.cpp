@@ -1,6 +1,6 @@
 // segment.euclidean: PCL Euclidean cluster extraction per mission.
 #include "euclidean_clustering.hpp"
-#include "../common/mission_objects.hpp"
+#include <lista_segmentation/mission_objects.hpp>
 
 #include <lista/data.hpp>
 #include <lista/plugin.hpp>

@@ -1,6 +1,6 @@
-#include "../voxel/voxel_clustering.hpp"
+#include <lista_segmentation/voxel_clustering.hpp>
 #include "euclidean_clustering.hpp"
-#include "../testing/test_support.hpp"
+#include <lista_testing/point_scenes.hpp>
 
 #include <gtest/gtest.h>
 

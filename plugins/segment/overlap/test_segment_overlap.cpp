@@ -1,5 +1,5 @@
 #include "overlap_rule.hpp"
-#include "../testing/test_support.hpp"
+#include <lista_testing/point_scenes.hpp>
 
 #include <gtest/gtest.h>
 

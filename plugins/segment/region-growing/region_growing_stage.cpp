@@ -1,5 +1,5 @@
 // segment.region-growing: PCL region growing with normals per mission.
-#include "../common/mission_objects.hpp"
+#include <lista_segmentation/mission_objects.hpp>
 #include "region_growing.hpp"
 
 #include <lista/data.hpp>

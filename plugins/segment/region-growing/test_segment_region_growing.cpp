@@ -1,5 +1,5 @@
 #include "region_growing.hpp"
-#include "../testing/test_support.hpp"
+#include <lista_testing/point_scenes.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-#include "../testing/test_support.hpp"
-#include "voxel_clustering.hpp"
+#include <lista_testing/point_scenes.hpp>
+#include <lista_segmentation/voxel_clustering.hpp>
 
 #include <gtest/gtest.h>
 

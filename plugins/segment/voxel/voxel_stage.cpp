@@ -1,7 +1,7 @@
 // segment.voxel: connected components over occupied voxels (union-find); the
 // fast default segmenter.
-#include "../common/mission_objects.hpp"
-#include "voxel_clustering.hpp"
+#include <lista_segmentation/mission_objects.hpp>
+#include <lista_segmentation/voxel_clustering.hpp>
 
 #include <lista/data.hpp>
 #include <lista/plugin.hpp>

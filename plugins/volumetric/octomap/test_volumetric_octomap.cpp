@@ -1,7 +1,7 @@
 // volumetric.octomap on the synthetic two-room scene.
 #include "volumetric_octomap.hpp"
 
-#include "../common/expect_volumetric_params.hpp"
+#include <lista_testing/expect_volumetric_params.hpp>
 
 #include <lista/basic_context.hpp>
 #include <lista_raycast/scene_checks.hpp>

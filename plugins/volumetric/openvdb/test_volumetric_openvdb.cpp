@@ -1,10 +1,9 @@
-// volumetric.openvdb on the synthetic two-room scene, and its agreement with
-// volumetric.octomap on the same input.
-#include "../octomap/volumetric_octomap.hpp"
+// volumetric.openvdb on the synthetic two-room scene (its agreement with
+// volumetric.octomap: tests/backends).
 #include "vdb_counts.hpp"
 #include "volumetric_openvdb.hpp"
 
-#include "../common/expect_volumetric_params.hpp"
+#include <lista_testing/expect_volumetric_params.hpp>
 
 #include <lista/basic_context.hpp>
 #include <lista_raycast/scene_checks.hpp>
@@ -139,22 +138,6 @@ TEST(VolumetricOpenVdb, SameResultForAnyThreadCount) {
     EXPECT_EQ(one.sets[m].scan, three.sets[m].scan);
     EXPECT_EQ(one.sets[m].index, three.sets[m].index);
   }
-}
-
-TEST(VolumetricOpenVdb, AgreesWithOctomapBackend) {
-  const MissionPoints vdb = run_stage(volumetric::make_volumetric_openvdb(defaults()), scene(), 2);
-  const MissionPoints oct = run_stage(
-      volumetric::make_volumetric_octomap(Params::defaults(volumetric::volumetric_octomap_info().params)),
-      scene(), 2);
-  size_t both = 0, either = 0;
-  for (size_t m = 0; m < 2; ++m) {
-    const auto a = raycast::provenance(vdb.sets[m]), b = raycast::provenance(oct.sets[m]);
-    for (const auto& p : a) both += b.count(p);
-    either += a.size() + b.size();
-  }
-  either -= both;
-  ASSERT_GT(either, 0u);
-  EXPECT_GE(static_cast<double>(both) / either, 0.98) << both << " of " << either;
 }
 
 TEST(VolumetricOpenVdb, UnobservedRegionStaysUnknownWithoutNeighbourhood) {

@@ -5,7 +5,7 @@
 
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>
-#include <lista/plugin.hpp>
+#include <lista_testing/plugin_stage.hpp>
 
 #include <map>
 #include <set>
@@ -13,31 +13,12 @@
 
 namespace test_support {
 
-struct Captured : lista::Registrar {
-  std::map<std::string, std::pair<lista::StageInfo, lista::StageFactory>> stages;
-  void add(lista::StageInfo info, lista::StageFactory f) override {
-    auto name = info.name;
-    stages[name] = {std::move(info), std::move(f)};
-  }
-};
-
 // Runs stage `name` with default params overridden by `set`, one input port;
 // what it logged and recorded goes to `context` when given.
 inline lista::Outputs run_stage(const std::string& name, const std::string& port, lista::Data input,
                                 const std::map<std::string, lista::ParamValue>& set = {},
                                 int threads = 2, lista::BasicContext* context = nullptr) {
-  Captured reg;
-  lista_plugin_detail::manifest()->register_stages(reg);
-  auto& [info, factory] = reg.stages.at(name);
-  auto params = lista::Params::defaults(info.params);
-  for (auto& [k, v] : set) {
-    const auto* spec = info.param(k);
-    if (!spec) throw lista::Error("no parameter " + k);
-    auto why = spec->check(v);
-    if (!why.empty()) throw lista::Error(k + ": " + why);
-    params.set(k, v);
-  }
-  auto stage = factory(params);
+  auto stage = lista::plugin_test::make_stage(name, set);
   lista::Inputs in;
   in.set(port, std::move(input));
   lista::BasicContext own("test", threads, 7);

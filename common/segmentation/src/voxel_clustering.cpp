@@ -1,4 +1,4 @@
-#include "voxel_clustering.hpp"
+#include <lista_segmentation/voxel_clustering.hpp>
 
 #include <lista/error.hpp>
 

@@ -1,4 +1,4 @@
-#include "group_result.hpp"
+#include <lista_grouping/group_result.hpp>
 
 #include <lista/error.hpp>
 

@@ -1,4 +1,4 @@
-#include "register_objects.hpp"
+#include <lista_objreg/register_objects.hpp>
 
 #include <lista/error.hpp>
 #include <lista/parallel.hpp>
