@@ -1,67 +1,73 @@
+#include <lista/param_table.hpp>
 #include <lista_raycast/volumetric_config.hpp>
 
 namespace lista::raycast {
 
-std::vector<ParamSpec> volumetric_params() {
-  const VolumetricConfig d;
-  return {
-      ParamSpec::real("resolution", d.resolution, "voxel edge length").range(0.005, 5.0).unit("m"),
-      // The bound also refuses NaN and inf (ParamSpec::check): without one, NaN
-      // passed validation, ran as "unlimited" and the report recorded nan.
-      ParamSpec::real("max_range", d.max_range,
-                      "beams are cut at this range: a farther return adds free space up to the "
-                      "range and no hit (far beams are wider than a voxel); 0 means unlimited")
-          .at_least(0.0)
-          .unit("m"),
-      ParamSpec::real("prob_hit", d.prob_hit, "occupancy probability of a voxel holding a return")
-          .range(0.5, 1.0),
-      ParamSpec::real("prob_miss", d.prob_miss,
-                      "occupancy probability of a voxel a beam passed through; closer to 0.5 than "
-                      "prob_hit so a single grazing beam cannot clear a surface seen by other scans")
-          .range(0.0, 0.5),
-      ParamSpec::real("clamping_min", d.clamping_min, "lower probability bound of a voxel")
-          .range(0.0, 1.0),
-      ParamSpec::real("clamping_max", d.clamping_max, "upper probability bound of a voxel")
-          .range(0.0, 1.0),
-      ParamSpec::real("occupied_threshold", d.occupied_threshold,
-                      "probability above which a voxel counts as occupied")
-          .range(0.0, 1.0),
-      ParamSpec::real("change_threshold", d.change_threshold,
-                      "a point's voxel changed when its occupancy probability in the point's "
-                      "mission exceeds that in a neighbouring mission by more than this; a voxel "
-                      "never observed in the other mission is unknown, never changed; 0.35 asks three "
-                      "updates in all, at least one in each mission (the paper's 0.5: four to five); where two "
-                      "missions' scan counts cannot pass it (one scan each), one hit against one miss is "
-                      "change unless this is set explicitly")
-          .range(0.0, 1.0),
-      ParamSpec::integer("neighbourhood", d.neighbourhood,
-                         "radius in voxels (Chebyshev) that must hold no occupied voxel in the other "
-                         "mission: tolerates sensor noise, residual misalignment and beams grazing "
-                         "a surface; 0 compares the point's voxel only")
-          .range(0, 3)
-          .unit("voxels"),
-      ParamSpec::real("hit_margin", d.hit_margin,
-                      "the last stretch of each beam before its return is not marked free: a beam "
-                      "grazing a floor or wall (at 10 deg incidence it is within one 5 cm voxel of "
-                      "the surface for its last 0.3 m), or a return measured a little long, would "
-                      "otherwise clear voxels of the surface it hits; the cost is that change "
-                      "closer than this to the surface behind it along the beam is not carved")
-          .range(0.0, 1.0)
-          .unit("m"),
-      ParamSpec::real("graze_height", d.graze_height,
-                      "a beam going down (by more than graze_height over its length) is not marked free where it runs within this height above its "
-                      "return (graze_height / sin(descent) before it, at most graze_max): far floor beams "
-                      "run within one voxel of the floor for metres and would clear floor voxels the other "
-                      "mission holds; 0 = only hit_margin (default; 0.05 for outdoor ground, see "
-                      "docs/volumetric.md)")
-          .range(0.0, 1.0)
-          .unit("m"),
-      ParamSpec::real("graze_max", d.graze_max,
-                      "longest stretch before a return that graze_height keeps from being marked free")
-          .range(0.0, 10.0)
-          .unit("m"),
-  };
+namespace {
+
+const ParamTable<VolumetricConfig>& param_table() {
+  using C = VolumetricConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("resolution", &C::resolution, "voxel edge length").range(0.005, 5.0).unit("m");
+    // The bound also refuses NaN and inf (ParamSpec::check): without one, NaN
+    // passed validation, ran as "unlimited" and the report recorded nan.
+    t.bind("max_range", &C::max_range,
+           "beams are cut at this range: a farther return adds free space up to the "
+           "range and no hit (far beams are wider than a voxel); 0 means unlimited")
+        .at_least(0.0)
+        .unit("m");
+    t.bind("prob_hit", &C::prob_hit, "occupancy probability of a voxel holding a return").range(0.5, 1.0);
+    t.bind("prob_miss", &C::prob_miss,
+           "occupancy probability of a voxel a beam passed through; closer to 0.5 than "
+           "prob_hit so a single grazing beam cannot clear a surface seen by other scans")
+        .range(0.0, 0.5);
+    t.bind("clamping_min", &C::clamping_min, "lower probability bound of a voxel").range(0.0, 1.0);
+    t.bind("clamping_max", &C::clamping_max, "upper probability bound of a voxel").range(0.0, 1.0);
+    t.bind("occupied_threshold", &C::occupied_threshold, "probability above which a voxel counts as occupied")
+        .range(0.0, 1.0);
+    t.bind("change_threshold", &C::change_threshold,
+           "a point's voxel changed when its occupancy probability in the point's "
+           "mission exceeds that in a neighbouring mission by more than this; a voxel "
+           "never observed in the other mission is unknown, never changed; 0.35 asks three "
+           "updates in all, at least one in each mission (the paper's 0.5: four to five); where two "
+           "missions' scan counts cannot pass it (one scan each), one hit against one miss is "
+           "change unless this is set explicitly")
+        .range(0.0, 1.0);
+    t.bind("neighbourhood", &C::neighbourhood,
+           "radius in voxels (Chebyshev) that must hold no occupied voxel in the other "
+           "mission: tolerates sensor noise, residual misalignment and beams grazing "
+           "a surface; 0 compares the point's voxel only")
+        .range(0, 3)
+        .unit("voxels");
+    t.bind("hit_margin", &C::hit_margin,
+           "the last stretch of each beam before its return is not marked free: a beam "
+           "grazing a floor or wall (at 10 deg incidence it is within one 5 cm voxel of "
+           "the surface for its last 0.3 m), or a return measured a little long, would "
+           "otherwise clear voxels of the surface it hits; the cost is that change "
+           "closer than this to the surface behind it along the beam is not carved")
+        .range(0.0, 1.0)
+        .unit("m");
+    t.bind("graze_height", &C::graze_height,
+           "a beam going down (by more than graze_height over its length) is not marked free where it runs within this "
+           "height above its "
+           "return (graze_height / sin(descent) before it, at most graze_max): far floor beams "
+           "run within one voxel of the floor for metres and would clear floor voxels the other "
+           "mission holds; 0 = only hit_margin (default; 0.05 for outdoor ground, see "
+           "docs/volumetric.md)")
+        .range(0.0, 1.0)
+        .unit("m");
+    t.bind("graze_max", &C::graze_max, "longest stretch before a return that graze_height keeps from being marked free")
+        .range(0.0, 10.0)
+        .unit("m");
+    return t;
+  }();
+  return table;
 }
+
+}  // namespace
+
+std::vector<ParamSpec> volumetric_params() { return param_table().specs(); }
 
 void validate(const VolumetricConfig& c) {
   if (!(c.prob_hit > 0.5 && c.prob_hit < 1.0))
@@ -78,20 +84,8 @@ void validate(const VolumetricConfig& c) {
 }
 
 VolumetricConfig volumetric_config(const Params& p) {
-  VolumetricConfig c;
-  c.resolution = p.get<double>("resolution");
-  c.max_range = p.get<double>("max_range");
-  c.prob_hit = p.get<double>("prob_hit");
-  c.prob_miss = p.get<double>("prob_miss");
-  c.clamping_min = p.get<double>("clamping_min");
-  c.clamping_max = p.get<double>("clamping_max");
-  c.occupied_threshold = p.get<double>("occupied_threshold");
-  c.change_threshold = p.get<double>("change_threshold");
+  VolumetricConfig c = param_table().read(p);
   c.change_threshold_given = p.is_set("change_threshold");
-  c.neighbourhood = p.get<int>("neighbourhood");
-  c.hit_margin = p.get<double>("hit_margin");
-  c.graze_height = p.get<double>("graze_height");
-  c.graze_max = p.get<double>("graze_max");
   validate(c);
   return c;
 }

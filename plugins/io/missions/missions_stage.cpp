@@ -1,5 +1,6 @@
 // io.missions: reads a dataset of missions (data contract, sect. 1).
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 #include <lista_bag/bag_mission.hpp>
 #include <lista_io/dataset.hpp>
 
@@ -98,21 +99,30 @@ std::string misordered_scan_names(const Mission& m) {
   return misordered(names);
 }
 
+// What the stage reads and how: the dataset, the thinning of dense logs, and
+// (its base) where a bag mission's clouds and poses come from.
+struct MissionsConfig : bag::BagOptions {
+  std::string path;
+  std::vector<std::string> missions;
+  double min_range = 0.0;      // m
+  double scan_spacing = 0.0;   // m
+  double dense_spacing = 0.5;  // m
+  double scan_turn = 30.0;     // deg
+};
+
+const ParamTable<MissionsConfig>& param_table();
+
 class MissionsStage : public Stage {
  public:
-  explicit MissionsStage(const Params& p)
-      : path_(p.get<std::string>("path")),
-        missions_(p.get<std::vector<std::string>>("missions")),
-        min_range_(p.get<double>("min_range")),
-        scan_spacing_(p.get<double>("scan_spacing")),
-        dense_spacing_(p.get<double>("dense_spacing")),
-        scan_turn_(p.get<double>("scan_turn")) {
-    bag_.cloud_topic = p.get<std::string>("cloud_topic");
-    bag_.poses = p.get<std::string>("poses");
-    bag_.fixed_frame = p.get<std::string>("fixed_frame");
-    bag_.body_frame = p.get<std::string>("body_frame");
-    bag_.deskew = p.get<bool>("deskew");
-  }
+  explicit MissionsStage(const Params& p) : MissionsStage(param_table().read(p)) {}
+  explicit MissionsStage(const MissionsConfig& c)
+      : path_(c.path),
+        missions_(c.missions),
+        min_range_(c.min_range),
+        scan_spacing_(c.scan_spacing),
+        dense_spacing_(c.dense_spacing),
+        scan_turn_(c.scan_turn),
+        bag_(c) {}
 
   Outputs run(const Inputs&, Context& ctx) override {
     const std::string dataset = path_.empty() ? ctx.run_info().dataset : path_;
@@ -312,43 +322,54 @@ StageInfo info() {
       "keeping their file index. Poses more than a km from zero (georeferenced) are moved by a whole number of km so float "
       "points keep millimetres; io.report adds the offset back. See docs/formats.md.";
   s.outputs = {{"missions", "missions", "the missions, each in its own map frame (to_common = identity)"}};
-  s.params = {
-      ParamSpec::text("path", "", "dataset folder; empty = the run's dataset (lista-run --dataset)"),
-      ParamSpec::text_list("missions", {}, "mission folder names in the order to use; empty = all, sorted"),
-      ParamSpec::real("min_range", 0.0,
-                      "points nearer their sensor than this are dropped: the robot's own body or the operator, which "
-                      "move with the sensor and would leave a trail of change along every path (a legged robot with "
-                      "a LiDAR on its back: about 1 m); dropped points keep no place in changes/; 0 keeps all")
-          .range(0, 100).unit("m"),
-      ParamSpec::real("scan_spacing", 0.0,
-                      "thin every mission, dense or not: read a scan only where its sensor lies this far from the "
-                      "last scan read, or has turned scan_turn from it (first and last always read); the others keep "
-                      "their pose and no points (io.report puts those of their points that fall in the change back "
-                      "into changes/); 0 = dense_spacing decides")
-          .range(0, 100)
-          .unit("m"),
-      ParamSpec::real("dense_spacing", 0.5,
-                      "with scan_spacing 0: a dense log (500 or more scans whose sensors lie under 0.1 m apart at "
-                      "the median, as a 10 Hz LiDAR at walking pace gives) is read as with scan_spacing = this; 0 "
-                      "reads every scan of it")
-          .range(0, 100)
-          .unit("m"),
-      ParamSpec::text("cloud_topic", "", "bag missions: the sensor_msgs/PointCloud2 topic; empty = the only one"),
-      ParamSpec::text("poses", "",
-                      "bag missions: where the clouds' poses come from: tf, an odometry or pose topic, or a TUM file "
-                      "in the mission folder; empty = tf when the cloud's frame hangs under a moving tf frame, else the "
-                      "only odometry or pose topic"),
-      ParamSpec::text("fixed_frame", "", "bag missions with tf poses: the map frame; empty = the root of the cloud frame's tf tree"),
-      ParamSpec::text("body_frame", "",
-                      "bag missions with a pose topic or file: the frame they give poses of; empty = the odometry's "
-                      "child frame, else the cloud's frame (the sensor hangs under it through tf)"),
-      ParamSpec::boolean("deskew", true,
-                         "bag missions: clouds with per-point times (Ouster t, Velodyne time, ...) are deskewed by "
-                         "the poses' motion during the sweep, when the poses are sampled at least every two sweeps"),
-      ParamSpec::real("scan_turn", 30.0, "when thinning (scan_spacing or dense_spacing), a scan turned this far from the last one read is read too")
-          .range(0.1, 180)
-          .unit("deg")};
+  s.params = param_table().specs();
   return s;
+}
+
+const ParamTable<MissionsConfig>& param_table() {
+  using C = MissionsConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("path", &C::path, "dataset folder; empty = the run's dataset (lista-run --dataset)");
+    t.bind("missions", &C::missions, "mission folder names in the order to use; empty = all, sorted");
+    t.bind("min_range", &C::min_range,
+           "points nearer their sensor than this are dropped: the robot's own body or the operator, which move with "
+           "the sensor and would leave a trail of change along every path (a legged robot with a LiDAR on its back: "
+           "about 1 m); dropped points keep no place in changes/; 0 keeps all")
+        .range(0, 100)
+        .unit("m");
+    t.bind("scan_spacing", &C::scan_spacing,
+           "thin every mission, dense or not: read a scan only where its sensor lies this far from the last scan "
+           "read, or has turned scan_turn from it (first and last always read); the others keep their pose and no "
+           "points (io.report puts those of their points that fall in the change back into changes/); 0 = "
+           "dense_spacing decides")
+        .range(0, 100)
+        .unit("m");
+    t.bind("dense_spacing", &C::dense_spacing,
+           "with scan_spacing 0: a dense log (500 or more scans whose sensors lie under 0.1 m apart at the median, as "
+           "a 10 Hz LiDAR at walking pace gives) is read as with scan_spacing = this; 0 reads every scan of it")
+        .range(0, 100)
+        .unit("m");
+    t.bind("cloud_topic", &C::cloud_topic, "bag missions: the sensor_msgs/PointCloud2 topic; empty = the only one");
+    t.bind("poses", &C::poses,
+           "bag missions: where the clouds' poses come from: tf, an odometry or pose topic, or a TUM file in the "
+           "mission folder; empty = tf when the cloud's frame hangs under a moving tf frame, else the only odometry "
+           "or pose topic");
+    t.bind("fixed_frame", &C::fixed_frame,
+           "bag missions with tf poses: the map frame; empty = the root of the cloud frame's tf tree");
+    t.bind("body_frame", &C::body_frame,
+           "bag missions with a pose topic or file: the frame they give poses of; empty = the odometry's child frame, "
+           "else the cloud's frame (the sensor hangs under it through tf)");
+    t.bind("deskew", &C::deskew,
+           "bag missions: clouds with per-point times (Ouster t, Velodyne time, ...) are deskewed by the poses' "
+           "motion during the sweep, when the poses are sampled at least every two sweeps");
+    t.bind("scan_turn", &C::scan_turn,
+           "when thinning (scan_spacing or dense_spacing), a scan turned this far from the last one read is read too")
+        .range(0.1, 180)
+        .unit("deg");
+    return t;
+  }();
+  return table;
 }
 
 void register_stages(Registrar& r) {

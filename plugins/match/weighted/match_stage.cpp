@@ -3,6 +3,7 @@
 #include "weighted_matcher.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 #include <lista/parallel.hpp>
 #include <lista_objreg/icp_refine.hpp>
 #include <lista_objreg/surface_share.hpp>
@@ -16,32 +17,33 @@ namespace lista::matching {
 
 namespace {
 
+// The matcher's settings and the stage's own: the shape check's registration
+// and floor gate.
+struct MatchStageConfig : WeightedMatchConfig {
+  double shape_voxel = 0.04;      // m
+  double shape_distance = 0.05;   // m
+  double shape_gap = 0.15;        // m
+  double max_lift = 0.15;         // m
+  double max_tilt = 20.0;         // deg
+  bool upright_poses = true;
+  bool corner_hypotheses = true;
+};
+
+const ParamTable<MatchStageConfig>& param_table();
+
 class WeightedMatchStage : public Stage {
  public:
   explicit WeightedMatchStage(const Params& p) {
-    cfg_.alpha = p.get<double>("alpha");
-    cfg_.beta = p.get<double>("beta");
-    cfg_.normalization = p.get<std::string>("normalization");
-    cfg_.group_mode = p.get<std::string>("group_mode");
-    cfg_.group_penalty = p.get<double>("group_penalty");
-    cfg_.max_distance = p.get<double>("max_distance");
-    cfg_.max_size_change = p.get<double>("max_size_change");
-    cfg_.size_slack = p.get<double>("size_slack");
-    cfg_.max_descriptor_distance = p.get<double>("max_descriptor_distance");
-    cfg_.max_cost = p.get<double>("max_cost");
-    cfg_.shape_weight = p.get<double>("shape_weight");
-    cfg_.min_shape_fit = p.get<double>("min_shape_fit");
-    cfg_.far_side_explains = p.get<bool>("far_side_explains");
-    cfg_.evidence_voxel = p.get<double>("evidence_voxel");
-    cfg_.evidence_voxels = p.get<double>("evidence_voxels");
-    max_lift_ = p.get<double>("max_lift");
-    max_tilt_ = p.get<double>("max_tilt");
-    upright_poses_ = p.get<bool>("upright_poses");
-    shape_ = registration::shape_check_config(p.get<double>("shape_voxel"), p.get<double>("shape_distance"));
-    shape_.corner_hypotheses = p.get<bool>("corner_hypotheses");
+    const MatchStageConfig c = param_table().read(p);
+    cfg_ = c;
+    max_lift_ = c.max_lift;
+    max_tilt_ = c.max_tilt;
+    upright_poses_ = c.upright_poses;
+    shape_ = registration::shape_check_config(c.shape_voxel, c.shape_distance);
+    shape_.corner_hypotheses = c.corner_hypotheses;
     surface_.voxel = shape_.voxel;
     surface_.inlier = shape_.inlier_distance;
-    surface_.gap = p.get<double>("shape_gap");
+    surface_.gap = c.shape_gap;
     surface_.max_points = shape_.max_score_points;
     if (cfg_.alpha + cfg_.beta + cfg_.shape_weight <= 0.0) throw Error("alpha + beta + shape_weight must be > 0");
   }
@@ -177,63 +179,84 @@ StageInfo info() {
               {"descriptors", "descriptors", "one descriptor per object"},
               {"groups", "groups", "descriptor groups (soft or hard constraint)", true}};
   s.outputs = {{"matches", "matches", "status, partner, cost, confidence and history of every object"}};
-  s.params = {
-      ParamSpec::real("alpha", 0.5, "weight of the normalised physical distance").range(0.0, 100.0),
-      ParamSpec::real("beta", 0.5, "weight of the normalised descriptor distance").range(0.0, 100.0),
-      ParamSpec::text("normalization", "max", "how each distance is scaled to [0,1]").one_of({"max", "minmax"}),
-      ParamSpec::text("group_mode", "soft", "how descriptor groups constrain pairs")
-          .one_of({"soft", "hard", "ignore"}),
-      ParamSpec::real("group_penalty", 0.5,
-                      "cost added to a cross-group pair (group_mode = soft); prefers same-group partners, never vetoes")
-          .range(0.0, 100.0),
-      ParamSpec::real("max_size_change", 0.6, "size gate, a cheap pre-filter before the shape check: largest relative change of height or footprint-rectangle sides of a pair (a rigid object keeps its size, but a partial view shows less of it); 0 = off")
-          .range(0.0, 10.0),
-      ParamSpec::real("size_slack", 0.15, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m"),
-      ParamSpec::real("max_distance", 0.0, "farthest centroid displacement accepted as a move; 0 = no limit (a site's scale is not known: the size and shape gates keep unlike objects apart, the physical term prefers near partners)")
-          .range(0.0, 1e6).unit("m"),
-      ParamSpec::real("max_descriptor_distance", 0.0, "largest descriptor distance of a pair; 0 = no gate")
-          .at_least(0.0),
-      ParamSpec::real("max_cost", -1.0, "largest weighted cost of a pair; < 0 = alpha + beta + shape_weight x (1 - min_shape_fit)").range(-1.0, 1e6),
-      ParamSpec::real("shape_weight", 0.5, "weight of the shape misfit (1 - fit after registering the pair); 0 = the paper's two terms")
-          .range(0.0, 100.0),
-      ParamSpec::real("min_shape_fit", 0.8, "shape gate: smallest fit of a pair (shares of points on the other object's surface after registration; shape_distance, shape_gap); 0 = off")
-          .range(0.0, 1.0),
-      ParamSpec::boolean("far_side_explains", true,
-                         "3+ missions: an object that changed mostly against its other neighbour (more than twice as "
-                         "many of its points changed against it as against this pair's mission) is that change's "
-                         "end and no candidate between this pair of missions; false = every object a candidate "
-                         "(match.weighted before 1.10.0)"),
-      ParamSpec::real("shape_voxel", 0.04, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m"),
-      ParamSpec::real("shape_distance", 0.05, "a registered point within this distance of the other object counts as explained")
-          .range(0.001, 1.0).unit("m"),
-      ParamSpec::real("shape_gap", 0.15,
-                      "a registered point farther than shape_distance from the other object still counts as explained when the "
-                      "other object's points within this distance span a surface around it (a sparse scanner's rings) and it "
-                      "lies within shape_distance / 2 of that surface; 0 = points only")
-          .range(0.0, 1.0).unit("m"),
-      ParamSpec::real("evidence_voxel", 0.1, "cube edge for measuring the surface an object shows (confidence)")
-          .range(0.01, 1.0)
-          .unit("m"),
-      ParamSpec::real("evidence_voxels", 40.0,
-                      "confidence = evidence x (0.5 + 0.5 x the matching and group terms), x the shape fit for a move; evidence = "
-                      "1 - exp(-v / evidence_voxels), v = the object's occupied evidence_voxel cubes (0.63 at "
-                      "this many); 0 = the matching and group terms alone")
-          .range(0.0, 1e6),
-      ParamSpec::real("max_lift", 0.15, "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than this, relative to the floors, when registered; 0 = off")
-          .range(0.0, 100.0).unit("m"),
-      ParamSpec::real("max_tilt", 20.0, "floor gate: nor tilted by more than this (180 = off)").range(1.0, 180.0).unit("deg"),
-      ParamSpec::boolean("upright_poses", true,
-                         "floor gate: a pair standing on floors in both missions is registered among upright poses "
-                         "only (max_lift, max_tilt), so a better-scoring pose lying on its side does not refuse it; "
-                         "false = register freely, refuse the pair when that pose is off the floor"),
-      ParamSpec::boolean("corner_hypotheses", true,
-                         "shape check: views whose footprints differ in size (a side by more than 0.1 m) that no yaw "
-                         "turn explains (90 % of the moved view within shape_distance) are also registered from the "
-                         "poses that put a corner of one footprint on a corner of the other (half a table "
-                         "seen shares a corner with the whole, not its centre): the 4 of them (of up to 16) that "
-                         "score best as they stand"),
-  };
+  s.params = param_table().specs();
   return s;
+}
+
+const ParamTable<MatchStageConfig>& param_table() {
+  using C = MatchStageConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("alpha", &C::alpha, "weight of the normalised physical distance").range(0.0, 100.0);
+    t.bind("beta", &C::beta, "weight of the normalised descriptor distance").range(0.0, 100.0);
+    t.bind("normalization", &C::normalization, "how each distance is scaled to [0,1]").one_of({"max", "minmax"});
+    t.bind("group_mode", &C::group_mode, "how descriptor groups constrain pairs").one_of({"soft", "hard", "ignore"});
+    t.bind("group_penalty", &C::group_penalty,
+           "cost added to a cross-group pair (group_mode = soft); prefers same-group partners, never vetoes")
+        .range(0.0, 100.0);
+    t.bind("max_size_change", &C::max_size_change,
+           "size gate, a cheap pre-filter before the shape check: largest relative change of height or "
+           "footprint-rectangle sides of a pair (a rigid object keeps its size, but a partial view shows less of "
+           "it); 0 = off")
+        .range(0.0, 10.0);
+    t.bind("size_slack", &C::size_slack, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m");
+    t.bind("max_distance", &C::max_distance,
+           "farthest centroid displacement accepted as a move; 0 = no limit (a site's scale is not known: the size "
+           "and shape gates keep unlike objects apart, the physical term prefers near partners)")
+        .range(0.0, 1e6)
+        .unit("m");
+    t.bind("max_descriptor_distance", &C::max_descriptor_distance, "largest descriptor distance of a pair; 0 = no gate")
+        .at_least(0.0);
+    t.bind("max_cost", &C::max_cost,
+           "largest weighted cost of a pair; < 0 = alpha + beta + shape_weight x (1 - min_shape_fit)")
+        .range(-1.0, 1e6);
+    t.bind("shape_weight", &C::shape_weight,
+           "weight of the shape misfit (1 - fit after registering the pair); 0 = the paper's two terms")
+        .range(0.0, 100.0);
+    t.bind("min_shape_fit", &C::min_shape_fit,
+           "shape gate: smallest fit of a pair (shares of points on the other object's surface after registration; "
+           "shape_distance, shape_gap); 0 = off")
+        .range(0.0, 1.0);
+    t.bind("far_side_explains", &C::far_side_explains,
+           "3+ missions: an object that changed mostly against its other neighbour (more than twice as many of its "
+           "points changed against it as against this pair's mission) is that change's end and no candidate "
+           "between this pair of missions; false = every object a candidate");
+    t.bind("shape_voxel", &C::shape_voxel, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m");
+    t.bind("shape_distance", &C::shape_distance, "a registered point within this distance of the other object counts as explained")
+        .range(0.001, 1.0)
+        .unit("m");
+    t.bind("shape_gap", &C::shape_gap,
+           "a registered point farther than shape_distance from the other object still counts as explained when "
+           "the other object's points within this distance span a surface around it (a sparse scanner's rings) and "
+           "it lies within shape_distance / 2 of that surface; 0 = points only")
+        .range(0.0, 1.0)
+        .unit("m");
+    t.bind("evidence_voxel", &C::evidence_voxel, "cube edge for measuring the surface an object shows (confidence)")
+        .range(0.01, 1.0)
+        .unit("m");
+    t.bind("evidence_voxels", &C::evidence_voxels,
+           "confidence = evidence x (0.5 + 0.5 x the matching and group terms), x the shape fit for a move; "
+           "evidence = 1 - exp(-v / evidence_voxels), v = the object's occupied evidence_voxel cubes (0.63 at this "
+           "many); 0 = the matching and group terms alone")
+        .range(0.0, 1e6);
+    t.bind("max_lift", &C::max_lift,
+           "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than "
+           "this, relative to the floors, when registered; 0 = off")
+        .range(0.0, 100.0)
+        .unit("m");
+    t.bind("max_tilt", &C::max_tilt, "floor gate: nor tilted by more than this (180 = off)").range(1.0, 180.0).unit("deg");
+    t.bind("upright_poses", &C::upright_poses,
+           "floor gate: a pair standing on floors in both missions is registered among upright poses only "
+           "(max_lift, max_tilt), so a better-scoring pose lying on its side does not refuse it; false = register "
+           "freely, refuse the pair when that pose is off the floor");
+    t.bind("corner_hypotheses", &C::corner_hypotheses,
+           "shape check: views whose footprints differ in size (a side by more than 0.1 m) that no yaw turn "
+           "explains (90 % of the moved view within shape_distance) are also registered from the poses that put a "
+           "corner of one footprint on a corner of the other (half a table seen shares a corner with the whole, "
+           "not its centre): the 4 of them (of up to 16) that score best as they stand");
+    return t;
+  }();
+  return table;
 }
 
 void register_stages(Registrar& r) {

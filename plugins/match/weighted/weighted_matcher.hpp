@@ -70,16 +70,15 @@ struct WeightedMatchConfig {
   double size_slack = 0.15;         // m: size change always allowed (partial views, noise)
   double max_descriptor_distance = 0.0;  // descriptor units; 0 = no gate
   double max_cost = -1.0;           // weighted gate; < 0 means alpha + beta
-  double shape_weight = 0.0;        // weight of the shape misfit (1 - fit); needs a PairFit
-  double min_shape_fit = 0.0;       // shape gate: smallest fit of a pair; 0 = off
+  double shape_weight = 0.5;        // weight of the shape misfit (1 - fit); needs a PairFit
+  double min_shape_fit = 0.8;       // shape gate: smallest fit of a pair; 0 = off
   bool far_side_explains = true;    // 3+ missions: an object changed mainly against its other neighbour is no candidate
   // Evidence 1 - exp(-v / evidence_voxels), v = the object's occupied
   // evidence_voxel cubes (its observed surface); confidence = evidence x
   // (0.5 + 0.5 x the matching and group terms), x the shape fit for a move.
-  // evidence_voxels = 0: the matching and group terms alone
-  // (match.weighted before 1.7.0).
+  // evidence_voxels = 0: the matching and group terms alone.
   double evidence_voxel = 0.1;      // m
-  double evidence_voxels = 0.0;
+  double evidence_voxels = 40.0;
 };
 
 // 1 - exp(-v / evidence_voxels) for the object's v occupied voxel cubes of
