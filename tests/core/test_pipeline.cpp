@@ -398,3 +398,26 @@ TEST(PipelineFile, CommonTomlMistakesAreSaidPlainly) {
 TEST(PipelineFile, ADotInAStageIdIsNamed) {
   expect_one_error("[stages.a.b]\nplugin = \"test.source\"\n", 1, "[stages.a.b]: a stage id cannot hold a dot; write [stages.a_b]");
 }
+
+// A parameter group: a TOML sub-table of the stage ([stages.src.noise] or an
+// inline table) holds the parameters noise.<key>; --set src.noise.sigma=...
+// reaches the same parameter; an unknown key is named with its group.
+TEST(Pipeline, ParameterGroupsAreSubTablesOfTheStage) {
+  Diagnostics d;
+  const Plan table = plan_of(source + "[stages.src.noise]\nenabled = true\nsigma = 0.25\n", d);
+  ASSERT_TRUE(d.ok()) << d.errors.front().str();
+  EXPECT_TRUE(table.stages.at(0).params.get<bool>("noise.enabled"));
+  EXPECT_DOUBLE_EQ(table.stages.at(0).params.get<double>("noise.sigma"), 0.25);
+  Diagnostics d2;
+  const Plan inline_table = plan_of(source + "noise = { sigma = 0.5 }\n", d2);
+  ASSERT_TRUE(d2.ok()) << d2.errors.front().str();
+  EXPECT_DOUBLE_EQ(inline_table.stages.at(0).params.get<double>("noise.sigma"), 0.5);
+  EXPECT_FALSE(inline_table.stages.at(0).params.get<bool>("noise.enabled"));
+  Diagnostics d3;
+  const Plan set = plan_of(source, d3, {"src.noise.sigma=0.75"});
+  ASSERT_TRUE(d3.ok()) << d3.errors.front().str();
+  EXPECT_DOUBLE_EQ(set.stages.at(0).params.get<double>("noise.sigma"), 0.75);
+  expect_one_error(source + "[stages.src.noise]\nsigam = 1.0\n", 4, "noise.sigam");
+  expect_one_error(source + "[stages.src.noise]\nsigma = -1.0\n", 4, ">= 0");
+  expect_one_error(source + "[stages.src.noise.deeper]\nx = 1\n", 3, "unknown parameter 'noise.deeper'");
+}

@@ -285,6 +285,28 @@ void parse_stage(const std::string& id, const toml::value& table, PipelineSpec& 
         }
         s.inputs.push_back({port, text.substr(0, dot), text.substr(dot + 1), ref_at});
       }
+    } else if (v.is_table() && table.as_table().count("plugin")) {
+      // A parameter group, [stages.<id>.<group>] or <group> = { ... }: its
+      // keys are the stage's parameters <group>.<key> (--set <id>.<group>.<key>=...).
+      if (v.as_table().empty()) {
+        RawParam p;  // an empty group names nothing the stage declares
+        p.name = key;
+        p.where = at;
+        p.key_where = key_where(v, key, file);
+        p.problem = "an empty parameter group";
+        s.params.push_back(std::move(p));
+      }
+      for (const auto& [sub_ptr, sub_v_ptr] : in_file_order(v)) {
+        RawParam p;
+        p.name = key + "." + *sub_ptr;
+        p.where = where(*sub_v_ptr, file);
+        p.key_where = key_where(*sub_v_ptr, *sub_ptr, file);
+        if (sub_v_ptr->is_table())
+          p.problem = "a parameter group holds values, not tables";
+        else
+          p.value = to_param(*sub_v_ptr, p.problem);
+        s.params.push_back(std::move(p));
+      }
     } else {
       RawParam p;
       p.name = key;

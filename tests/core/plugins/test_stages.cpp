@@ -63,7 +63,9 @@ class Source : public Stage {
                     ParamSpec::text("mode", "fast", "how to work").one_of({"fast", "exact"}),
                     ParamSpec::boolean("verbose", false, "log more"),
                     ParamSpec::real_list("weights", {1.0, 2.0}, "weights").at_least(0),
-                    ParamSpec::text_list("tags", {}, "free tags")});
+                    ParamSpec::text_list("tags", {}, "free tags"),
+                    ParamSpec::boolean("noise.enabled", false, "a parameter group: add noise"),
+                    ParamSpec::real("noise.sigma", 0.0, "its spread").at_least(0).unit("m")});
   }
   Outputs run(const Inputs&, Context& ctx) override {
     ctx.record("start_ms", now_ms());
