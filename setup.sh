@@ -13,7 +13,7 @@ PACKAGES=(build-essential cmake ninja-build ccache git pkg-config
   libpcl-dev liboctomap-dev libopenvdb-dev libembree-dev libflann-dev
   libceres-dev libtbb-dev libtorch-dev libstb-dev chromium unzip python3 clang
   librosbag-storage-dev librosbag-dev libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
-  libtf2-dev libtf2-msgs-dev libsqlite3-dev libzstd-dev liblz4-dev)
+  libtf2-msgs-dev libsqlite3-dev libzstd-dev liblz4-dev)
 BUILD_DIR=${LISTA_BUILD_DIR:-build}
 
 install_missing() {

@@ -38,9 +38,9 @@ class BagScene : public ::testing::Test {
     return out;
   }
 
-  // Objects, statuses and matches identical; centroids within 1 mm,
-  // transforms within `metres` and `degrees`.
-  static void expect_same_report(const std::string& out, const std::string& what, double metres = 0.05, double degrees = 0.5) {
+  // Objects, statuses and matches identical; centroids and transforms within
+  // 1e-9 (the same numbers).
+  static void expect_same_report(const std::string& out, const std::string& what, double metres = 1e-9, double degrees = 1e-9) {
     SCOPED_TRACE(what);
     const json a = json::parse(e2e::read_file(folders_ + "/report.json"));
     const json b = json::parse(e2e::read_file(out + "/report.json"));
@@ -53,7 +53,7 @@ class BagScene : public ::testing::Test {
       EXPECT_EQ(y.at("match"), x.at("match"));
       EXPECT_EQ(y.at("mission"), x.at("mission"));
       for (int k = 0; k < 3; ++k)
-        EXPECT_NEAR(y.at("centroid")[k].get<double>(), x.at("centroid")[k].get<double>(), 1e-3);
+        EXPECT_NEAR(y.at("centroid")[k].get<double>(), x.at("centroid")[k].get<double>(), metres);
       if (x.contains("transform") && x.at("transform").is_array()) {
         for (int r = 0; r < 3; ++r) {
           for (int c = 0; c < 3; ++c)
@@ -77,13 +77,10 @@ e2e::Result BagScene::last_run_;
 
 }  // namespace
 
-// The TUM file holds poses.txt's numbers, and the odometry the same poses
-// (lista-sim mounts the LiDAR at the base's origin): the bag's clouds then
-// give the folders' report exactly. Through tf2 the pose is interpolated
-// (slerp, at a ratio of 0 on a sample's own stamp) and chained, equal to
-// 1e-15; the pipeline's object registrations amplify that to a few
-// millimetres (up to 3 cm on a symmetric object's free axis), hence the
-// looser transform bound there.
+// Through /tf, /odom or the TUM file the bag's clouds get poses.txt's
+// numbers bit for bit (lista-sim mounts the LiDAR at the base's origin, and
+// a cloud on a pose sample's stamp takes the sample itself), so the bag run
+// gives the folders' report exactly.
 TEST_F(BagScene, Ros1BagsGiveTheFoldersReportWithPosesFromTfOdometryOrTum) {
   auto strip = [](json r) {
     r.erase("timings_s");
@@ -111,7 +108,7 @@ TEST_F(BagScene, Ros1BagsGiveTheFoldersReportWithPosesFromTfOdometryOrTum) {
 
   const std::string tf = run_on("bag", "");
   EXPECT_NE(last_run_.output.find("clouds on /points, poses from tf (map -> lidar)"), std::string::npos) << last_run_.output;
-  expect_same_report(tf, "ROS 1, tf");
+  EXPECT_EQ(strip(json::parse(e2e::read_file(tf + "/report.json"))), folders) << "tf";
 
   // lista-eval reads the bag missions for the per-point truth: same scores.
   const auto score = [](const std::string& data, const std::string& run) {
@@ -137,8 +134,8 @@ TEST_F(BagScene, TheReadingBenchmarkReadsBagsAsIoMissionsDoes) {
 
 TEST_F(BagScene, Ros2BagsInSqliteAndMcapGiveTheFoldersReport) {
   expect_same_report(run_on("ros2", ""), "ROS 2, .db3, tf");
-  expect_same_report(run_on("mcap", "--set load.poses=/odom"), "ROS 2, .mcap, /odom", 1e-9, 1e-9);
-  expect_same_report(run_on("ros2", "--set load.poses=/odom"), "ROS 2, .db3, /odom", 1e-9, 1e-9);
+  expect_same_report(run_on("mcap", "--set load.poses=/odom"), "ROS 2, .mcap, /odom");
+  expect_same_report(run_on("mcap", ""), "ROS 2, .mcap, tf");
 }
 
 TEST_F(BagScene, ABagMissionWithoutUsablePosesIsAOneLineErrorAndNoReport) {

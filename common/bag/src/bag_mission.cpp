@@ -160,8 +160,8 @@ Placement place_by_trajectory(const FirstPass& p, std::shared_ptr<const Trajecto
       Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
       if (!body.empty() && body != c.frame) {
         if (p.tf.knows(body) && p.tf.knows(c.frame) && p.tf.root_of(body) == p.tf.root_of(c.frame)) {
-          // A sensor mount is static; at stamp 0 tf2 gives the latest.
-          T = p.tf.lookup(body, c.frame, 0.0).value_or(Eigen::Isometry3d::Identity());
+          // A sensor's mount is static (/tf_static): one lookup per frame.
+          T = p.tf.lookup(body, c.frame, c.stamp).value_or(Eigen::Isometry3d::Identity());
         } else {
           log.notes.push_back("no tf from '" + body + "' to the cloud's frame '" + c.frame + "': the sensor is taken at the " +
                               "pose of '" + body + "' (set body_frame, or record /tf_static)");

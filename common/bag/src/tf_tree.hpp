@@ -1,19 +1,23 @@
-// Internal: a bag's /tf and /tf_static, looked up at a cloud's stamp with
-// tf2's BufferCore (interpolation, chains of frames).
+// Internal: a bag's /tf and /tf_static as a tree of frames, looked up at a
+// cloud's stamp: each moving edge interpolated between its two samples
+// around the stamp (translation linearly, rotation by slerp; a sample's own
+// stamp gives the sample exactly, as the folders' poses.txt would), static
+// edges as recorded, the chain composed from the frame up to its root.
 #pragma once
+
+#include "trajectory.hpp"
 
 #include <lista_bag/messages.hpp>
 
 #include <map>
 #include <optional>
-#include <tf2/buffer_core.h>
 
 namespace lista::bag {
 
 class TfTree {
  public:
   void add(const std::vector<FrameTransform>& transforms, bool is_static);
-  // Loads what add() gathered into tf2; call once, after the last add().
+  // Sorts what add() gathered; call once, after the last add().
   void finish();
 
   bool knows(const std::string& frame) const;
@@ -22,8 +26,9 @@ class TfTree {
   // Whether a transform that is not static lies between `frame` and its root.
   bool moves_under_root(const std::string& frame) const;
   // T_target_source at `stamp`: nullopt when `stamp` lies outside the time
-  // the chain covers (tf2 would extrapolate); throws lista::Error when the
-  // frames never connect.
+  // a moving edge of the chain covers (never extrapolated); throws
+  // lista::Error when the frames never connect. A chain of static edges
+  // holds at any stamp.
   std::optional<Eigen::Isometry3d> lookup(const std::string& target, const std::string& source, double stamp) const;
   // The median time between the samples of the moving transforms above
   // `frame` (the coarsest of them); 0 when none moves.
@@ -33,11 +38,14 @@ class TfTree {
   struct Edge {
     std::string parent;
     bool is_static = false;
+    Eigen::Isometry3d fixed = Eigen::Isometry3d::Identity();  // static: parent_T_child
+    std::vector<StampedPose> samples;                          // moving: parent_T_child over time
+    std::optional<Trajectory> moving;                          // made from samples by finish()
   };
-  std::map<std::string, Edge> parent_of_;
-  std::map<std::string, std::vector<double>> stamps_of_;  // moving edges: child frame -> stamps
-  std::vector<std::pair<FrameTransform, bool>> pending_;
-  std::unique_ptr<tf2::BufferCore> buffer_;
+  // root_T_frame at `stamp`, or nullopt outside a moving edge's time.
+  std::optional<Eigen::Isometry3d> to_root(const std::string& frame, double stamp) const;
+
+  std::map<std::string, Edge> parent_of_;  // child frame -> its edge
 };
 
 }  // namespace lista::bag
