@@ -152,6 +152,21 @@ TEST_F(TinyScene, MovedObjectsComeInPairsWithInverseTransforms) {
   EXPECT_GE(moved, 2) << "the tiny scene moves objects; at least one pair is expected";
 }
 
+// The end-to-end benchmark as CI's smoke test: it runs the default pipeline
+// on the set, scores it and prints the stage table beside the budgets (no
+// timing is asserted: the table is what a person reads).
+TEST_F(TinyScene, TheEndToEndBenchmarkPrintsItsStageTable) {
+  require_run();
+  if (e2e::python3().empty()) GTEST_SKIP() << "no python3";
+  const auto r = e2e::run("OUT=" + (dir_->path() / "bench").string() + " THREADS=2 bash " +
+                          e2e::source("bench/e2e/run.sh") + " " + std::string(LISTA_BIN_DIR) + "/.. " + data_ + " 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string name = std::filesystem::path(data_).filename().string();
+  EXPECT_NE(r.output.find("stages of " + name + ": seconds and peak RSS"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::regex_search(r.output, std::regex("\\| align \\| [0-9.]+ \\| - \\| - \\| [0-9]+ \\|"))) << r.output;
+  EXPECT_TRUE(std::regex_search(r.output, std::regex("\\| total \\| [0-9.]+ \\|"))) << r.output;
+}
+
 TEST_F(TinyScene, EvaluatorScoresTheRun) {
   require_run();
   const e2e::Result ev =
