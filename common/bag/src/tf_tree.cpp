@@ -64,13 +64,20 @@ double TfTree::median_interval(const std::string& frame) const {
   return coarsest;
 }
 
-std::optional<Eigen::Isometry3d> TfTree::to_root(const std::string& frame, double stamp) const {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  std::string f = frame;
+std::vector<std::string> TfTree::chain_of(const std::string& frame) const {
+  std::vector<std::string> chain{frame};
   for (size_t steps = 0; steps <= parent_of_.size(); ++steps) {
-    const auto it = parent_of_.find(f);
-    if (it == parent_of_.end()) return T;
-    const Edge& e = it->second;
+    const auto it = parent_of_.find(chain.back());
+    if (it == parent_of_.end()) return chain;
+    chain.push_back(it->second.parent);
+  }
+  throw Error("tf: the frames above '" + frame + "' form a loop");
+}
+
+std::optional<Eigen::Isometry3d> TfTree::up_to(const std::string& frame, const std::string& ancestor, double stamp) const {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  for (std::string f = frame; f != ancestor;) {
+    const Edge& e = parent_of_.at(f);
     if (e.moving) {
       const std::optional<Eigen::Isometry3d> at = e.moving->at(stamp);
       if (!at) return std::nullopt;
@@ -80,17 +87,21 @@ std::optional<Eigen::Isometry3d> TfTree::to_root(const std::string& frame, doubl
     }
     f = e.parent;
   }
-  throw Error("tf: the frames above '" + frame + "' form a loop");
+  return T;
 }
 
 std::optional<Eigen::Isometry3d> TfTree::lookup(const std::string& target, const std::string& source, double stamp) const {
-  if (root_of(target) != root_of(source))
+  const std::vector<std::string> up_source = chain_of(source), up_target = chain_of(target);
+  // The lowest frame both chains pass: composing only below it keeps the
+  // usual lookups (a frame in its root, a sensor in its body) free of inverses.
+  const auto common = std::find_first_of(up_source.begin(), up_source.end(), up_target.begin(), up_target.end());
+  if (common == up_source.end())
     throw Error("tf: no transform from frame '" + source + "' to '" + target + "': they hang under different roots ('" +
-                root_of(source) + "', '" + root_of(target) + "') and never connect");
-  const auto root_T_source = to_root(source, stamp), root_T_target = to_root(target, stamp);
-  if (!root_T_source || !root_T_target) return std::nullopt;
-  if (target == root_of(target)) return *root_T_source;  // the usual case: exact, no inverse
-  return root_T_target->inverse() * *root_T_source;
+                up_source.back() + "', '" + up_target.back() + "') and never connect");
+  const auto below_source = up_to(source, *common, stamp), below_target = up_to(target, *common, stamp);
+  if (!below_source || !below_target) return std::nullopt;
+  if (target == *common) return *below_source;
+  return below_target->inverse() * *below_source;
 }
 
 }  // namespace lista::bag

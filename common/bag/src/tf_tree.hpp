@@ -2,7 +2,8 @@
 // cloud's stamp: each moving edge interpolated between its two samples
 // around the stamp (translation linearly, rotation by slerp; a sample's own
 // stamp gives the sample exactly, as the folders' poses.txt would), static
-// edges as recorded, the chain composed from the frame up to its root.
+// edges as recorded, the chain composed from each frame up to the lowest
+// frame the two chains share.
 #pragma once
 
 #include "trajectory.hpp"
@@ -42,8 +43,11 @@ class TfTree {
     std::vector<StampedPose> samples;                          // moving: parent_T_child over time
     std::optional<Trajectory> moving;                          // made from samples by finish()
   };
-  // root_T_frame at `stamp`, or nullopt outside a moving edge's time.
-  std::optional<Eigen::Isometry3d> to_root(const std::string& frame, double stamp) const;
+  // `frame`, its parent, ... up to its root.
+  std::vector<std::string> chain_of(const std::string& frame) const;
+  // ancestor_T_frame at `stamp` (`ancestor` on frame's chain), or nullopt
+  // outside a moving edge's time.
+  std::optional<Eigen::Isometry3d> up_to(const std::string& frame, const std::string& ancestor, double stamp) const;
 
   std::map<std::string, Edge> parent_of_;  // child frame -> its edge
 };
