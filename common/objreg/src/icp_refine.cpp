@@ -173,6 +173,7 @@ IcpConfig shape_check_config(double voxel, double inlier_distance) {
   c.max_correspondence = std::max(0.3, 3.0 * inlier_distance);
   c.max_iterations = 30;
   c.max_points = 400;
+  c.fine_max_points = -1;  // as max_points: a check on every candidate pair stays cheap
   c.max_score_points = 2000;
   c.svd_flips = false;          // objects stand on floors: the yaw turns suffice
   c.list_alternatives = false;  // a check needs the fit, not the other poses (scoring them cost ~10 %)

@@ -4,6 +4,7 @@
 #include "given_transforms.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -13,9 +14,26 @@ namespace lista::align_given {
 
 namespace {
 
+struct GivenConfig {
+  std::string mode = "identity";
+  std::string file;
+};
+
+const ParamTable<GivenConfig>& param_table() {
+  using C = GivenConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("mode", &C::mode, "where the transforms come from").one_of({"identity", "file", "ground-truth", "ground-truth-poses"});
+    t.bind("file", &C::file, "transforms file for mode \"file\" (format in the doc)");
+    return t;
+  }();
+  return table;
+}
+
 class GivenStage : public Stage {
  public:
-  explicit GivenStage(const Params& p) : mode_(p.get<std::string>("mode")), file_(p.get<std::string>("file")) {
+  explicit GivenStage(const Params& p) : GivenStage(param_table().read(p)) {}
+  explicit GivenStage(const GivenConfig& c) : mode_(c.mode), file_(c.file) {
     if (mode_ == "file" && file_.empty()) throw Error("mode \"file\" needs the 'file' parameter");
   }
 
@@ -83,9 +101,7 @@ StageInfo info() {
       "more between runs than alignment error costs, docs/pipelines.md). Scan point data are shared, not copied.";
   s.inputs = {{"missions", "missions", "missions as read"}};
   s.outputs = {{"missions", "missions", "the same missions with to_common set"}};
-  s.params = {
-      ParamSpec::text("mode", "identity", "where the transforms come from").one_of({"identity", "file", "ground-truth", "ground-truth-poses"}),
-      ParamSpec::text("file", "", "transforms file for mode \"file\" (format in the doc)")};
+  s.params = param_table().specs();
   return s;
 }
 

@@ -5,6 +5,7 @@
 #include "icp_stage.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 #include <lista_alignkit/cloud_ops.hpp>
 #include <lista/parallel.hpp>
 #include <lista_alignkit/level.hpp>
@@ -34,19 +35,36 @@ Eigen::Vector3d centroid(const Cloud& c) {
   return c.empty() ? sum : Eigen::Vector3d(sum / static_cast<double>(c.size()));
 }
 
+// The stage's settings, flat: RegistrationOptions' defaults are
+// align.posegraph's, and the map voxel is the registration's too.
+struct IcpAlignConfig {
+  double voxel = 0.25;      // m
+  double max_range = 40.0;  // m
+  std::string registration = "gicp";
+  std::string initial = "centroid";
+  double coarse_distance = 3.0;  // m
+  double fine_distance = 0.5;    // m
+  int iterations = 60;
+  double min_overlap = 0.3;
+  double level_max_tilt = std::get<double>(level_max_tilt_param().default_value);  // deg
+};
+
+const ParamTable<IcpAlignConfig>& param_table();
+
 class IcpStage : public Stage {
  public:
-  explicit IcpStage(const Params& p)
-      : voxel_(p.get<double>("voxel")),
-        max_range_(p.get<double>("max_range")),
-        initial_(p.get<std::string>("initial")),
-        min_overlap_(p.get<double>("min_overlap")),
-        level_max_tilt_(p.get<double>("level_max_tilt")) {
-    reg_.method = p.get<std::string>("registration");
+  explicit IcpStage(const Params& p) : IcpStage(param_table().read(p)) {}
+  explicit IcpStage(const IcpAlignConfig& c)
+      : voxel_(c.voxel),
+        max_range_(c.max_range),
+        initial_(c.initial),
+        min_overlap_(c.min_overlap),
+        level_max_tilt_(c.level_max_tilt) {
+    reg_.method = c.registration;
     reg_.voxel = voxel_;
-    reg_.coarse_distance = p.get<double>("coarse_distance");
-    reg_.fine_distance = p.get<double>("fine_distance");
-    reg_.max_iterations = p.get<int>("iterations");
+    reg_.coarse_distance = c.coarse_distance;
+    reg_.fine_distance = c.fine_distance;
+    reg_.max_iterations = c.iterations;
     reg_.inlier_distance = 2.0 * voxel_;
   }
 
@@ -116,20 +134,33 @@ StageInfo icp_stage_info() {
       "is below min_overlap. The paper's point: this leaves local misregistration that looks like change.";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with to_common set"}};
-  s.params = {
-      ParamSpec::real("voxel", 0.25, "map downsampling").range(0.01, 10).unit("m"),
-      ParamSpec::real("max_range", 40.0, "points farther from their sensor are left out").range(0.5, 1000).unit("m"),
-      ParamSpec::text("registration", "gicp", "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"}),
-      ParamSpec::text("initial", "centroid", "starting guess: identity, centroid offset, or the input to_common")
-          .one_of({"identity", "centroid", "input"}),
-      ParamSpec::real("coarse_distance", 3.0, "max correspondence distance, coarse stage").range(0.05, 100).unit("m"),
-      ParamSpec::real("fine_distance", 0.5, "max correspondence distance, fine stage").range(0.01, 10).unit("m"),
-      ParamSpec::integer("iterations", 60, "iterations per stage").range(1, 10000),
-      ParamSpec::real("min_overlap", 0.3, "share of a map's points with a partner after registration").range(0, 1),
-      level_max_tilt_param(),
-  };
+  s.params = param_table().specs();
   return s;
 }
+
+namespace {
+
+const ParamTable<IcpAlignConfig>& param_table() {
+  using C = IcpAlignConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("voxel", &C::voxel, "map downsampling").range(0.01, 10).unit("m");
+    t.bind("max_range", &C::max_range, "points farther from their sensor are left out").range(0.5, 1000).unit("m");
+    t.bind("registration", &C::registration, "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"});
+    t.bind("initial", &C::initial, "starting guess: identity, centroid offset, or the input to_common")
+        .one_of({"identity", "centroid", "input"});
+    t.bind("coarse_distance", &C::coarse_distance, "max correspondence distance, coarse stage").range(0.05, 100).unit("m");
+    t.bind("fine_distance", &C::fine_distance, "max correspondence distance, fine stage").range(0.01, 10).unit("m");
+    t.bind("iterations", &C::iterations, "iterations per stage").range(1, 10000);
+    t.bind("min_overlap", &C::min_overlap, "share of a map's points with a partner after registration").range(0, 1);
+    // Declared once for every align.* stage that levels (lista_alignkit/level.hpp).
+    t.bind("level_max_tilt", &C::level_max_tilt, "") = level_max_tilt_param();
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
 
 std::unique_ptr<Stage> make_icp_stage(const Params& p) { return std::make_unique<IcpStage>(p); }
 

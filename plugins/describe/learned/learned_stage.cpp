@@ -4,6 +4,7 @@
 // lista-train, so the plugin sees exactly what the network was trained on.
 #include "model_path.hpp"
 
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 #include <lista_objfeat/canonical.hpp>
 #include <lista_objfeat/descriptor_net.hpp>
@@ -19,10 +20,30 @@ namespace {
 // object gives the same row in every run, whatever the run's seed).
 constexpr uint64_t kSelectionSeed = objfeat::CanonicalConfig{}.seed;
 
+struct LearnedConfig {
+  std::string weights;
+  int batch = 64;
+  int samples = 4;
+};
+
+const ParamTable<LearnedConfig>& param_table() {
+  using C = LearnedConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("weights", &C::weights, "weights file (empty: the shipped model, see doc)");
+    t.bind("batch", &C::batch, "objects per network call").range(1, 4096);
+    t.bind("samples", &C::samples,
+           "voxel-cell selections per object whose descriptors are averaged (1: one fixed selection)")
+        .range(1, 64);
+    return t;
+  }();
+  return table;
+}
+
 class LearnedStage : public Stage {
  public:
-  explicit LearnedStage(const Params& p) : batch_(p.get<int>("batch")), samples_(p.get<int>("samples")) {
-    std::string path = p.get<std::string>("weights");
+  explicit LearnedStage(const Params& p) : c_(param_table().read(p)) {
+    std::string path = c_.weights;
     if (path.empty()) path = default_weights_path();
     weights_path_ = std::filesystem::absolute(path).lexically_normal().string();
     net_ = objfeat::load_weights(path, &weights_sha256_);  // throws a one-line lista::Error
@@ -44,13 +65,7 @@ class LearnedStage : public Stage {
         "(SHA-256 sidecar) is an error. See docs/descriptors.md.";
     i.inputs = {{"objects", "objects", "objects to describe"}};
     i.outputs = {{"descriptors", "descriptors", "one unit-norm row per object"}};
-    i.params = {
-        ParamSpec::text("weights", "", "weights file (empty: the shipped model, see doc)"),
-        ParamSpec::integer("batch", 64, "objects per network call").range(1, 4096),
-        ParamSpec::integer("samples", 4,
-                           "voxel-cell selections per object whose descriptors are averaged (1: one fixed selection)")
-            .range(1, 64),
-    };
+    i.params = param_table().specs();
     return i;
   }
 
@@ -63,7 +78,7 @@ class LearnedStage : public Stage {
 
     // Preprocessing is plain C++: spread it over the stage's threads.
     // Object i's selections are clouds[i * S .. i * S + S - 1].
-    const size_t S = size_t(samples_);
+    const size_t S = size_t(c_.samples);
     std::vector<objfeat::CanonicalCloud> clouds(n * S);
     const int threads = std::max(1, std::min<int>(ctx.threads(), int(n)));
     std::vector<std::thread> pool;
@@ -72,7 +87,7 @@ class LearnedStage : public Stage {
         for (size_t i = size_t(t); i < n; i += size_t(threads)) {
           const Object& o = objects.objects[i];
           auto samples = objfeat::make_canonical_samples(o.points.xyz, objfeat::canonical_config(cfg, kSelectionSeed),
-                                                         samples_, o.floor_z);
+                                                         c_.samples, o.floor_z);
           std::move(samples.begin(), samples.end(), clouds.begin() + ptrdiff_t(i * S));
         }
       });
@@ -84,10 +99,10 @@ class LearnedStage : public Stage {
     out.values.resize(long(n), cfg.out);
     torch::NoGradGuard no_grad;
     torch::set_num_threads(ctx.threads());
-    for (size_t begin = 0; begin < n; begin += size_t(batch_)) {
+    for (size_t begin = 0; begin < n; begin += size_t(c_.batch)) {
       ctx.throw_if_cancelled();
-      size_t end = std::min(n, begin + size_t(batch_));
-      torch::Tensor d = objfeat::mean_of_samples(objfeat::describe_clouds(net_, clouds, begin * S, end * S), samples_);
+      size_t end = std::min(n, begin + size_t(c_.batch));
+      torch::Tensor d = objfeat::mean_of_samples(objfeat::describe_clouds(net_, clouds, begin * S, end * S), c_.samples);
       std::copy(d.data_ptr<float>(), d.data_ptr<float>() + d.numel(), out.values.data() + begin * size_t(cfg.out));
     }
     for (const Object& o : objects.objects) out.object_ids.push_back(o.id);
@@ -101,7 +116,7 @@ class LearnedStage : public Stage {
   const std::string& weights_path() const { return weights_path_; }
 
  private:
-  int batch_, samples_;
+  const LearnedConfig c_;
   std::string weights_path_, weights_sha256_;
   objfeat::DescriptorNet net_{nullptr};
 };

@@ -3,6 +3,7 @@
 // on a voxel-downsampled object, with gradients from PCL's
 // IntensityGradientEstimation. Reduced to one row per object by mean
 // pooling the keypoints' 32-bin histograms (4 rings x 8 orientations), L2-normalised.
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 #include <lista_pcl/convert.hpp>
 
@@ -21,12 +22,28 @@ namespace {
 constexpr int kRings = 4, kOrientations = 8, kBins = kRings * kOrientations;
 using RiftHistogram = pcl::Histogram<kBins>;
 
+struct RiftConfig {
+  double voxel = 0.03;          // m
+  double normal_radius = 0.08;  // m
+  double support_radius = 0.2;  // m
+};
+
+const ParamTable<RiftConfig>& param_table() {
+  using C = RiftConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("voxel", &C::voxel, "downsampling voxel edge (keypoint spacing)").range(0.001, 1.0).unit("m");
+    t.bind("normal_radius", &C::normal_radius, "normal and gradient estimation radius").range(0.005, 2.0).unit("m");
+    t.bind("support_radius", &C::support_radius, "RIFT support radius").range(0.01, 5.0).unit("m");
+    return t;
+  }();
+  return table;
+}
+
 class RiftStage : public Stage {
  public:
-  explicit RiftStage(const Params& p)
-      : voxel_(p.get<double>("voxel")), normal_radius_(p.get<double>("normal_radius")),
-        support_radius_(p.get<double>("support_radius")) {
-    if (support_radius_ <= voxel_) throw Error("support_radius must be larger than voxel");
+  explicit RiftStage(const Params& p) : c_(param_table().read(p)) {
+    if (c_.support_radius <= c_.voxel) throw Error("support_radius must be larger than voxel");
   }
 
   static StageInfo info() {
@@ -41,11 +58,7 @@ class RiftStage : public Stage {
         "Objects without an intensity channel use height above their lowest point instead (logged).";
     i.inputs = {{"objects", "objects", "objects to describe"}};
     i.outputs = {{"descriptors", "descriptors", "one unit-norm 32-d row per object"}};
-    i.params = {
-        ParamSpec::real("voxel", 0.03, "downsampling voxel edge (keypoint spacing)").range(0.001, 1.0).unit("m"),
-        ParamSpec::real("normal_radius", 0.08, "normal and gradient estimation radius").range(0.005, 2.0).unit("m"),
-        ParamSpec::real("support_radius", 0.2, "RIFT support radius").range(0.01, 5.0).unit("m"),
-    };
+    i.params = param_table().specs();
     return i;
   }
 
@@ -86,7 +99,7 @@ class RiftStage : public Stage {
     pcl::PointCloud<pcl::PointXYZI>::Ptr keys(new pcl::PointCloud<pcl::PointXYZI>);
     pcl::VoxelGrid<pcl::PointXYZI> grid;
     grid.setInputCloud(cloud);
-    grid.setLeafSize(float(voxel_), float(voxel_), float(voxel_));
+    grid.setLeafSize(float(c_.voxel), float(c_.voxel), float(c_.voxel));
     grid.filter(*keys);
 
     auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZI>>();
@@ -94,7 +107,7 @@ class RiftStage : public Stage {
     pcl::NormalEstimation<pcl::PointXYZI, pcl::Normal> ne;
     ne.setInputCloud(keys);
     ne.setSearchMethod(tree);
-    ne.setRadiusSearch(normal_radius_);
+    ne.setRadiusSearch(c_.normal_radius);
     ne.compute(*normals);
 
     pcl::PointCloud<pcl::IntensityGradient>::Ptr gradients(new pcl::PointCloud<pcl::IntensityGradient>);
@@ -102,7 +115,7 @@ class RiftStage : public Stage {
     ge.setInputCloud(keys);
     ge.setInputNormals(normals);
     ge.setSearchMethod(tree);
-    ge.setRadiusSearch(normal_radius_);
+    ge.setRadiusSearch(c_.normal_radius);
     ge.compute(*gradients);
     for (auto& g : *gradients)  // flat or isolated points give NaN gradients
       if (!std::isfinite(g.gradient_x) || !std::isfinite(g.gradient_y) || !std::isfinite(g.gradient_z))
@@ -113,7 +126,7 @@ class RiftStage : public Stage {
     re.setInputCloud(keys);
     re.setInputGradient(gradients);
     re.setSearchMethod(tree);
-    re.setRadiusSearch(support_radius_);
+    re.setRadiusSearch(c_.support_radius);
     re.setNrDistanceBins(kRings);
     re.setNrGradientBins(kOrientations);
     re.compute(rift);
@@ -127,7 +140,7 @@ class RiftStage : public Stage {
     return sum / sum.norm();
   }
 
-  double voxel_, normal_radius_, support_radius_;
+  const RiftConfig c_;
 };
 
 void register_stages(Registrar& r) {

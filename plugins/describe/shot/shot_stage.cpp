@@ -3,6 +3,7 @@
 // the average of the keypoints' 352-bin histograms, L2-normalised. Mean
 // pooling is order- and count-invariant and keeps SHOT's rotation
 // invariance; it needs no codebook, so it works on any object set.
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 #include <lista_pcl/convert.hpp>
 #include <lista_pcl/fast_kdtree.hpp>
@@ -18,12 +19,28 @@
 namespace lista::shot {
 namespace {
 
+struct ShotConfig {
+  double voxel = 0.03;          // m
+  double normal_radius = 0.08;  // m
+  double support_radius = 0.2;  // m
+};
+
+const ParamTable<ShotConfig>& param_table() {
+  using C = ShotConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("voxel", &C::voxel, "downsampling voxel edge (keypoint spacing)").range(0.001, 1.0).unit("m");
+    t.bind("normal_radius", &C::normal_radius, "normal estimation radius").range(0.005, 2.0).unit("m");
+    t.bind("support_radius", &C::support_radius, "SHOT support radius").range(0.01, 5.0).unit("m");
+    return t;
+  }();
+  return table;
+}
+
 class ShotStage : public Stage {
  public:
-  explicit ShotStage(const Params& p)
-      : voxel_(p.get<double>("voxel")), normal_radius_(p.get<double>("normal_radius")),
-        support_radius_(p.get<double>("support_radius")) {
-    if (support_radius_ <= voxel_) throw Error("support_radius must be larger than voxel");
+  explicit ShotStage(const Params& p) : c_(param_table().read(p)) {
+    if (c_.support_radius <= c_.voxel) throw Error("support_radius must be larger than voxel");
   }
 
   static StageInfo info() {
@@ -38,11 +55,7 @@ class ShotStage : public Stage {
         "cost grows with points x neighbours.";
     i.inputs = {{"objects", "objects", "objects to describe"}};
     i.outputs = {{"descriptors", "descriptors", "one unit-norm 352-d row per object"}};
-    i.params = {
-        ParamSpec::real("voxel", 0.03, "downsampling voxel edge (keypoint spacing)").range(0.001, 1.0).unit("m"),
-        ParamSpec::real("normal_radius", 0.08, "normal estimation radius").range(0.005, 2.0).unit("m"),
-        ParamSpec::real("support_radius", 0.2, "SHOT support radius").range(0.01, 5.0).unit("m"),
-    };
+    i.params = param_table().specs();
     return i;
   }
 
@@ -68,7 +81,7 @@ class ShotStage : public Stage {
     pcl::PointCloud<pcl::PointXYZ>::Ptr keys(new pcl::PointCloud<pcl::PointXYZ>);
     pcl::VoxelGrid<pcl::PointXYZ> grid;
     grid.setInputCloud(cloud);
-    grid.setLeafSize(float(voxel_), float(voxel_), float(voxel_));
+    grid.setLeafSize(float(c_.voxel), float(c_.voxel), float(c_.voxel));
     grid.filter(*keys);
 
     auto tree = std::make_shared<pcl_search::FastKdTree>();
@@ -76,7 +89,7 @@ class ShotStage : public Stage {
     pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> ne(threads);
     ne.setInputCloud(keys);
     ne.setSearchMethod(tree);
-    ne.setRadiusSearch(normal_radius_);
+    ne.setRadiusSearch(c_.normal_radius);
     ne.compute(*normals);
 
     pcl::PointCloud<pcl::SHOT352> shots;
@@ -84,7 +97,7 @@ class ShotStage : public Stage {
     se.setInputCloud(keys);
     se.setInputNormals(normals);
     se.setSearchMethod(tree);
-    se.setRadiusSearch(support_radius_);
+    se.setRadiusSearch(c_.support_radius);
     {
       // SHOT prints a warning per keypoint with NaN normals or no valid frame,
       // routine on sparse partial scans (100k lines per benchmark run). Those
@@ -105,7 +118,7 @@ class ShotStage : public Stage {
     return sum / sum.norm();
   }
 
-  double voxel_, normal_radius_, support_radius_;
+  const ShotConfig c_;
 };
 
 void register_stages(Registrar& r) {

@@ -5,6 +5,7 @@
 #include "body_detector.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 
 #include <cstdio>
 
@@ -18,18 +19,11 @@ std::string number(double v) {
   return buf;
 }
 
+const ParamTable<BodyConfig>& param_table();
+
 class BodyStage : public Stage {
  public:
-  explicit BodyStage(const Params& p) {
-    config_.max_range = p.get<double>("max_range");
-    config_.cell = p.get<double>("cell");
-    config_.min_share = p.get<double>("min_share");
-    config_.see_through_share = p.get<double>("see_through_share");
-    config_.margin = p.get<double>("margin");
-    config_.depth = p.get<double>("depth");
-    config_.witness_min = p.get<double>("witness_min");
-    config_.witness_max = p.get<double>("witness_max");
-    config_.probes = int(p.get<int64_t>("probes"));
+  explicit BodyStage(const Params& p) : config_(param_table().read(p)) {
     if (config_.depth <= config_.cell)
       throw Error("depth (" + number(config_.depth) + " m) must exceed cell (" + number(config_.cell) +
                   " m): a ray passing within a cell of a point so near behind a floor would graze the floor itself");
@@ -137,28 +131,37 @@ StageInfo info() {
       "left as it is). max_range 0 turns the stage off. docs/formats.md, \"The robot's body\".";
   s.inputs = {{"missions", "missions", "missions as read"}};
   s.outputs = {{"missions", "missions", "the same missions without the body's points"}};
-  s.params = {
-      ParamSpec::real("max_range", 1.5, "body points lie nearer their sensor than this; 0 turns the stage off")
-          .range(0, 10)
-          .unit("m"),
-      ParamSpec::real("cell", 0.1, "sensor-frame cell size").range(0.01, 1).unit("m"),
-      ParamSpec::real("min_share", 0.5, "a candidate cell is occupied in at least this share of the scans")
-          .range(0.05, 1),
-      ParamSpec::real("see_through_share", 0.5, "share of a candidate's votes that must see through it").range(0.05, 1),
-      ParamSpec::real("depth", 0.2, "how far behind a patch a witness ray must pass to see through it (under a "
-                      "robot's thinnest part; more than `cell`)")
-          .range(0.02, 2)
-          .unit("m"),
-      ParamSpec::real("margin", 0.3, "how far beyond that point the ray must end").range(0.01, 5).unit("m"),
-      ParamSpec::real("witness_min", 2.0, "a witness scan is at least this far from the scan it checks")
-          .range(0.1, 100)
-          .unit("m"),
-      ParamSpec::real("witness_max", 12.0, "a witness scan is at most this far from the scan it checks")
-          .range(0.1, 1000)
-          .unit("m"),
-      ParamSpec::integer("probes", 16, "scans, spread over the mission, whose candidate cells are checked")
-          .range(1, 10000)};
+  s.params = param_table().specs();
   return s;
+}
+
+const ParamTable<BodyConfig>& param_table() {
+  using C = BodyConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("max_range", &C::max_range, "body points lie nearer their sensor than this; 0 turns the stage off")
+        .range(0, 10)
+        .unit("m");
+    t.bind("cell", &C::cell, "sensor-frame cell size").range(0.01, 1).unit("m");
+    t.bind("min_share", &C::min_share, "a candidate cell is occupied in at least this share of the scans")
+        .range(0.05, 1);
+    t.bind("see_through_share", &C::see_through_share, "share of a candidate's votes that must see through it").range(0.05, 1);
+    t.bind("depth", &C::depth, "how far behind a patch a witness ray must pass to see through it (under a "
+           "robot's thinnest part; more than `cell`)")
+        .range(0.02, 2)
+        .unit("m");
+    t.bind("margin", &C::margin, "how far beyond that point the ray must end").range(0.01, 5).unit("m");
+    t.bind("witness_min", &C::witness_min, "a witness scan is at least this far from the scan it checks")
+        .range(0.1, 100)
+        .unit("m");
+    t.bind("witness_max", &C::witness_max, "a witness scan is at most this far from the scan it checks")
+        .range(0.1, 1000)
+        .unit("m");
+    t.bind("probes", &C::probes, "scans, spread over the mission, whose candidate cells are checked")
+        .range(1, 10000);
+    return t;
+  }();
+  return table;
 }
 
 void register_stages(Registrar& r) {

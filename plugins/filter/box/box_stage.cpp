@@ -1,5 +1,6 @@
 // filter.box: keeps the change points inside a region of interest.
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 #include <algorithm>
@@ -8,17 +9,39 @@
 namespace lista::filter {
 namespace {
 
+struct BoxConfig {
+  std::vector<double> min = {-1e9, -1e9, -1e9};  // m
+  std::vector<double> max = {1e9, 1e9, 1e9};     // m
+  double max_height_above_floor = 0.0;           // m, 0 = off
+  double floor_quantile = 0.01;
+};
+
+const ParamTable<BoxConfig>& param_table() {
+  using C = BoxConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("min", &C::min, "lower corner [x, y, z]").unit("m");
+    t.bind("max", &C::max, "upper corner [x, y, z]").unit("m");
+    t.bind("max_height_above_floor", &C::max_height_above_floor, "drop points higher above the floor; 0 = off")
+        .range(0.0, 1e4)
+        .unit("m");
+    t.bind("floor_quantile", &C::floor_quantile, "quantile of z taken as the floor height").range(0.0, 0.5);
+    return t;
+  }();
+  return table;
+}
+
 class BoxFilterStage : public Stage {
  public:
   explicit BoxFilterStage(const Params& p) {
-    auto lo = p.get<std::vector<double>>("min"), hi = p.get<std::vector<double>>("max");
-    if (lo.size() != 3 || hi.size() != 3) throw Error("min and max must have 3 values [x, y, z]");
+    const BoxConfig c = param_table().read(p);
+    if (c.min.size() != 3 || c.max.size() != 3) throw Error("min and max must have 3 values [x, y, z]");
     for (int a = 0; a < 3; ++a) {
-      if (lo[a] > hi[a]) throw Error("min must not exceed max on every axis");
-      min_[a] = float(lo[a]), max_[a] = float(hi[a]);
+      if (c.min[a] > c.max[a]) throw Error("min must not exceed max on every axis");
+      min_[a] = float(c.min[a]), max_[a] = float(c.max[a]);
     }
-    ceiling_ = p.get<double>("max_height_above_floor");
-    floor_quantile_ = p.get<double>("floor_quantile");
+    ceiling_ = c.max_height_above_floor;
+    floor_quantile_ = c.floor_quantile;
   }
 
   static StageInfo info() {
@@ -34,14 +57,7 @@ class BoxFilterStage : public Stage {
         "ceiling without knowing the map's absolute heights. 0 disables it. Provenance is kept.";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the points inside the region"}};
-    const double big = 1e9;
-    i.params = {
-        ParamSpec::real_list("min", {-big, -big, -big}, "lower corner [x, y, z]").unit("m"),
-        ParamSpec::real_list("max", {big, big, big}, "upper corner [x, y, z]").unit("m"),
-        ParamSpec::real("max_height_above_floor", 0.0, "drop points higher above the floor; 0 = off")
-            .range(0.0, 1e4).unit("m"),
-        ParamSpec::real("floor_quantile", 0.01, "quantile of z taken as the floor height").range(0.0, 0.5),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

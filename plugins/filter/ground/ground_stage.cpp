@@ -2,6 +2,7 @@
 #include "ground_removal.hpp"
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 #include <algorithm>
@@ -9,19 +10,29 @@
 namespace lista::filter {
 namespace {
 
+const ParamTable<GroundConfig>& param_table() {
+  using C = GroundConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("tile_size", &C::tile_size, "xy tile edge; one plane set per tile").range(0.5, 100).unit("m");
+    t.bind("distance", &C::distance, "inlier distance to the ground plane").range(0.005, 1).unit("m");
+    t.bind("max_slope", &C::max_slope_deg, "steepest plane taken as ground").range(0, 45).unit("deg");
+    t.bind("planes_per_tile", &C::planes_per_tile, "candidate planes tried per tile").range(1, 20);
+    t.bind("min_points", &C::min_points, "fewest inliers for a ground plane").range(3, 1e9);
+    t.bind("footprint_cell", &C::footprint_cell, "cell of the under-the-plane test").range(0.01, 10).unit("m");
+    t.bind("max_below_fraction", &C::max_below_fraction, "under-plane points per inlier allowed").range(0, 1);
+    t.bind("min_area", &C::min_area, "smallest footprint (convex hull) taken as ground; 0 = any")
+        .range(0, 1e4)
+        .unit("m^2");
+    t.bind("max_iterations", &C::max_iterations, "RANSAC iterations per plane").range(10, 100000);
+    return t;
+  }();
+  return table;
+}
+
 class GroundFilterStage : public Stage {
  public:
-  explicit GroundFilterStage(const Params& p) {
-    c_.tile_size = p.get<double>("tile_size");
-    c_.distance = p.get<double>("distance");
-    c_.max_slope_deg = p.get<double>("max_slope");
-    c_.planes_per_tile = p.get<int>("planes_per_tile");
-    c_.min_points = size_t(p.get<int64_t>("min_points"));
-    c_.footprint_cell = p.get<double>("footprint_cell");
-    c_.max_below_fraction = p.get<double>("max_below_fraction");
-    c_.min_area = p.get<double>("min_area");
-    c_.max_iterations = p.get<int>("max_iterations");
-  }
+  explicit GroundFilterStage(const Params& p) : c_(param_table().read(p)) {}
 
   static StageInfo info() {
     StageInfo i;
@@ -43,18 +54,7 @@ class GroundFilterStage : public Stage {
         "(within `distance`) are removed. Tiles run in parallel; RANSAC uses PCL's fixed seed.";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the points that are not ground"}};
-    i.params = {
-        ParamSpec::real("tile_size", 4.0, "xy tile edge; one plane set per tile").range(0.5, 100).unit("m"),
-        ParamSpec::real("distance", 0.05, "inlier distance to the ground plane").range(0.005, 1).unit("m"),
-        ParamSpec::real("max_slope", 15.0, "steepest plane taken as ground").range(0, 45).unit("deg"),
-        ParamSpec::integer("planes_per_tile", 3, "candidate planes tried per tile").range(1, 20),
-        ParamSpec::integer("min_points", 30, "fewest inliers for a ground plane").range(3, 1e9),
-        ParamSpec::real("footprint_cell", 0.25, "cell of the under-the-plane test").range(0.01, 10).unit("m"),
-        ParamSpec::real("max_below_fraction", 0.05, "under-plane points per inlier allowed").range(0, 1),
-        ParamSpec::real("min_area", 2.0, "smallest footprint (convex hull) taken as ground; 0 = any")
-            .range(0, 1e4).unit("m^2"),
-        ParamSpec::integer("max_iterations", 200, "RANSAC iterations per plane").range(10, 100000),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

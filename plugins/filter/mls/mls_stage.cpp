@@ -2,18 +2,27 @@
 #include "mls_smoothing.hpp"
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 namespace lista::filter {
 namespace {
 
+const ParamTable<MlsConfig>& param_table() {
+  using C = MlsConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("radius", &C::radius, "neighbourhood radius of the fit").range(0.005, 5.0).unit("m");
+    t.bind("polynomial_order", &C::polynomial_order, "order of the fitted surface").range(1, 3);
+    t.bind("drop_unfitted", &C::drop_unfitted, "drop points with too few neighbours for a fit");
+    return t;
+  }();
+  return table;
+}
+
 class MlsFilterStage : public Stage {
  public:
-  explicit MlsFilterStage(const Params& p) {
-    c_.radius = p.get<double>("radius");
-    c_.polynomial_order = p.get<int>("polynomial_order");
-    c_.drop_unfitted = p.get<bool>("drop_unfitted");
-  }
+  explicit MlsFilterStage(const Params& p) : c_(param_table().read(p)) {}
 
   static StageInfo info() {
     StageInfo i;
@@ -30,11 +39,7 @@ class MlsFilterStage : public Stage {
         "stage's threads (OpenMP in PCL).";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the same points, smoothed positions"}};
-    i.params = {
-        ParamSpec::real("radius", 0.1, "neighbourhood radius of the fit").range(0.005, 5.0).unit("m"),
-        ParamSpec::integer("polynomial_order", 2, "order of the fitted surface").range(1, 3),
-        ParamSpec::boolean("drop_unfitted", false, "drop points with too few neighbours for a fit"),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

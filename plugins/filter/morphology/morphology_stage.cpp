@@ -3,6 +3,7 @@
 #include "morphology.hpp"
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 #include <atomic>
@@ -12,14 +13,24 @@
 namespace lista::filter {
 namespace {
 
+const ParamTable<MorphologyConfig>& param_table() {
+  using C = MorphologyConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("voxel", &C::voxel, "voxel edge").range(0.005, 5.0).unit("m");
+    t.bind("min_neighbours", &C::min_neighbours, "occupied 26-neighbours a voxel needs to survive erosion")
+        .range(0, 26);
+    t.bind("dilate_steps", &C::dilate_steps, "dilations by the 3x3x3 cube after erosion (without reconstruct)")
+        .range(0, 10);
+    t.bind("reconstruct", &C::reconstruct, "dilate until stable: keep whole every component with a core");
+    return t;
+  }();
+  return table;
+}
+
 class MorphologyFilterStage : public Stage {
  public:
-  explicit MorphologyFilterStage(const Params& p) {
-    c_.voxel = p.get<double>("voxel");
-    c_.min_neighbours = p.get<int>("min_neighbours");
-    c_.dilate_steps = p.get<int>("dilate_steps");
-    c_.reconstruct = p.get<bool>("reconstruct");
-  }
+  explicit MorphologyFilterStage(const Params& p) : c_(param_table().read(p)) {}
 
   static StageInfo info() {
     StageInfo i;
@@ -41,14 +52,7 @@ class MorphologyFilterStage : public Stage {
         "voxels, with provenance. Missions run in parallel.";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the points whose voxel survives the opening"}};
-    i.params = {
-        ParamSpec::real("voxel", 0.1, "voxel edge").range(0.005, 5.0).unit("m"),
-        ParamSpec::integer("min_neighbours", 6, "occupied 26-neighbours a voxel needs to survive erosion")
-            .range(0, 26),
-        ParamSpec::integer("dilate_steps", 1, "dilations by the 3x3x3 cube after erosion (without reconstruct)")
-            .range(0, 10),
-        ParamSpec::boolean("reconstruct", true, "dilate until stable: keep whole every component with a core"),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

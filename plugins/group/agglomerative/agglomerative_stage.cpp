@@ -4,6 +4,7 @@
 #include "agglomerative.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 
 #include <cstdio>
 
@@ -11,15 +12,27 @@ namespace lista::grouping {
 
 namespace {
 
+struct AgglomerativeConfig {
+  std::string linkage = "average";
+  std::string cut = "gap";
+  int k = 2;
+  double distance = 1.0;  // descriptor units
+  double min_gap = 0.5;
+  int k_max = 10;
+};
+
+const ParamTable<AgglomerativeConfig>& param_table();
+
 class AgglomerativeStage : public Stage {
  public:
-  explicit AgglomerativeStage(const Params& p)
-      : linkage_(parse_linkage(p.get<std::string>("linkage"))),
-        cut_(p.get<std::string>("cut")),
-        k_(p.get<int>("k")),
-        threshold_(p.get<double>("distance")),
-        min_gap_(p.get<double>("min_gap")),
-        k_max_(p.get<int>("k_max")) {}
+  explicit AgglomerativeStage(const Params& p) : AgglomerativeStage(param_table().read(p)) {}
+  explicit AgglomerativeStage(const AgglomerativeConfig& c)
+      : linkage_(parse_linkage(c.linkage)),
+        cut_(c.cut),
+        k_(c.k),
+        threshold_(c.distance),
+        min_gap_(c.min_gap),
+        k_max_(c.k_max) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& d = in.get<DescriptorSet>("descriptors");
@@ -79,19 +92,27 @@ StageInfo info() {
       "the largest such distance.";
   s.inputs = {{"descriptors", "descriptors", "one descriptor per object"}};
   s.outputs = {{"groups", "groups", "group per object with confidences"}};
-  s.params = {
-      ParamSpec::text("linkage", "average", "cluster distance").one_of({"single", "average", "complete", "ward"}),
-      ParamSpec::text("cut", "gap", "how the dendrogram is cut").one_of({"gap", "distance", "k"}),
-      ParamSpec::integer("k", 2, "groups kept with cut = 'k'").range(1, 100000),
-      ParamSpec::real("distance", 1.0, "largest merge height kept with cut = 'distance' (descriptor units)")
-          .at_least(0.0),
-      ParamSpec::real("min_gap", 0.5, "cut = 'gap': smallest relative jump between successive merge heights "
-                                      "(h_above / h_below - 1) that splits the data")
-          .at_least(0.0),
-      ParamSpec::integer("k_max", 10, "cut = 'gap': most groups considered (and at most half the objects)")
-          .range(2, 100000),
-  };
+  s.params = param_table().specs();
   return s;
+}
+
+const ParamTable<AgglomerativeConfig>& param_table() {
+  using C = AgglomerativeConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("linkage", &C::linkage, "cluster distance").one_of({"single", "average", "complete", "ward"});
+    t.bind("cut", &C::cut, "how the dendrogram is cut").one_of({"gap", "distance", "k"});
+    t.bind("k", &C::k, "groups kept with cut = 'k'").range(1, 100000);
+    t.bind("distance", &C::distance, "largest merge height kept with cut = 'distance' (descriptor units)")
+        .at_least(0.0);
+    t.bind("min_gap", &C::min_gap, "cut = 'gap': smallest relative jump between successive merge heights "
+                                   "(h_above / h_below - 1) that splits the data")
+        .at_least(0.0);
+    t.bind("k_max", &C::k_max, "cut = 'gap': most groups considered (and at most half the objects)")
+        .range(2, 100000);
+    return t;
+  }();
+  return table;
 }
 
 void register_stages(Registrar& r) {

@@ -5,6 +5,7 @@
 #include "kmeans.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 
 #include <algorithm>
 
@@ -12,13 +13,18 @@ namespace lista::grouping {
 
 namespace {
 
+// K-means' settings and the stage's own: how K is chosen.
+struct KMeansStageConfig : KMeansConfig {
+  int k = 0;  // 0 = the elbow rule
+  int k_max = 10;
+};
+
+const ParamTable<KMeansStageConfig>& param_table();
+
 class KMeansStage : public Stage {
  public:
-  explicit KMeansStage(const Params& p)
-      : k_(p.get<int>("k")), k_max_(p.get<int>("k_max")) {
-    cfg_.restarts = p.get<int>("restarts");
-    cfg_.max_iterations = p.get<int>("max_iterations");
-  }
+  explicit KMeansStage(const Params& p) : KMeansStage(param_table().read(p)) {}
+  explicit KMeansStage(const KMeansStageConfig& c) : k_(c.k), k_max_(c.k_max), cfg_(c) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& d = in.get<DescriptorSet>("descriptors");
@@ -80,13 +86,21 @@ StageInfo info() {
       "its centroid / the largest such distance.";
   s.inputs = {{"descriptors", "descriptors", "one descriptor per object"}};
   s.outputs = {{"groups", "groups", "group per object with confidences"}};
-  s.params = {
-      ParamSpec::integer("k", 0, "fixed number of groups; 0 = choose by the elbow rule").range(0, 1000),
-      ParamSpec::integer("k_max", 10, "largest K tried by the elbow rule").range(1, 1000),
-      ParamSpec::integer("restarts", 10, "k-means++ seedings per K; the lowest WCSS wins").range(1, 1000),
-      ParamSpec::integer("max_iterations", 300, "Lloyd iterations per seeding").range(1, 100000),
-  };
+  s.params = param_table().specs();
   return s;
+}
+
+const ParamTable<KMeansStageConfig>& param_table() {
+  using C = KMeansStageConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("k", &C::k, "fixed number of groups; 0 = choose by the elbow rule").range(0, 1000);
+    t.bind("k_max", &C::k_max, "largest K tried by the elbow rule").range(1, 1000);
+    t.bind("restarts", &C::restarts, "k-means++ seedings per K; the lowest WCSS wins").range(1, 1000);
+    t.bind("max_iterations", &C::max_iterations, "Lloyd iterations per seeding").range(1, 100000);
+    return t;
+  }();
+  return table;
 }
 
 void register_stages(Registrar& r) {

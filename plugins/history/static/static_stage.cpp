@@ -3,6 +3,7 @@
 #include "still_history.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 
 #include <cctype>
 #include <map>
@@ -11,15 +12,11 @@ namespace lista::history {
 
 namespace {
 
+const ParamTable<StillConfig>& param_table();
+
 class StaticStage : public Stage {
  public:
-  explicit StaticStage(const Params& p) {
-    cfg_.radius = p.get<double>("radius");
-    cfg_.min_still_share = p.get<double>("min_still_share");
-    cfg_.min_share_gap = p.get<double>("min_share_gap");
-    cfg_.max_reported_share = p.get<double>("max_reported_share");
-    cfg_.follow_contradictions = p.get<bool>("follow_contradictions");
-  }
+  explicit StaticStage(const Params& p) : cfg_(param_table().read(p)) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& missions = in.get<MissionSet>("missions");
@@ -98,22 +95,31 @@ StageInfo info() {
   s.outputs = {{"objects", "objects", "the objects, then the copies (new ids)"},
                {"matches", "matches", "an entry for every object; histories include the copies"},
                {"groups", "groups", "the groups with the copies (empty when none came in)"}};
-  s.params = {
-      ParamSpec::real("radius", 0.1, "a point of the other mission within this distance shows the same surface")
-          .range(0.01, 1.0)
-          .unit("m"),
-      ParamSpec::real("min_still_share", 0.6, "share of the object's points shown again to call it still there")
-          .range(0.0, 1.0),
-      ParamSpec::real("min_share_gap", 0.3,
-                      "by how much that share must exceed the one in the mission the object changed against")
-          .range(0.0, 1.0),
-      ParamSpec::real("max_reported_share", 0.2,
-                      "share of the object already covered by that mission's own objects at which the search stops")
-          .range(0.0, 1.0),
-      ParamSpec::boolean("follow_contradictions", true,
-                         "also follow an added or removed object into the mission it was said to have changed against "
-                         "where it stands still there and is gone on the other side, and correct its status")};
+  s.params = param_table().specs();
   return s;
+}
+
+const ParamTable<StillConfig>& param_table() {
+  using C = StillConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("radius", &C::radius, "a point of the other mission within this distance shows the same surface")
+        .range(0.01, 1.0)
+        .unit("m");
+    t.bind("min_still_share", &C::min_still_share, "share of the object's points shown again to call it still there")
+        .range(0.0, 1.0);
+    t.bind("min_share_gap", &C::min_share_gap,
+           "by how much that share must exceed the one in the mission the object changed against")
+        .range(0.0, 1.0);
+    t.bind("max_reported_share", &C::max_reported_share,
+           "share of the object already covered by that mission's own objects at which the search stops")
+        .range(0.0, 1.0);
+    t.bind("follow_contradictions", &C::follow_contradictions,
+           "also follow an added or removed object into the mission it was said to have changed against "
+           "where it stands still there and is gone on the other side, and correct its status");
+    return t;
+  }();
+  return table;
 }
 
 void register_stages(Registrar& r) {

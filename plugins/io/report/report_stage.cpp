@@ -5,6 +5,7 @@
 #include "unread_scans.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -14,10 +15,30 @@ namespace lista::report {
 
 namespace {
 
+struct ReportConfig {
+  std::string path;
+  double unread_cell = 0.1;  // m
+};
+
+const ParamTable<ReportConfig>& param_table() {
+  using C = ReportConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("path", &C::path, "output folder; empty = the run's output folder (lista-run --out)");
+    t.bind("unread_cell", &C::unread_cell,
+           "cube edge for placing the points of scans io.missions did not read (scan_spacing) "
+           "into the change: a point in a cube holding a change point is reported with it")
+        .range(0.01, 1)
+        .unit("m");
+    return t;
+  }();
+  return table;
+}
+
 class ReportStage : public Stage {
  public:
-  explicit ReportStage(const Params& p)
-      : path_(p.get<std::string>("path")), unread_cell_(p.get<double>("unread_cell")) {}
+  explicit ReportStage(const Params& p) : ReportStage(param_table().read(p)) {}
+  explicit ReportStage(const ReportConfig& c) : path_(c.path), unread_cell_(c.unread_cell) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const RunInfo run = ctx.run_info();
@@ -115,12 +136,7 @@ StageInfo info() {
               {"groups", "groups", "descriptor groups of the objects", true},
               {"matches", "matches", "status, partner and transform of each object", true},
               {"changes", "points", "all change points; those in no object are written with object -1", true}};
-  s.params = {ParamSpec::text("path", "", "output folder; empty = the run's output folder (lista-run --out)"),
-              ParamSpec::real("unread_cell", 0.1,
-                              "cube edge for placing the points of scans io.missions did not read (scan_spacing) "
-                              "into the change: a point in a cube holding a change point is reported with it")
-                  .range(0.01, 1)
-                  .unit("m")};
+  s.params = param_table().specs();
   return s;
 }
 

@@ -5,6 +5,7 @@
 #include <lista_objreg/upright.hpp>
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 
 #include <algorithm>
 #include <mutex>
@@ -15,26 +16,18 @@ namespace lista::registration {
 
 namespace {
 
+// The registration's settings and the stage's own: the floor gate.
+struct IcpStageConfig : IcpConfig {
+  double max_lift = 0.15;  // m
+  double max_tilt = 20.0;  // deg
+};
+
+const ParamTable<IcpStageConfig>& param_table();
+
 class IcpStage : public Stage {
  public:
-  explicit IcpStage(const Params& p) {
-    cfg_.method = p.get<std::string>("method");
-    cfg_.voxel = p.get<double>("voxel");
-    cfg_.max_correspondence = p.get<double>("max_correspondence");
-    cfg_.max_iterations = p.get<int>("max_iterations");
-    cfg_.yaw_hypotheses = p.get<int>("yaw_hypotheses");
-    cfg_.svd_flips = p.get<bool>("svd_flips");
-    cfg_.corner_hypotheses = p.get<bool>("corner_hypotheses");
-    cfg_.inlier_distance = p.get<double>("inlier_distance");
-    cfg_.symmetry_tolerance = p.get<double>("symmetry_tolerance");
-    cfg_.distinct_degrees = p.get<double>("distinct_degrees");
-    cfg_.distinct_metres = p.get<double>("distinct_metres");
-    cfg_.max_points = p.get<int>("max_points");
-    cfg_.fine_max_points = p.get<int>("fine_max_points");
-    cfg_.max_score_points = p.get<int>("max_score_points");
-    max_lift_ = p.get<double>("max_lift");
-    max_tilt_ = p.get<double>("max_tilt");
-  }
+  explicit IcpStage(const Params& p) : IcpStage(param_table().read(p)) {}
+  explicit IcpStage(const IcpStageConfig& c) : cfg_(c), max_lift_(c.max_lift), max_tilt_(c.max_tilt) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& objects = in.get<ObjectSet>("objects");
@@ -73,7 +66,7 @@ class IcpStage : public Stage {
 
  private:
   IcpConfig cfg_;
-  double max_lift_ = 0.15, max_tilt_ = 20.0;
+  double max_lift_, max_tilt_;
 };
 
 StageInfo info() {
@@ -109,40 +102,52 @@ StageInfo info() {
       "Records the mean inlier share as 'mean_inlier_ratio' and the pairs with alternatives as 'ambiguous_pairs'.";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a refined transform for every moved object"}};
-  s.params = {
-      ParamSpec::text("method", "gicp", "registration algorithm").one_of({"gicp", "icp"}),
-      ParamSpec::real("voxel", 0.02, "voxel size for downsampling before ICP; 0 = none").range(0.0, 1.0).unit("m"),
-      ParamSpec::real("max_correspondence", 0.15, "largest point pair distance ICP uses").range(0.001, 10.0).unit("m"),
-      ParamSpec::integer("max_iterations", 50, "ICP iterations per hypothesis").range(1, 10000),
-      ParamSpec::integer("yaw_hypotheses", 8, "initial rotations about the vertical; 0 = none").range(0, 360),
-      ParamSpec::boolean("svd_flips", true, "also start from the four axis flips of the SVD guess"),
-      ParamSpec::boolean("corner_hypotheses", true,
-                         "views whose footprints differ in size, unexplained from the other starts, also start corner on corner (a partial view shares a corner with the whole, not its centre)"),
-      ParamSpec::real("inlier_distance", 0.05, "score truncation distance").range(0.001, 10.0).unit("m"),
-      ParamSpec::real("symmetry_tolerance", 0.1, "relative score margin within which the smallest rotation wins")
-          .range(0.0, 10.0),
-      ParamSpec::real("distinct_degrees", 10.0,
-                      "a pose within symmetry_tolerance turned at least this far from the chosen one is reported "
-                      "as an alternative").range(0.1, 180.0).unit("deg"),
-      ParamSpec::real("distinct_metres", 0.1,
-                      "a pose within symmetry_tolerance shifted at least this far (at the object's centroid) from the chosen one is reported as an alternative").range(0.001, 100.0).unit("m"),
-      ParamSpec::integer("max_points", 2000,
-                         "coarse pass: source points ICP iterates on from each hypothesis (evenly strided); 0 = all")
-          .range(0, 100000000),
-      ParamSpec::integer("fine_max_points", 8000,
-                         "fine pass on the best few: source points ICP iterates on (evenly strided; at least max_points); 0 = all")
-          .range(0, 100000000),
-      ParamSpec::integer("max_score_points", 10000,
-                         "points each score queries each way (evenly strided; the searched cloud stays whole); 0 = all")
-          .range(0, 100000000),
-      ParamSpec::real("max_lift", 0.15,
-                      "an object standing on floors in both missions (floor_z known) is registered upright: lifted by "
-                      "at most this relative to the floors (0 = no lift check)")
-          .range(0.0, 10.0)
-          .unit("m"),
-      ParamSpec::real("max_tilt", 20.0, "an object standing on floors in both missions is registered tilted by at most this (180 = any pose)").range(1.0, 180.0).unit("deg"),
-  };
+  s.params = param_table().specs();
   return s;
+}
+
+const ParamTable<IcpStageConfig>& param_table() {
+  using C = IcpStageConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("method", &C::method, "registration algorithm").one_of({"gicp", "icp"});
+    t.bind("voxel", &C::voxel, "voxel size for downsampling before ICP; 0 = none").range(0.0, 1.0).unit("m");
+    t.bind("max_correspondence", &C::max_correspondence, "largest point pair distance ICP uses").range(0.001, 10.0).unit("m");
+    t.bind("max_iterations", &C::max_iterations, "ICP iterations per hypothesis").range(1, 10000);
+    t.bind("yaw_hypotheses", &C::yaw_hypotheses, "initial rotations about the vertical; 0 = none").range(0, 360);
+    t.bind("svd_flips", &C::svd_flips, "also start from the four axis flips of the SVD guess");
+    t.bind("corner_hypotheses", &C::corner_hypotheses,
+           "views whose footprints differ in size, unexplained from the other starts, also start corner on corner (a partial view shares a corner with the whole, not its centre)");
+    t.bind("inlier_distance", &C::inlier_distance, "score truncation distance").range(0.001, 10.0).unit("m");
+    t.bind("symmetry_tolerance", &C::symmetry_tolerance, "relative score margin within which the smallest rotation wins")
+        .range(0.0, 10.0);
+    t.bind("distinct_degrees", &C::distinct_degrees,
+           "a pose within symmetry_tolerance turned at least this far from the chosen one is reported "
+           "as an alternative")
+        .range(0.1, 180.0)
+        .unit("deg");
+    t.bind("distinct_metres", &C::distinct_metres,
+           "a pose within symmetry_tolerance shifted at least this far (at the object's centroid) from the chosen one is reported as an alternative")
+        .range(0.001, 100.0)
+        .unit("m");
+    t.bind("max_points", &C::max_points,
+           "coarse pass: source points ICP iterates on from each hypothesis (evenly strided); 0 = all")
+        .range(0, 100000000);
+    t.bind("fine_max_points", &C::fine_max_points,
+           "fine pass on the best few: source points ICP iterates on (evenly strided; at least max_points); 0 = all")
+        .range(0, 100000000);
+    t.bind("max_score_points", &C::max_score_points,
+           "points each score queries each way (evenly strided; the searched cloud stays whole); 0 = all")
+        .range(0, 100000000);
+    t.bind("max_lift", &C::max_lift,
+           "an object standing on floors in both missions (floor_z known) is registered upright: lifted by "
+           "at most this relative to the floors (0 = no lift check)")
+        .range(0.0, 10.0)
+        .unit("m");
+    t.bind("max_tilt", &C::max_tilt, "an object standing on floors in both missions is registered tilted by at most this (180 = any pose)").range(1.0, 180.0).unit("deg");
+    return t;
+  }();
+  return table;
 }
 
 void register_stages(Registrar& r) {

@@ -461,7 +461,7 @@ TEST(IcpRefine, SimulatedCartPairIsRecoveredWithinADegree) {
 TEST(IcpRefine, ThinnedCoarsePassKeepsThePairsPoses) {
   // The coarse pass over every hypothesis iterates on a strided subset, the
   // fine pass (the wide gate again, then the narrow one) on a larger one:
-  // both real pairs come out as with all points (the two tests above), for
+  // both real pairs come out as in the two tests above, for
   // subsets far smaller than the pairs (about 2300 and 3100 points).
   IcpConfig cfg;
   cfg.max_points = 150;
@@ -483,6 +483,7 @@ TEST(IcpRefine, ThinnedCoarsePassKeepsThePairsPoses) {
   cfg.max_points = 0;
   cfg.fine_max_points = 1000;
   cfg.max_score_points = 0;
-  EXPECT_TRUE(register_pair("cart_pair.txt", cfg).transform.isApprox(
-      register_pair("cart_pair.txt", IcpConfig{}).transform, 1e-12));
+  IcpConfig all;
+  all.max_points = all.fine_max_points = all.max_score_points = 0;
+  EXPECT_TRUE(register_pair("cart_pair.txt", cfg).transform.isApprox(register_pair("cart_pair.txt", all).transform, 1e-12));
 }

@@ -4,6 +4,7 @@
 #include <lista_objreg/svd_registration.hpp>
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 
 #include <atomic>
 
@@ -11,9 +12,25 @@ namespace lista::registration {
 
 namespace {
 
+struct SvdConfig {
+  double ambiguity_tolerance = 0.05;
+};
+
+const ParamTable<SvdConfig>& param_table() {
+  using C = SvdConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("ambiguity_tolerance", &C::ambiguity_tolerance,
+           "relative skew / variance gap below which a frame is reported ambiguous")
+        .range(0.0, 1.0);
+    return t;
+  }();
+  return table;
+}
+
 class SvdStage : public Stage {
  public:
-  explicit SvdStage(const Params& p) : tolerance_(p.get<double>("ambiguity_tolerance")) {}
+  explicit SvdStage(const Params& p) : tolerance_(param_table().read(p).ambiguity_tolerance) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& objects = in.get<ObjectSet>("objects");
@@ -56,9 +73,7 @@ StageInfo info() {
       "pairs are counted in the 'ambiguous_pairs' metric. register.icp refines these.";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a transform for every moved object"}};
-  s.params = {ParamSpec::real("ambiguity_tolerance", 0.05,
-                              "relative skew / variance gap below which a frame is reported ambiguous")
-                  .range(0.0, 1.0)};
+  s.params = param_table().specs();
   return s;
 }
 

@@ -6,6 +6,7 @@
 #include "report_model.hpp"
 
 #include <lista/lista.hpp>
+#include <lista/param_table.hpp>
 #include <lista_io/atomic_file.hpp>
 
 #include <filesystem>
@@ -14,13 +15,20 @@ namespace lista::report_html {
 
 namespace {
 
+// The page's and its maps' settings side by side (PageOptions nests the
+// maps'), and the stage's own.
+struct HtmlReportConfig : PageOptions, TopdownOptions {
+  std::string path;
+  bool ply = true;
+};
+
+const ParamTable<HtmlReportConfig>& param_table();
+
 class HtmlReportStage : public Stage {
  public:
-  explicit HtmlReportStage(const Params& p)
-      : path_(p.get<std::string>("path")), write_ply_(p.get<bool>("ply")) {
-    options_.title = p.get<std::string>("title");
-    options_.topdown.pixels = p.get<int>("pixels");
-    options_.topdown.max_map_points = p.get<uint64_t>("max_map_points");
+  explicit HtmlReportStage(const Params& p) : HtmlReportStage(param_table().read(p)) {}
+  explicit HtmlReportStage(const HtmlReportConfig& c) : path_(c.path), write_ply_(c.ply), options_(c) {
+    options_.topdown = c;
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
@@ -71,15 +79,23 @@ StageInfo info() {
               {"groups", "groups", "descriptor groups", true},
               {"matches", "matches", "statuses, matches and transforms", true},
               {"descriptors", "descriptors", "object descriptors, for the match matrix and PCA plot", true}};
-  s.params = {
-      ParamSpec::text("path", "", "output folder; empty = the run's --out folder"),
-      ParamSpec::text("title", "LiSTA change report", "page title"),
-      ParamSpec::integer("pixels", 1000, "longest side of each top-down map image").range(64, 8000).unit("px"),
-      ParamSpec::integer("max_map_points", 2000000, "static map points sampled per mission pair")
-          .range(1000, 1e9),
-      ParamSpec::boolean("ply", true, "also write changes.ply"),
-  };
+  s.params = param_table().specs();
   return s;
+}
+
+const ParamTable<HtmlReportConfig>& param_table() {
+  using C = HtmlReportConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("path", &C::path, "output folder; empty = the run's --out folder");
+    t.bind("title", &C::title, "page title");
+    t.bind("pixels", &C::pixels, "longest side of each top-down map image").range(64, 8000).unit("px");
+    t.bind("max_map_points", &C::max_map_points, "static map points sampled per mission pair")
+        .range(1000, 1e9);
+    t.bind("ply", &C::ply, "also write changes.ply");
+    return t;
+  }();
+  return table;
 }
 
 void register_stages(Registrar& r) {

@@ -4,6 +4,7 @@
 
 #include <lista/data.hpp>
 #include <lista/error.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 #include <sstream>
@@ -18,18 +19,27 @@ std::string fmt(double v) {
   return s.str();
 }
 
+const ParamTable<CarveConfig>& param_table() {
+  using C = CarveConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("voxel", &C::voxel, "search step (translation) and grid cell").range(0.01, 0.5).unit("m");
+    t.bind("tolerance", &C::tolerance, "a template point fits within this of a host point (at most 4 x voxel)").range(0.01, 0.5).unit("m");
+    t.bind("yaw_step", &C::yaw_step, "yaw search step").range(0.5, 90).unit("deg");
+    t.bind("min_fit", &C::min_fit, "share of the template's points that must fit").range(0.1, 1);
+    t.bind("min_share", &C::min_share, "least share of the host's points on each side of the cut").range(0.01, 0.5);
+    t.bind("min_height_step", &C::min_height_step, "least difference between the tops of the two sides (and how much taller a host of a smaller footprint must be than its template)").range(0, 5).unit("m");
+    t.bind("max_overlap", &C::max_overlap, "most of the smaller side's floor cells (2 x voxel) also under the other").range(0, 1);
+    t.bind("min_width", &C::min_width, "narrowest template footprint (shorter side): a leg or a panel fits almost anywhere").range(0, 5).unit("m");
+    t.bind("min_points", &C::min_points, "smallest template, and smallest separate part of the rest").range(1, 1e9);
+    return t;
+  }();
+  return table;
+}
+
 class CarveStage : public Stage {
  public:
-  explicit CarveStage(const Params& p) {
-    c_.voxel = p.get<double>("voxel");
-    c_.tolerance = p.get<double>("tolerance");
-    c_.yaw_step = p.get<double>("yaw_step");
-    c_.min_fit = p.get<double>("min_fit");
-    c_.min_share = p.get<double>("min_share");
-    c_.min_height_step = p.get<double>("min_height_step");
-    c_.max_overlap = p.get<double>("max_overlap");
-    c_.min_points = size_t(p.get<int64_t>("min_points"));
-    c_.min_width = p.get<double>("min_width");
+  explicit CarveStage(const Params& p) : c_(param_table().read(p)) {
     // The search marks a ball of (tolerance / voxel)^3 cells per host point.
     if (c_.tolerance > 4.0 * c_.voxel)
       throw Error("tolerance " + fmt(c_.tolerance) + " m is over 4 x voxel (" + fmt(c_.voxel) +
@@ -58,17 +68,7 @@ class CarveStage : public Stage {
         "over 25 m^2 of footprint are not searched. See docs/segmentation.md.";
     i.inputs = {{"objects", "objects", "per-mission clusters (after segment.complete)"}};
     i.outputs = {{"objects", "objects", "clusters with touching objects cut apart"}};
-    i.params = {
-        ParamSpec::real("voxel", 0.05, "search step (translation) and grid cell").range(0.01, 0.5).unit("m"),
-        ParamSpec::real("tolerance", 0.08, "a template point fits within this of a host point (at most 4 x voxel)").range(0.01, 0.5).unit("m"),
-        ParamSpec::real("yaw_step", 5.0, "yaw search step").range(0.5, 90).unit("deg"),
-        ParamSpec::real("min_fit", 0.8, "share of the template's points that must fit").range(0.1, 1),
-        ParamSpec::real("min_share", 0.15, "least share of the host's points on each side of the cut").range(0.01, 0.5),
-        ParamSpec::real("min_height_step", 0.1, "least difference between the tops of the two sides (and how much taller a host of a smaller footprint must be than its template)").range(0, 5).unit("m"),
-        ParamSpec::real("max_overlap", 0.3, "most of the smaller side's floor cells (2 x voxel) also under the other").range(0, 1),
-        ParamSpec::real("min_width", 0.3, "narrowest template footprint (shorter side): a leg or a panel fits almost anywhere").range(0, 5).unit("m"),
-        ParamSpec::integer("min_points", 30, "smallest template, and smallest separate part of the rest").range(1, 1e9),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

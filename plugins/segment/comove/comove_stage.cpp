@@ -3,21 +3,35 @@
 #include "comove_rule.hpp"
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 namespace lista::seg {
 namespace {
 
+const ParamTable<ComoveConfig>& param_table() {
+  using C = ComoveConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("slender_ratio", &C::slender_ratio, "a piece takes part when its height is at least this times its footprint's short side; 0 = every piece")
+        .range(0, 100);
+    t.bind("join_gap", &C::join_gap, "largest box-to-box gap between pieces of one object").range(0, 10).unit("m");
+    t.bind("position_tolerance", &C::position_tolerance, "agreement of the seed pairs' centroid distances; a smaller move is none")
+        .range(0.01, 2)
+        .unit("m");
+    t.bind("cover_radius", &C::cover_radius, "a moved point this near the other mission's pieces is covered")
+        .range(0.01, 1)
+        .unit("m");
+    t.bind("cover_share", &C::cover_share, "share of a piece's points covered for it to join").range(0.01, 1);
+    t.bind("max_extent", &C::max_extent, "longest footprint side of a joined object").range(0.1, 50).unit("m");
+    return t;
+  }();
+  return table;
+}
+
 class ComoveStage : public Stage {
  public:
-  explicit ComoveStage(const Params& p) {
-    c_.slender_ratio = p.get<double>("slender_ratio");
-    c_.join_gap = p.get<double>("join_gap");
-    c_.position_tolerance = p.get<double>("position_tolerance");
-    c_.cover_radius = p.get<double>("cover_radius");
-    c_.cover_share = p.get<double>("cover_share");
-    c_.max_extent = p.get<double>("max_extent");
-  }
+  explicit ComoveStage(const Params& p) : c_(param_table().read(p)) {}
 
   static StageInfo info() {
     StageInfo i;
@@ -41,19 +55,7 @@ class ComoveStage : public Stage {
         "not see has no evidence and stays apart. Ids are renumbered 0..n-1 when anything joined.";
     i.inputs = {{"objects", "objects", "per-mission change clusters"}};
     i.outputs = {{"objects", "objects", "clusters, pieces that moved together joined"}};
-    i.params = {
-        ParamSpec::real("slender_ratio", 2.0, "a piece takes part when its height is at least this times its footprint's short side; 0 = every piece")
-            .range(0, 100),
-        ParamSpec::real("join_gap", 2.0, "largest box-to-box gap between pieces of one object").range(0, 10).unit("m"),
-        ParamSpec::real("position_tolerance", 0.25, "agreement of the seed pairs' centroid distances; a smaller move is none")
-            .range(0.01, 2)
-            .unit("m"),
-        ParamSpec::real("cover_radius", 0.15, "a moved point this near the other mission's pieces is covered")
-            .range(0.01, 1)
-            .unit("m"),
-        ParamSpec::real("cover_share", 0.5, "share of a piece's points covered for it to join").range(0.01, 1),
-        ParamSpec::real("max_extent", 3.0, "longest footprint side of a joined object").range(0.1, 50).unit("m"),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

@@ -3,35 +3,27 @@
 #include "completion.hpp"
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 namespace lista::seg {
 namespace {
 
+// The completion's settings; leak_growth and pair_order name its switches.
+struct CompleteStageConfig : CompletionConfig {
+  std::string leak_growth = "own_box";
+  std::string pair_order = "centroid";
+};
+
+const ParamTable<CompleteStageConfig>& param_table();
+
 class CompleteStage : public Stage {
  public:
   explicit CompleteStage(const Params& p) {
-    c_.voxel = p.get<double>("voxel");
-    c_.pair_gap = p.get<double>("pair_gap");
-    c_.box_margin = p.get<double>("box_margin");
-    c_.floor_clearance = p.get<double>("floor_clearance");
-    c_.floor_percentile = p.get<double>("floor_percentile");
-    c_.shape_tolerance = p.get<double>("shape_tolerance");
-    c_.shape_slack = p.get<double>("shape_slack");
-    c_.max_leak = p.get<double>("max_leak");
-    c_.pair_retry = p.get<bool>("pair_retry");
-    c_.centroid_order = p.get<std::string>("pair_order") == "centroid";
-    c_.join_fragments = p.get<bool>("join_fragments");
-    c_.still_check = p.get<bool>("still_check");
-    c_.join_connected = p.get<bool>("join_connected");
-    c_.self_complete = p.get<bool>("self_complete");
-    c_.leak_own_box = p.get<std::string>("leak_growth") == "own_box";
-    c_.static_check = p.get<bool>("static_check");
-    c_.static_share = p.get<double>("static_share");
-    c_.nested_share = p.get<double>("nested_share");
-    c_.floor_share = p.get<double>("floor_share");
-    c_.thin_height = p.get<double>("thin_height");
-    c_.thin_surface_sides = p.get<int>("thin_surface_sides");
+    const CompleteStageConfig c = param_table().read(p);
+    c_ = c;
+    c_.centroid_order = c.pair_order == "centroid";
+    c_.leak_own_box = c.leak_growth == "own_box";
   }
 
   static StageInfo info() {
@@ -88,69 +80,7 @@ class CompleteStage : public Stage {
     i.inputs = {{"objects", "objects", "per-mission change clusters"},
                 {"missions", "missions", "the aligned missions the clusters came from"}};
     i.outputs = {{"objects", "objects", "clusters, completed where a pair agreed"}};
-    // A share of points: a fraction in [0, 1].
-    auto share = [](const char* name, double value, const char* doc) {
-      return ParamSpec::real(name, value, doc).range(0, 1);
-    };
-    i.params = {
-        ParamSpec::real("voxel", 0.1, "connectivity grid of the growth").range(0.01, 1).unit("m"),
-        ParamSpec::real("pair_gap", 1.0, "largest box-to-box gap of a pair").range(0, 10).unit("m"),
-        ParamSpec::real("box_margin", 0.15, "growth region: union box of the pair grown by this").range(0, 2).unit("m"),
-        ParamSpec::real("floor_clearance", 0.02, "least height above the local floor of an added point (4 sigma of the floor's noise if more)").range(0, 1).unit("m"),
-        ParamSpec::real("floor_percentile", 0.1, "of the per-cell lowest points, the local floor").range(0, 1),
-        ParamSpec::real("shape_tolerance", 0.25, "relative disagreement of the pair's extents allowed").range(0, 2),
-        ParamSpec::real("shape_slack", 0.15, "absolute disagreement of the pair's extents allowed").range(0, 2).unit("m"),
-        ParamSpec::text("leak_growth", "own_box",
-                        "what a growth that leaks out of its region (the object touches a wall or furniture) keeps: "
-                        "own_box = a self-completion what it reaches inside the object's own box, and its base; a "
-                        "short-move pair what it reaches inside the union of its two boxes (shapes must agree); "
-                        "base = a self-completion only the base below its lowest part, a pair nothing")
-            .one_of({"own_box", "base"}),
-        ParamSpec::boolean("self_complete", true, "also complete every object inside its own box grown by box_margin (its base, mostly)"),
-        ParamSpec::boolean("static_check", true,
-                           "self-completion leaves out points every neighbouring mission also holds (see static_share)"),
-        share("static_share", 0.8,
-              "share of a self-completion held unchanged by every neighbouring mission from which on those points "
-              "are left out; also the share that makes a thin object an unchanged surface (thin_height), and 1 - it "
-              "the most of join_connected's connecting points that may be held there"),
-        share("nested_share", 0.5,
-              "share of an object's points inside the box of a larger object of its mission from which "
-              "it joins that object (a fragment of it); 0 = never"),
-        share("floor_share", 0.9,
-              "share of an object's points within the floor clearance from which it is the floor "
-              "itself and dropped; 0 = never"),
-        ParamSpec::real("thin_height", 0.05,
-                        "objects thinner than this whose voxels every neighbouring mission also holds (see "
-                        "static_share) are unchanged horizontal surfaces and dropped; 0 = never")
-            .range(0, 1)
-            .unit("m"),
-        ParamSpec::integer("thin_surface_sides", 3,
-                           "a thin object (thin_height) whose own mission continues its surface on at least this many "
-                           "of its four sides is a patch of an unchanged surface and dropped; 0 = never")
-            .range(0, 4),
-        ParamSpec::boolean("pair_retry", true,
-                           "a pair whose growth is refused (leak or shapes) frees both objects for their next-nearest "
-                           "candidates; false = each object is offered its nearest candidate only"),
-        ParamSpec::text("pair_order", "centroid",
-                        "order in which candidate pairs are tried: by box gap in whole voxels (a gap under one "
-                        "voxel touches the growth as an overlap does), then by the horizontal distance of their "
-                        "centroids (centroid); or by gap, then object id (gap)")
-            .one_of({"centroid", "gap"}),
-        ParamSpec::boolean("join_fragments", true,
-                           "a pair's growth that reaches other objects of its own mission (within one voxel) that no "
-                           "completed pair holds grows again with them joined; kept, and they are joined into the "
-                           "pair's object, if the shapes then agree (a turned short move leaves slivers at both ends)"),
-        ParamSpec::boolean("still_check", true,
-                           "refuse a pair whose two grown objects fit best where they stand: registered onto each "
-                           "other, the pose moves them under 5 cm and 5 degrees, or they fit better unmoved than at "
-                           "that pose (a cabinet between a box taken away and a barrel put down is no short move); "
-                           "false = segment.complete before 1.6.0"),
-        ParamSpec::boolean("join_connected", true,
-                           "two objects of one mission that no completed pair holds are joined when a growth from one "
-                           "reaches the other over points mostly not held by the neighbouring missions (a table's "
-                           "legs without its top)"),
-        ParamSpec::real("max_leak", 0.1, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1),
-    };
+    i.params = param_table().specs();
     return i;
   }
 
@@ -190,6 +120,75 @@ class CompleteStage : public Stage {
  private:
   CompletionConfig c_;
 };
+
+const ParamTable<CompleteStageConfig>& param_table() {
+  using C = CompleteStageConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("voxel", &C::voxel, "connectivity grid of the growth").range(0.01, 1).unit("m");
+    t.bind("pair_gap", &C::pair_gap, "largest box-to-box gap of a pair").range(0, 10).unit("m");
+    t.bind("box_margin", &C::box_margin, "growth region: union box of the pair grown by this").range(0, 2).unit("m");
+    t.bind("floor_clearance", &C::floor_clearance, "least height above the local floor of an added point (4 sigma of the floor's noise if more)").range(0, 1).unit("m");
+    t.bind("floor_percentile", &C::floor_percentile, "of the per-cell lowest points, the local floor").range(0, 1);
+    t.bind("shape_tolerance", &C::shape_tolerance, "relative disagreement of the pair's extents allowed").range(0, 2);
+    t.bind("shape_slack", &C::shape_slack, "absolute disagreement of the pair's extents allowed").range(0, 2).unit("m");
+    t.bind("leak_growth", &C::leak_growth,
+           "what a growth that leaks out of its region (the object touches a wall or furniture) keeps: "
+           "own_box = a self-completion what it reaches inside the object's own box, and its base; a "
+           "short-move pair what it reaches inside the union of its two boxes (shapes must agree); "
+           "base = a self-completion only the base below its lowest part, a pair nothing")
+        .one_of({"own_box", "base"});
+    t.bind("self_complete", &C::self_complete, "also complete every object inside its own box grown by box_margin (its base, mostly)");
+    t.bind("static_check", &C::static_check,
+           "self-completion leaves out points every neighbouring mission also holds (see static_share)");
+    // Shares of points: fractions in [0, 1].
+    t.bind("static_share", &C::static_share,
+           "share of a self-completion held unchanged by every neighbouring mission from which on those points "
+           "are left out; also the share that makes a thin object an unchanged surface (thin_height), and 1 - it "
+           "the most of join_connected's connecting points that may be held there")
+        .range(0, 1);
+    t.bind("nested_share", &C::nested_share,
+           "share of an object's points inside the box of a larger object of its mission from which "
+           "it joins that object (a fragment of it); 0 = never")
+        .range(0, 1);
+    t.bind("floor_share", &C::floor_share,
+           "share of an object's points within the floor clearance from which it is the floor "
+           "itself and dropped; 0 = never")
+        .range(0, 1);
+    t.bind("thin_height", &C::thin_height,
+           "objects thinner than this whose voxels every neighbouring mission also holds (see "
+           "static_share) are unchanged horizontal surfaces and dropped; 0 = never")
+        .range(0, 1)
+        .unit("m");
+    t.bind("thin_surface_sides", &C::thin_surface_sides,
+           "a thin object (thin_height) whose own mission continues its surface on at least this many "
+           "of its four sides is a patch of an unchanged surface and dropped; 0 = never")
+        .range(0, 4);
+    t.bind("pair_retry", &C::pair_retry,
+           "a pair whose growth is refused (leak or shapes) frees both objects for their next-nearest "
+           "candidates; false = each object is offered its nearest candidate only");
+    t.bind("pair_order", &C::pair_order,
+           "order in which candidate pairs are tried: by box gap in whole voxels (a gap under one "
+           "voxel touches the growth as an overlap does), then by the horizontal distance of their "
+           "centroids (centroid); or by gap, then object id (gap)")
+        .one_of({"centroid", "gap"});
+    t.bind("join_fragments", &C::join_fragments,
+           "a pair's growth that reaches other objects of its own mission (within one voxel) that no "
+           "completed pair holds grows again with them joined; kept, and they are joined into the "
+           "pair's object, if the shapes then agree (a turned short move leaves slivers at both ends)");
+    t.bind("still_check", &C::still_check,
+           "refuse a pair whose two grown objects fit best where they stand: registered onto each "
+           "other, the pose moves them under 5 cm and 5 degrees, or they fit better unmoved than at "
+           "that pose (a cabinet between a box taken away and a barrel put down is no short move)");
+    t.bind("join_connected", &C::join_connected,
+           "two objects of one mission that no completed pair holds are joined when a growth from one "
+           "reaches the other over points mostly not held by the neighbouring missions (a table's "
+           "legs without its top)");
+    t.bind("max_leak", &C::max_leak, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1);
+    return t;
+  }();
+  return table;
+}
 
 void register_stages(Registrar& r) {
   r.add(CompleteStage::info(), [](const Params& p) { return std::make_unique<CompleteStage>(p); });

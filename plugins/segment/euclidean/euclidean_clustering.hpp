@@ -10,8 +10,8 @@ namespace lista::seg {
 
 struct EuclideanClusterConfig {
   double tolerance = 0.1;  // joining distance, m
-  size_t min_points = 1;
-  size_t max_points = SIZE_MAX;
+  size_t min_points = 20;
+  size_t max_points = 5000000;
 };
 
 // Clusters as sorted point indices, ordered by their first index.

@@ -3,17 +3,27 @@
 #include <lista_segmentation/mission_objects.hpp>
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 namespace lista::seg {
 namespace {
 
+const ParamTable<EuclideanClusterConfig>& param_table() {
+  using C = EuclideanClusterConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("tolerance", &C::tolerance, "joining distance").range(0.005, 5.0).unit("m");
+    t.bind("min_points", &C::min_points, "smallest cluster kept").range(1, 2e9);
+    t.bind("max_points", &C::max_points, "largest cluster kept").range(1, 2e9);
+    return t;
+  }();
+  return table;
+}
+
 class EuclideanSegmentStage : public Stage {
  public:
-  explicit EuclideanSegmentStage(const Params& p) {
-    config_.tolerance = p.get<double>("tolerance");
-    config_.min_points = size_t(p.get<int64_t>("min_points"));
-    config_.max_points = size_t(p.get<int64_t>("max_points"));
+  explicit EuclideanSegmentStage(const Params& p) : config_(param_table().read(p)) {
     if (config_.max_points < config_.min_points) throw Error("max_points is below min_points");
   }
 
@@ -31,11 +41,7 @@ class EuclideanSegmentStage : public Stage {
         "docs/segmentation.md.";
     i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
     i.outputs = {{"objects", "objects", "one object per cluster per mission"}};
-    i.params = {
-        ParamSpec::real("tolerance", 0.1, "joining distance").range(0.005, 5.0).unit("m"),
-        ParamSpec::integer("min_points", 20, "smallest cluster kept").range(1, 2e9),
-        ParamSpec::integer("max_points", 5000000, "largest cluster kept").range(1, 2e9),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

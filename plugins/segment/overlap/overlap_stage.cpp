@@ -3,20 +3,29 @@
 #include "overlap_rule.hpp"
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 namespace lista::seg {
 namespace {
 
+const ParamTable<OverlapConfig>& param_table() {
+  using C = OverlapConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("margin", &C::margin, "bounding boxes grown by this").range(0, 2).unit("m");
+    t.bind("merge_ratio", &C::merge_ratio, "share of a fragment inside the other mission's object").range(0.01, 1);
+    t.bind("merge_gap", &C::merge_gap, "largest box-to-box gap between fragments").range(0, 5).unit("m");
+    t.bind("split_ratio", &C::split_ratio, "share of each other-mission object inside the composite").range(0.01, 1);
+    t.bind("min_points", &C::min_points, "smallest part of a split").range(1, 1e9);
+    return t;
+  }();
+  return table;
+}
+
 class OverlapStage : public Stage {
  public:
-  explicit OverlapStage(const Params& p) {
-    c_.margin = p.get<double>("margin");
-    c_.merge_ratio = p.get<double>("merge_ratio");
-    c_.merge_gap = p.get<double>("merge_gap");
-    c_.split_ratio = p.get<double>("split_ratio");
-    c_.min_points = size_t(p.get<int64_t>("min_points"));
-  }
+  explicit OverlapStage(const Params& p) : c_(param_table().read(p)) {}
 
   static StageInfo info() {
     StageInfo i;
@@ -36,13 +45,7 @@ class OverlapStage : public Stage {
         "the largest part. Ids are renumbered 0..n-1.";
     i.inputs = {{"objects", "objects", "per-mission change clusters"}};
     i.outputs = {{"objects", "objects", "clusters after merge and split"}};
-    i.params = {
-        ParamSpec::real("margin", 0.05, "bounding boxes grown by this").range(0, 2).unit("m"),
-        ParamSpec::real("merge_ratio", 0.5, "share of a fragment inside the other mission's object").range(0.01, 1),
-        ParamSpec::real("merge_gap", 0.3, "largest box-to-box gap between fragments").range(0, 5).unit("m"),
-        ParamSpec::real("split_ratio", 0.5, "share of each other-mission object inside the composite").range(0.01, 1),
-        ParamSpec::integer("min_points", 20, "smallest part of a split").range(1, 1e9),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

@@ -17,8 +17,8 @@ struct RegionGrowingConfig {
   int neighbours = 16;           // k for region growing
   double smoothness_deg = 30.0;  // largest normal change between neighbours
   double curvature = 0.05;       // growth continues only from flatter points (1 = no limit)
-  size_t min_points = 1;
-  size_t max_points = SIZE_MAX;
+  size_t min_points = 20;
+  size_t max_points = 5000000;
 };
 
 // Clusters as sorted point indices, ordered by their first index.

@@ -3,20 +3,30 @@
 #include "region_growing.hpp"
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 namespace lista::seg {
 namespace {
 
+const ParamTable<RegionGrowingConfig>& param_table() {
+  using C = RegionGrowingConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("normal_neighbours", &C::normal_neighbours, "k nearest points for each normal").range(3, 500);
+    t.bind("neighbours", &C::neighbours, "k nearest points tested while growing").range(3, 500);
+    t.bind("smoothness", &C::smoothness_deg, "largest normal angle between neighbours").range(0.1, 180).unit("deg");
+    t.bind("curvature", &C::curvature, "growth continues only from points flatter than this (1 = any)").range(0, 1);
+    t.bind("min_points", &C::min_points, "smallest region kept").range(1, 2e9);
+    t.bind("max_points", &C::max_points, "largest region kept").range(1, 2e9);
+    return t;
+  }();
+  return table;
+}
+
 class RegionGrowingStage : public Stage {
  public:
-  explicit RegionGrowingStage(const Params& p) {
-    c_.normal_neighbours = p.get<int>("normal_neighbours");
-    c_.neighbours = p.get<int>("neighbours");
-    c_.smoothness_deg = p.get<double>("smoothness");
-    c_.curvature = p.get<double>("curvature");
-    c_.min_points = size_t(p.get<int64_t>("min_points"));
-    c_.max_points = size_t(p.get<int64_t>("max_points"));
+  explicit RegionGrowingStage(const Params& p) : c_(param_table().read(p)) {
     if (c_.max_points < c_.min_points) throw Error("max_points is below min_points");
   }
 
@@ -38,14 +48,7 @@ class RegionGrowingStage : public Stage {
         "objects. Missions run in parallel. docs/segmentation.md.";
     i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
     i.outputs = {{"objects", "objects", "one object per region per mission"}};
-    i.params = {
-        ParamSpec::integer("normal_neighbours", 16, "k nearest points for each normal").range(3, 500),
-        ParamSpec::integer("neighbours", 16, "k nearest points tested while growing").range(3, 500),
-        ParamSpec::real("smoothness", 30.0, "largest normal angle between neighbours").range(0.1, 180).unit("deg"),
-        ParamSpec::real("curvature", 0.05, "growth continues only from points flatter than this (1 = any)").range(0, 1),
-        ParamSpec::integer("min_points", 20, "smallest region kept").range(1, 2e9),
-        ParamSpec::integer("max_points", 5000000, "largest region kept").range(1, 2e9),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

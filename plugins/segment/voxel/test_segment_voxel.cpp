@@ -26,6 +26,7 @@ TEST(SegmentVoxel, VoxelModeJoinsWhatExactModeSplits) {
   // Two points 0.15 apart in adjacent voxels: voxel mode joins, exact does not.
   std::vector<Eigen::Vector3f> xyz = {{0.05f, 0.05f, 0.05f}, {0.18f, 0.05f, 0.05f}};
   VoxelClusterConfig c;
+  c.min_points = 1;
   EXPECT_EQ(cluster_voxels(xyz, c).size(), 1u);
   c.exact = true;
   EXPECT_EQ(cluster_voxels(xyz, c).size(), 2u);
@@ -39,6 +40,7 @@ TEST(SegmentVoxel, MinAndMaxClusterSize) {
   add_blob(s, {6, 0, 0}, 0.5f, 2000, rng); // large
   VoxelClusterConfig c;
   c.tolerance = 0.2;
+  c.min_points = 1;
   EXPECT_EQ(cluster_voxels(s.xyz, c).size(), 3u);
   c.min_points = 10;
   c.max_points = 1000;

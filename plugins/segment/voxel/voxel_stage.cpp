@@ -4,18 +4,37 @@
 #include <lista_segmentation/voxel_clustering.hpp>
 
 #include <lista/data.hpp>
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 namespace lista::seg {
 namespace {
 
+// The clustering's settings; connectivity names its `exact` switch.
+struct VoxelStageConfig : VoxelClusterConfig {
+  std::string connectivity = "voxel";
+};
+
+const ParamTable<VoxelStageConfig>& param_table() {
+  using C = VoxelStageConfig;
+  static const ParamTable<C> table = [] {
+    ParamTable<C> t;
+    t.bind("tolerance", &C::tolerance, "voxel edge and joining distance").range(0.005, 5.0).unit("m");
+    t.bind("connectivity", &C::connectivity, "join touching voxels, or points within tolerance")
+        .one_of({"voxel", "exact"});
+    t.bind("min_points", &C::min_points, "smallest cluster kept").range(1, 1e9);
+    t.bind("max_points", &C::max_points, "largest cluster kept").range(1, 1e12);
+    return t;
+  }();
+  return table;
+}
+
 class VoxelSegmentStage : public Stage {
  public:
   explicit VoxelSegmentStage(const Params& p) {
-    config_.tolerance = p.get<double>("tolerance");
-    config_.exact = p.get<std::string>("connectivity") == "exact";
-    config_.min_points = size_t(p.get<int64_t>("min_points"));
-    config_.max_points = size_t(p.get<int64_t>("max_points"));
+    const VoxelStageConfig c = param_table().read(p);
+    config_ = c;
+    config_.exact = c.connectivity == "exact";
     if (config_.max_points < config_.min_points)
       throw Error("max_points (" + std::to_string(config_.max_points) + ") is below min_points (" +
                   std::to_string(config_.min_points) + ")");
@@ -36,13 +55,7 @@ class VoxelSegmentStage : public Stage {
         "mission are dynamics, not objects. Missions run in parallel. docs/segmentation.md.";
     i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
     i.outputs = {{"objects", "objects", "one object per cluster per mission"}};
-    i.params = {
-        ParamSpec::real("tolerance", 0.1, "voxel edge and joining distance").range(0.005, 5.0).unit("m"),
-        ParamSpec::text("connectivity", "voxel", "join touching voxels, or points within tolerance")
-            .one_of({"voxel", "exact"}),
-        ParamSpec::integer("min_points", 20, "smallest cluster kept").range(1, 1e9),
-        ParamSpec::integer("max_points", 5000000, "largest cluster kept").range(1, 1e12),
-    };
+    i.params = param_table().specs();
     return i;
   }
 

@@ -63,11 +63,11 @@ struct IcpConfig {
   double distinct_degrees = 10.0;     // a tying pose turned at least this far from the winner is an alternative
   double distinct_metres = 0.1;       // ... or shifted at least this far (at the source centroid)
   bool list_alternatives = true;      // false: no alternatives sought (their scoring costs; a fit check needs none)
-  int max_points = 0;                 // the coarse pass (every hypothesis) iterates on at most this many
+  int max_points = 2000;              // the coarse pass (every hypothesis) iterates on at most this many
                                       // source points (strided); 0 = all
-  int fine_max_points = -1;           // the fine pass on the few best: at most this many, never fewer
+  int fine_max_points = 8000;         // the fine pass on the few best: at most this many, never fewer
                                       // than max_points; 0 = all, < 0 = as max_points
-  int max_score_points = 0;           // scores query at most this many points each way (strided; the
+  int max_score_points = 10000;       // scores query at most this many points each way (strided; the
                                       // searched cloud stays whole); 0 = all
   // Poses (source onto target) the caller can accept, e.g. upright for two
   // objects standing on floors. When set, the best admissible pose wins

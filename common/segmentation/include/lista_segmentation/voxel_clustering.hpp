@@ -18,8 +18,8 @@ namespace lista::seg {
 struct VoxelClusterConfig {
   double tolerance = 0.1;        // voxel edge and joining distance, m
   bool exact = false;            // exact point distances instead of voxel adjacency
-  size_t min_points = 1;         // smaller clusters are dropped
-  size_t max_points = SIZE_MAX;  // larger clusters are dropped
+  size_t min_points = 20;        // smaller clusters are dropped
+  size_t max_points = 5000000;   // larger clusters are dropped
 };
 
 // Clusters as sorted point indices, ordered by their first index.
