@@ -7,6 +7,7 @@
 // or moves. Extents are trimmed ranges of the points projected on each axis,
 // spreads their standard deviations, w = height_weight. Rows are L2-normalised,
 // so the row describes proportions, not absolute size.
+#include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
 #include <Eigen/Eigenvalues>
@@ -39,12 +40,30 @@ double standard_deviation(const std::vector<double>& values) {
   return std::sqrt(square / double(values.size()));
 }
 
+// The stage's settings; each is declared once, bound to its field, in
+// param_table() (its default is the field's).
+struct ExtentConfig {
+  double height_weight = 1.0;
+  double trim = 0.02;
+};
+
+const ParamTable<ExtentConfig>& param_table() {
+  static const ParamTable<ExtentConfig> table = [] {
+    ParamTable<ExtentConfig> t;
+    t.bind("height_weight", &ExtentConfig::height_weight, "weight of the vertical features against the horizontal ones")
+        .range(0.0, 10.0);
+    t.bind("trim", &ExtentConfig::trim, "fraction of points ignored at each end of an axis when measuring extents")
+        .range(0.0, 0.25);
+    return t;
+  }();
+  return table;
+}
+
 class ExtentStage : public Stage {
  public:
   // Parameters arrive validated (type and range checked by the core against
-  // info() below), so the constructor only reads them.
-  explicit ExtentStage(const Params& p)
-      : height_weight_(p.get<double>("height_weight")), trim_(p.get<double>("trim")) {}
+  // the declarations), so the constructor only reads them.
+  explicit ExtentStage(const Params& p) : config_(param_table().read(p)) {}
 
   static StageInfo info() {
     StageInfo i;
@@ -61,12 +80,7 @@ class ExtentStage : public Stage {
     // into a pipeline in place of any of them.
     i.inputs = {{"objects", "objects", "objects to describe"}};
     i.outputs = {{"descriptors", "descriptors", "one unit-norm 6-d row per object"}};
-    i.params = {
-        ParamSpec::real("height_weight", 1.0, "weight of the vertical features against the horizontal ones")
-            .range(0.0, 10.0),
-        ParamSpec::real("trim", 0.02, "fraction of points ignored at each end of an axis when measuring extents")
-            .range(0.0, 0.25),
-    };
+    i.params = param_table().specs();
     return i;
   }
 
@@ -114,13 +128,13 @@ class ExtentStage : public Stage {
     const double spread_a = standard_deviation(a), spread_b = standard_deviation(b), spread_z = standard_deviation(z);
     // Sorted, so a near-circular footprint (eigenvectors ill-defined) still
     // gives major >= minor whichever axes the solver returned.
-    double extent_a = trimmed_range(a, trim_), extent_b = trimmed_range(b, trim_);
+    double extent_a = trimmed_range(a, config_.trim), extent_b = trimmed_range(b, config_.trim);
     if (extent_b > extent_a) std::swap(extent_a, extent_b);
-    const double height = trimmed_range(z, trim_);
+    const double height = trimmed_range(z, config_.trim);
 
     Eigen::Matrix<double, 1, kDim> row;
-    row << extent_a, extent_b, height_weight_ * height, std::max(spread_a, spread_b),
-        std::min(spread_a, spread_b), height_weight_ * spread_z;
+    row << extent_a, extent_b, config_.height_weight * height, std::max(spread_a, spread_b),
+        std::min(spread_a, spread_b), config_.height_weight * spread_z;
     const double norm = row.norm();
     // All points at one spot (or height_weight 0 on a single point): no shape
     // to describe; every such object gets the same uniform row.
@@ -128,7 +142,7 @@ class ExtentStage : public Stage {
     return (row / norm).cast<float>();
   }
 
-  double height_weight_, trim_;
+  ExtentConfig config_;
 };
 
 void register_stages(Registrar& r) {
