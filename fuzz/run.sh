@@ -32,7 +32,7 @@ for suite in test_core test_lista_io test_lista_ros2bag test_lista_bag test_cli_
   fi
 done
 for pair in pcd:pcd ply:ply bin:bin poses:poses report:report ground_truth:ground_truth pipeline:pipeline \
-            cdr:cdr mcap:mcap; do
+            cdr:cdr mcap:mcap ros1bag:ros1bag; do
   harness=fuzz_${pair%%:*}
   corpus="$WORK/${pair#*:}"
   mkdir -p "$corpus"

@@ -4,6 +4,7 @@
 #include <lista/error.hpp>
 #include <lista_bag/ros1.hpp>
 
+#include <console_bridge/console.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
@@ -13,7 +14,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <map>
+#include <set>
 
 namespace lista::bag {
 
@@ -61,11 +65,184 @@ Cloud from_ros(const sensor_msgs::PointCloud2& m, bool headers_only) {
   return c;
 }
 
+// rosbag trusts every length a file states (a record header of 2 GB is
+// allocated before it is found missing): the record structure is walked
+// first, its lengths checked against the file, and a chunk's stated
+// uncompressed size against what compression can give.
+class RecordWalk {
+ public:
+  explicit RecordWalk(const std::string& file) : file_(file), in_(file, std::ios::binary) {
+    if (!in_) throw Error(file + ": cannot be read");
+    in_.seekg(0, std::ios::end);
+    size_ = uint64_t(in_.tellg());
+  }
+
+  void check() {
+    static const char magic[] = "#ROSBAG V2.0\n";
+    std::string head(13, '\0');
+    in_.seekg(0);
+    in_.read(head.data(), 13);
+    if (!in_ || head != magic)
+      throw Error(file_ + ": not a ROS 1 bag (version 2.0); a ROS 2 bag is a folder with metadata.yaml");
+    for (uint64_t at = 13; at < size_;) {
+      starts_.insert(at);
+      at = record(at, size_);
+    }
+    // rosbag jumps to the index the bag header names, and to each chunk a
+    // chunk info names: both must be where a record begins.
+    if (index_pos_ != 0 && !starts_.count(index_pos_))
+      throw Error(file_ + ": the bag header's index position " + std::to_string(index_pos_) +
+                  " is not a record's start: a corrupt bag; try `rosbag reindex` on a copy");
+    for (uint64_t chunk : chunk_positions_)
+      if (!starts_.count(chunk))
+        throw Error(file_ + ": a chunk info names byte " + std::to_string(chunk) + ", not a record's start: a corrupt bag");
+  }
+
+ private:
+  uint32_t u32(uint64_t at) {
+    uint8_t b[4];
+    in_.seekg(std::streamoff(at));
+    in_.read(reinterpret_cast<char*>(b), 4);
+    if (!in_) throw truncated(at);
+    return uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
+  }
+  Error truncated(uint64_t at) const {
+    return Error(file_ + ": a record at byte " + std::to_string(at) + " runs past the end of the file (" +
+                 std::to_string(size_) + " bytes): a truncated or corrupt bag; try `rosbag reindex` on a copy");
+  }
+  // Walks the record at `at` (within [at, end)); returns where the next begins.
+  uint64_t record(uint64_t at, uint64_t end) {
+    if (at + 4 > end) throw truncated(at);
+    const uint64_t header_len = u32(at);
+    if (at + 4 + header_len + 4 > end) throw truncated(at);
+    uint8_t op = 0;
+    uint64_t chunk_size = 0, position = 0, count = 0;
+    std::string compression;
+    for (uint64_t f = at + 4; f < at + 4 + header_len;) {
+      const uint64_t field_len = u32(f);
+      if (f + 4 + field_len > at + 4 + header_len) throw truncated(f);
+      std::string field(size_t(field_len), '\0');
+      in_.read(field.data(), std::streamsize(field_len));
+      const size_t eq = field.find('=');
+      const std::string name = field.substr(0, eq), value = eq == std::string::npos ? "" : field.substr(eq + 1);
+      if (name == "op" && value.size() == 1) op = uint8_t(value[0]);
+      if (name == "size" && value.size() == 4) {
+        chunk_size = 0;
+        for (int k = 3; k >= 0; --k) chunk_size = chunk_size << 8 | uint8_t(value[size_t(k)]);
+      }
+      if (name == "compression") compression = value;
+      if (name == "count" && value.size() == 4)
+        for (int k = 3; k >= 0; --k) count = count << 8 | uint8_t(value[size_t(k)]);
+      if ((name == "index_pos" || name == "chunk_pos") && value.size() == 8)
+        for (int k = 7; k >= 0; --k) position = position << 8 | uint8_t(value[size_t(k)]);
+      f += 4 + field_len;
+    }
+    if (op == 0x03 && end == size_) index_pos_ = position;  // the bag header
+    if (op == 0x06 && end == size_) chunk_positions_.push_back(position);  // a chunk info
+    const uint64_t data_at = at + 4 + header_len + 4, data_len = u32(at + 4 + header_len);
+    if (data_at + data_len > end) throw truncated(at);
+    if (op == 0x07)  // a connection: its data is a header of fields too
+      for (uint64_t f = data_at; f < data_at + data_len;) {
+        const uint64_t field_len = u32(f);
+        if (f + 4 + field_len > data_at + data_len) throw truncated(f);
+        f += 4 + field_len;
+      }
+    if (op == 0x05) {  // a chunk
+      if (compression == "none" && chunk_size != data_len)
+        throw Error(file_ + ": the chunk at byte " + std::to_string(at) + " states " + std::to_string(chunk_size) +
+                    " bytes but holds " + std::to_string(data_len) + ": a corrupt bag");
+      if (chunk_size > (uint64_t(1) << 30) || chunk_size > 1000 * data_len + (1 << 20))
+        throw Error(file_ + ": the chunk at byte " + std::to_string(at) + " states " + std::to_string(chunk_size) +
+                    " bytes uncompressed from " + std::to_string(data_len) + ": a corrupt bag");
+      chunk_size_ = chunk_size;
+      chunk_starts_.clear();
+      chunk_walked_ = compression == "none";
+      if (chunk_walked_)
+        for (uint64_t inner = data_at; inner < data_at + data_len;) {
+          chunk_starts_.insert(inner - data_at);
+          inner = record(inner, data_at + data_len);
+        }
+    }
+    if (op == 0x04 && end == size_) {  // a chunk's index: (time, offset) of each message in it
+      if (data_len != 12 * count) throw Error(file_ + ": the index at byte " + std::to_string(at) + " is corrupt");
+      for (uint64_t e = 0; e < count; ++e) {
+        const uint64_t offset = u32(data_at + 12 * e + 8);
+        if (offset + 8 > chunk_size_ || (chunk_walked_ && !chunk_starts_.count(offset)))
+          throw Error(file_ + ": the index at byte " + std::to_string(at) + " points outside its chunk's records: a corrupt bag");
+      }
+    }
+    return data_at + data_len;
+  }
+
+  std::string file_;
+  std::ifstream in_;
+  uint64_t size_ = 0, index_pos_ = 0;
+  std::set<uint64_t> starts_;              // where top-level records begin
+  uint64_t chunk_size_ = 0;                // the last chunk's uncompressed size,
+  bool chunk_walked_ = false;              // and, when stored plain, where its
+  std::set<uint64_t> chunk_starts_;        // records begin (offsets in it)
+  std::vector<uint64_t> chunk_positions_;  // named by chunk infos
+};
+
+// ros::serialization sizes a vector by the count it reads before reading
+// its elements: a corrupt count allocates gigabytes. The two message types
+// with variable-size arrays have their counts checked against the bytes the
+// message holds first (an element takes at least `smallest` bytes).
+class CountCheck {
+ public:
+  CountCheck(const rosbag::MessageInstance& m, const std::string& where) : where_(where), bytes_(m.size()) {
+    ros::serialization::OStream out(bytes_.data(), uint32_t(bytes_.size()));
+    m.write(out);
+  }
+  void tf_message() {
+    at_ = 0;
+    count(4 + 8 + 4 + 4 + 56);  // TransformStamped: header, child frame, transform
+  }
+  void point_cloud() {
+    at_ = 0;
+    skip(4 + 8), text();  // header: seq, stamp, frame_id
+    skip(8);              // height, width
+    const uint32_t fields = count(4 + 4 + 1 + 4);
+    for (uint32_t k = 0; k < fields; ++k) text(), skip(9);
+    skip(1 + 4 + 4);  // is_bigendian, point_step, row_step
+    count(1);         // data
+  }
+
+ private:
+  uint32_t u32() {
+    if (at_ + 4 > bytes_.size()) throw Error(where_ + ": a message shorter than its fields (a corrupt bag)");
+    uint32_t v = 0;
+    std::memcpy(&v, bytes_.data() + at_, 4);
+    at_ += 4;
+    return v;
+  }
+  void skip(size_t n) {
+    if (at_ + n > bytes_.size()) throw Error(where_ + ": a message shorter than its fields (a corrupt bag)");
+    at_ += n;
+  }
+  void text() { skip(u32()); }
+  uint32_t count(size_t smallest) {
+    const uint32_t n = u32();
+    if (uint64_t(n) * smallest > bytes_.size() - at_)
+      throw Error(where_ + ": a message states " + std::to_string(n) + " elements in " + std::to_string(bytes_.size()) +
+                  " bytes (a corrupt bag)");
+    return n;
+  }
+
+  std::string where_;
+  std::vector<uint8_t> bytes_;
+  size_t at_ = 0;
+};
+
 class Ros1Reader : public Reader {
  public:
   explicit Ros1Reader(const std::vector<std::string>& files) : files_(files) {
     if (files_.empty()) throw Error("no .bag file to read");
+    // rosbag and cpp_common print their complaints through console_bridge;
+    // the reader says what is wrong itself, in one line.
+    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
     for (const auto& f : files_) {
+      RecordWalk(f).check();
       auto bag = std::make_unique<rosbag::Bag>();
       guarded(f, [&] { bag->open(f, rosbag::bagmode::Read); });
       bags_.push_back(std::move(bag));
@@ -104,8 +281,10 @@ class Ros1Reader : public Reader {
         const std::string& topic = m.getTopic();
         const MessageKind kind = kinds.at(topic);
         if (kind == MessageKind::point_cloud && visitor.cloud) {
+          CountCheck(m, path() + ": topic " + topic).point_cloud();
           visitor.cloud(topic, from_ros(*must<sensor_msgs::PointCloud2>(m), clouds_headers_only));
         } else if ((kind == MessageKind::tf || kind == MessageKind::tf_static) && visitor.tf) {
+          CountCheck(m, path() + ": topic " + topic).tf_message();
           const auto msg = must<tf2_msgs::TFMessage>(m);
           std::vector<FrameTransform> out;
           for (const auto& t : msg->transforms) {

@@ -285,3 +285,22 @@ TEST(BagMission, SeveralBagFilesAreReadAsOneRecording) {
   expect_near(m.scans[4].pose, base_at(2) * kMount, "a cloud of the second file, placed by the first's tf");
   EXPECT_FLOAT_EQ(m.scans[3].points->xyz[0].x(), 1.5f);
 }
+
+// A record length past the file's end (found by fuzz_ros1bag: rosbag
+// allocated the 2 GB it stated before finding it missing) is an error
+// naming the byte, before rosbag reads anything.
+TEST(BagMission, ALengthPastTheFilesEndIsAnErrorNotAnAllocation) {
+  const auto dir = fresh_dir("corrupt_length");
+  {
+    auto w = create_ros1((dir / "a.bag").string());
+    write_tf(*w);
+    write_clouds(*w);
+    w->close();
+  }
+  std::fstream f(dir / "a.bag", std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(13);  // the bag header record's header length, after "#ROSBAG V2.0\n"
+  const char huge[4] = {0, 0, 0, char(0x80)};
+  f.write(huge, 4);
+  f.close();
+  expect_error([&] { read(dir); }, "a.bag: a record at byte 13 runs past the end of the file");
+}
