@@ -25,36 +25,10 @@ namespace lista::bag {
 
 namespace {
 
-std::vector<std::string> files_ending(const fs::path& dir, const std::string& ending) {
-  std::vector<std::string> out;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    std::string ext = e.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (e.is_regular_file() && ext == ending && e.path().filename().string().front() != '.') out.push_back(e.path().string());
-  }
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
 std::unique_ptr<Reader> open_mission_bags(const fs::path& dir) {
-  const std::vector<std::string> ros1 = files_ending(dir, ".bag");
-  std::vector<std::string> ros2 = files_ending(dir, ".db3");
-  for (const auto& f : files_ending(dir, ".mcap")) ros2.push_back(f);
-  const bool ros2_here = fs::exists(dir / "metadata.yaml") || !ros2.empty();
-  if (!ros1.empty()) {
-    if (ros2_here)
-      throw Error(dir.string() + ": holds both ROS 1 .bag files and a ROS 2 bag; keep one recording per mission folder");
-    return open_ros1(ros1);
-  }
-  if (ros2_here) {
-    if (fs::exists(dir / "metadata.yaml")) return open_ros2(dir.string());
-    if (ros2.size() != 1)
-      throw Error(dir.string() + ": " + std::to_string(ros2.size()) + " ROS 2 storage files and no metadata.yaml; " +
-                  "keep the bag's metadata.yaml beside them, or one file per mission");
-    return open_ros2(ros2[0]);
-  }
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_directory() && is_ros2_bag(e.path().string())) return open_ros2(e.path().string());
+  const io::BagRecording r = io::bag_recording(dir.string());
+  if (!r.ros1_files.empty()) return open_ros1(r.ros1_files);
+  if (!r.ros2.empty()) return open_ros2(r.ros2);
   throw Error(dir.string() + ": no .bag file and no ROS 2 bag");
 }
 

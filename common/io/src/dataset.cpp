@@ -63,21 +63,32 @@ std::vector<std::string> files_in(const fs::path& dir, bool pcd_only, bool listi
   return out;
 }
 
-bool has_file_ending(const fs::path& dir, const std::vector<std::string>& endings) {
+// Regular, not hidden, files of `dir` whose extension (any case) is one of
+// `endings`, sorted.
+std::vector<std::string> files_ending(const fs::path& dir, const std::vector<std::string>& endings) {
+  std::vector<std::string> out;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     std::error_code type_ec;
-    if (!it->is_regular_file(type_ec)) continue;
+    if (!it->is_regular_file(type_ec) || it->path().filename().string().front() == '.') continue;
     std::string ext = it->path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (std::find(endings.begin(), endings.end(), ext) != endings.end()) return true;
+    if (std::find(endings.begin(), endings.end(), ext) != endings.end()) out.push_back(it->path().string());
   }
-  return false;
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
-bool is_ros2_bag_dir(const fs::path& dir) {
+// The ROS 2 bag `dir` is ("" when none): itself when it holds metadata.yaml,
+// else its one storage file.
+std::string ros2_bag_in(const fs::path& dir) {
   std::error_code ec;
-  return fs::is_regular_file(dir / "metadata.yaml", ec) || has_file_ending(dir, {".db3", ".mcap"});
+  if (fs::is_regular_file(dir / "metadata.yaml", ec)) return dir.string();
+  const std::vector<std::string> storage = files_ending(dir, {".db3", ".mcap"});
+  if (storage.size() > 1)
+    throw Error(dir.string() + ": " + std::to_string(storage.size()) + " ROS 2 storage files and no metadata.yaml; " +
+                "keep the bag's metadata.yaml beside them, or one file per mission");
+  return storage.empty() ? std::string() : storage[0];
 }
 
 bool is_mission_dir(const fs::path& dir) {
@@ -102,19 +113,26 @@ auto with_plain_fs_errors(F&& f) -> decltype(f()) {
 
 }  // namespace
 
-bool is_bag_mission(const std::string& mission_dir) {
+BagRecording bag_recording(const std::string& mission_dir) {
   const fs::path dir(mission_dir);
-  if (has_file_ending(dir, {".bag"}) || is_ros2_bag_dir(dir)) return true;
+  BagRecording r;
+  r.ros1_files = files_ending(dir, {".bag"});
+  r.ros2 = ros2_bag_in(dir);
+  if (!r.ros1_files.empty() && !r.ros2.empty())
+    throw Error(mission_dir + ": holds both ROS 1 .bag files and a ROS 2 bag; keep one recording per mission folder");
+  if (!r.empty()) return r;
+  // A ROS 2 bag folder as the mission's only subfolder (what `ros2 bag record` makes).
   std::error_code ec;
-  size_t folders = 0, bags = 0;
+  std::vector<fs::path> folders;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     std::error_code type_ec;
-    if (!it->is_directory(type_ec) || it->path().filename() == "scans") continue;
-    ++folders;
-    bags += is_ros2_bag_dir(it->path());
+    if (it->is_directory(type_ec) && it->path().filename() != "scans") folders.push_back(it->path());
   }
-  return folders == 1 && bags == 1;
+  if (folders.size() == 1 && fs::is_regular_file(folders[0] / "metadata.yaml", ec)) r.ros2 = folders[0].string();
+  return r;
 }
+
+bool is_bag_mission(const std::string& mission_dir) { return !bag_recording(mission_dir).empty(); }
 
 static std::vector<std::string> list_missions_unchecked(const std::string& dataset_dir) {
   const fs::path root(dataset_dir);

@@ -300,3 +300,29 @@ TEST(Dataset, OddEntriesAreErrorsNamingThem) {
   fs::create_symlink("scans", root / "G" / "scans");
   expect_error([&] { read_mission((root / "G").string()); }, "G/scans: cannot be read (Too many levels of symbolic links)");
 }
+
+// What a bag mission folder holds, decided in one place: its .bag files, a
+// ROS 2 bag folder (itself or its only subfolder), or one storage file; a
+// folder of both kinds, or of several storage files without metadata.yaml,
+// is an error; a folder of the data contract holds no recording.
+TEST(Dataset, ABagMissionsRecordingIsFoundInOnePlace) {
+  const auto root = temp_dir("bags");
+  for (const char* m : {"ros1", "ros2", "sub", "file", "both", "two", "plain"}) std::filesystem::create_directories(root / m);
+  write_text(root / "ros1" / "b.bag", ""), write_text(root / "ros1" / "a.bag", "");
+  write_text(root / "ros2" / "metadata.yaml", "");
+  std::filesystem::create_directories(root / "sub" / "rosbag2_1");
+  write_text(root / "sub" / "rosbag2_1" / "metadata.yaml", "");
+  write_text(root / "file" / "x.mcap", "");
+  write_text(root / "both" / "a.bag", ""), write_text(root / "both" / "x.db3", "");
+  write_text(root / "two" / "x.db3", ""), write_text(root / "two" / "y.db3", "");
+  write_text(root / "plain" / "poses.txt", "");
+  EXPECT_EQ(bag_recording((root / "ros1").string()).ros1_files,
+            (std::vector<std::string>{(root / "ros1" / "a.bag").string(), (root / "ros1" / "b.bag").string()}));
+  EXPECT_EQ(bag_recording((root / "ros2").string()).ros2, (root / "ros2").string());
+  EXPECT_EQ(bag_recording((root / "sub").string()).ros2, (root / "sub" / "rosbag2_1").string());
+  EXPECT_EQ(bag_recording((root / "file").string()).ros2, (root / "file" / "x.mcap").string());
+  expect_error([&] { bag_recording((root / "both").string()); }, "holds both ROS 1 .bag files and a ROS 2 bag");
+  expect_error([&] { bag_recording((root / "two").string()); }, "2 ROS 2 storage files and no metadata.yaml");
+  EXPECT_FALSE(is_bag_mission((root / "plain").string()));
+  EXPECT_TRUE(is_bag_mission((root / "sub").string()));
+}

@@ -225,13 +225,6 @@ void write_file_atomically(const std::string& file, const std::string& text) {
 }
 }  // namespace ros2
 
-bool is_ros2_bag(const std::string& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) return fs::is_regular_file(fs::path(path) / "metadata.yaml", ec);
-  const std::string ext = extension_of(path);
-  return fs::is_regular_file(path, ec) && (ext == ".db3" || ext == ".mcap");
-}
-
 std::unique_ptr<Reader> open_ros2(const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) return open_folder(path);

@@ -28,9 +28,19 @@ struct DatasetOptions {
   std::function<Mission(const std::string& mission_dir, const struct DatasetOptions& options)> read_bag_mission = nullptr;
 };
 
-// A mission recorded as ROS bags: a folder holding .bag files, or a ROS 2
-// bag (metadata.yaml, or .db3 / .mcap files), itself or as its only subfolder.
-bool is_bag_mission(const std::string& mission_dir);
+// The recording a mission folder holds, if it is a bag mission: its ROS 1
+// .bag files (sorted), or the ROS 2 bag to open: the folder itself or its
+// only subfolder when it holds metadata.yaml, or its one .db3 / .mcap file.
+// Both empty for a folder of the data contract. Throws lista::Error for a
+// folder holding both kinds, or several ROS 2 storage files without
+// metadata.yaml.
+struct BagRecording {
+  std::vector<std::string> ros1_files;
+  std::string ros2;
+  bool empty() const { return ros1_files.empty() && ros2.empty(); }
+};
+BagRecording bag_recording(const std::string& mission_dir);
+bool is_bag_mission(const std::string& mission_dir);  // !bag_recording(dir).empty()
 
 // A dense log: at least kDenseLogScans scans whose sensors lie under
 // kDenseLogStep apart at the median (a 10 Hz LiDAR at walking pace, or a

@@ -15,7 +15,6 @@ namespace lista::bag {
 // Throws lista::Error naming the path when it is neither or is unreadable.
 std::unique_ptr<Reader> open_ros2(const std::string& path);
 
-bool is_ros2_bag(const std::string& path);  // folder with metadata.yaml, or a .db3/.mcap file
 
 enum class Ros2Storage { sqlite3, mcap };
 
