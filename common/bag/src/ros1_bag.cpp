@@ -24,14 +24,9 @@ namespace lista::bag {
 namespace {
 
 Eigen::Isometry3d to_isometry(const geometry_msgs::Point& t, const geometry_msgs::Quaternion& q, const std::string& where) {
-  Eigen::Quaterniond r(q.w, q.x, q.y, q.z);
-  const double n = r.norm();
-  if (!std::isfinite(n) || n < 1e-6) throw Error(where + ": a rotation quaternion of zero length or not finite");
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(r.coeffs() / n).toRotationMatrix();
-  T.translation() = Eigen::Vector3d(t.x, t.y, t.z);
-  if (!T.matrix().allFinite()) throw Error(where + ": a translation that is not finite");
-  return T;
+  const auto T = rigid_transform(Eigen::Vector3d(t.x, t.y, t.z), q.x, q.y, q.z, q.w);
+  if (!T) throw Error(where + ": a pose whose rotation quaternion is zero or whose numbers are not finite");
+  return *T;
 }
 
 geometry_msgs::Point to_point(const Eigen::Vector3d& t) {

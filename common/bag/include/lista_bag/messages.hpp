@@ -5,9 +5,11 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +60,20 @@ struct TopicInfo {
   MessageKind kind = MessageKind::other;
   uint64_t messages = 0;
 };
+
+// A message's translation and rotation quaternion (x, y, z, w) as a rigid
+// transform, the quaternion normalised; nullopt when it cannot be (zero or
+// not finite) or the translation is not finite: malformed data, not a
+// rotation to guess. Every reader converts through this one.
+inline std::optional<Eigen::Isometry3d> rigid_transform(const Eigen::Vector3d& t, double qx, double qy, double qz, double qw) {
+  const Eigen::Quaterniond q(qw, qx, qy, qz);
+  const double norm = q.norm();
+  if (!std::isfinite(norm) || norm < 1e-9 || !t.allFinite()) return std::nullopt;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = q.normalized().toRotationMatrix();
+  T.translation() = t;
+  return T;
+}
 
 // The kind of a type name in either spelling ("nav_msgs/Odometry",
 // "nav_msgs/msg/Odometry"); tf_static is told apart by topic name, not type.

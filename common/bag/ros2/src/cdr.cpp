@@ -40,13 +40,9 @@ Eigen::Isometry3d read_rigid(Input& in, const char* translation, const char* rot
   double q[4];
   for (double& v : q) v = in.f64(rotation);
   if (!t.allFinite()) in.fail(translation, "is not finite");
-  const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
-  const double norm = quat.norm();
-  if (!std::isfinite(norm) || norm < 1e-9) in.fail(rotation, "quaternion is zero or not finite, no rotation");
-  Eigen::Isometry3d iso = Eigen::Isometry3d::Identity();
-  iso.linear() = quat.normalized().toRotationMatrix();
-  iso.translation() = t;
-  return iso;
+  const auto iso = rigid_transform(t, q[0], q[1], q[2], q[3]);
+  if (!iso) in.fail(rotation, "quaternion is zero or not finite, no rotation");
+  return *iso;
 }
 
 void write_rigid(Output& out, const Eigen::Isometry3d& iso) {
