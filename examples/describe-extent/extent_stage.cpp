@@ -71,11 +71,9 @@ class ExtentStage : public Stage {
     i.version = "1.0.0";
     i.summary = "example descriptor: yaw-invariant extents and spreads, one 6-d row per object";
     i.doc =
-        "Projects each object's points on the principal axes of their horizontal covariance and on z: "
-        "row = [major extent, minor extent, w*height, major spread, minor spread, w*vertical spread] "
-        "(extents are trimmed ranges, spreads standard deviations, w = height_weight), L2-normalised. "
-        "Invariant to yaw and translation; describes proportions, not size. The worked example of "
-        "docs/plugin-sdk.md.";
+        "Yaw- and translation-invariant proportions of each object: extents and spreads along its horizontal "
+        "principal axes and z, one L2-normalised 6-d row. The worked example of the plugin SDK. "
+        "Details: docs/plugin-sdk.md, \"What the example computes\".";
     // The same port names and types as every describe.* plugin, so it drops
     // into a pipeline in place of any of them.
     i.inputs = {{"objects", "objects", "objects to describe"}};

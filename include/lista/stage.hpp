@@ -26,7 +26,7 @@ struct StageInfo {
   std::string name;     // "<kind>.<name>", e.g. "volumetric.octomap"
   std::string version;  // plugin version, e.g. "1.0.0"
   std::string summary;  // one line
-  std::string doc;      // longer description: method, references, caveats
+  std::string doc;      // a few lines (<= 600 chars), last: Details: docs/<page>.md, "<heading>".
   std::vector<PortSpec> inputs, outputs;
   std::vector<ParamSpec> params;
   std::string kind() const { return name.substr(0, name.find('.')); }

@@ -27,34 +27,18 @@ const ParamTable<VolumetricConfig>& param_table() {
     t.bind("occupied_threshold", &C::occupied_threshold, "probability above which a voxel counts as occupied")
         .range(0.0, 1.0);
     t.bind("change_threshold", &C::change_threshold,
-           "a point's voxel changed when its occupancy probability in the point's "
-           "mission exceeds that in a neighbouring mission by more than this; a voxel "
-           "never observed in the other mission is unknown, never changed; 0.35 asks three "
-           "updates in all, at least one in each mission (the paper's 0.5: four to five); where two "
-           "missions' scan counts cannot pass it (one scan each), one hit against one miss is "
-           "change unless this is set explicitly")
+           "a point's voxel changed when its occupancy probability exceeds that in a neighbouring mission by more than this (0.35: three updates in all, at least one in each mission)")
         .range(0.0, 1.0);
     t.bind("neighbourhood", &C::neighbourhood,
-           "radius in voxels (Chebyshev) that must hold no occupied voxel in the other "
-           "mission: tolerates sensor noise, residual misalignment and beams grazing "
-           "a surface; 0 compares the point's voxel only")
+           "radius in voxels (Chebyshev) that must hold no occupied voxel in the other mission; 0 compares the point's voxel only")
         .range(0, 3)
         .unit("voxels");
     t.bind("hit_margin", &C::hit_margin,
-           "the last stretch of each beam before its return is not marked free: a beam "
-           "grazing a floor or wall (at 10 deg incidence it is within one 5 cm voxel of "
-           "the surface for its last 0.3 m), or a return measured a little long, would "
-           "otherwise clear voxels of the surface it hits; the cost is that change "
-           "closer than this to the surface behind it along the beam is not carved")
+           "stretch of each beam before its return that is not marked free, so a grazing beam does not clear the surface it hits")
         .range(0.0, 1.0)
         .unit("m");
     t.bind("graze_height", &C::graze_height,
-           "a beam going down (by more than graze_height over its length) is not marked free where it runs within this "
-           "height above its "
-           "return (graze_height / sin(descent) before it, at most graze_max): far floor beams "
-           "run within one voxel of the floor for metres and would clear floor voxels the other "
-           "mission holds; 0 = only hit_margin (default; 0.05 for outdoor ground, see "
-           "docs/volumetric.md)")
+           "a descending beam is not marked free where it runs within this height above its return (at most graze_max before it); 0 = off (0.05 for outdoor ground)")
         .range(0.0, 1.0)
         .unit("m");
     t.bind("graze_max", &C::graze_max, "longest stretch before a return that graze_height keeps from being marked free")

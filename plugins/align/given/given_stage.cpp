@@ -88,17 +88,10 @@ StageInfo info() {
   s.version = "1.0.0";
   s.summary = "missions aligned by given transforms: identity, a file, or fitted to poses_gt.txt";
   s.doc =
-      "Sets each mission's to_common (map frame -> common frame) without looking at the points. "
-      "mode \"identity\": every map frame is the common frame. mode \"file\": one line per mission, "
-      "'<mission> <16 numbers>' (4x4 row-major) or '<mission> <12 numbers>' (3x4 [R|t] row-major), '#' "
-      "comments; every mission needs a line. mode \"ground-truth\": the common frame is the world frame of "
-      "poses_gt.txt; each mission's rigid map->world transform is the least-squares fit (Umeyama, no "
-      "scale) of its poses.txt sensor origins and axis tips onto those of poses_gt.txt over all scans; "
-      "the fit RMSE is recorded as '<mission>.fit_rmse_m' (the mission's own drift stays in its poses). mode "
-      "\"ground-truth-poses\": the same fit, and every scan's pose replaced by its true pose (expressed in the "
-      "map frame through the fit), so no drift is left: the reference for an aligner that corrects per-scan "
-      "poses (not a strict upper bound on the scores: on scenes of a few rooms the change found varies by "
-      "more between runs than alignment error costs, docs/pipelines.md). Scan point data are shared, not copied.";
+      "Sets each mission's to_common without looking at the points: identity, a transforms file, or the rigid "
+      "fit of poses.txt onto poses_gt.txt (ground-truth; ground-truth-poses also puts every scan at its true "
+      "pose). For ablations and known setups. "
+      "Details: docs/alignment.md, \"align.given\".";
   s.inputs = {{"missions", "missions", "missions as read"}};
   s.outputs = {{"missions", "missions", "the same missions with to_common set"}};
   s.params = param_table().specs();

@@ -126,12 +126,10 @@ StageInfo icp_stage_info() {
   s.version = "1.1.0";
   s.summary = "Baseline: one ICP/GICP per mission between whole mission maps";
   s.doc =
-      "Builds each mission's map (every scan at its poses.txt pose, points within max_range of the sensor, "
-      "voxel-downsampled) and registers it onto the first mission's map with coarse-to-fine GICP (or "
-      "point-to-point ICP), starting from identity, from the centroid offset, or from the missions' to_common "
-      "as they come (initial = \"input\", e.g. after align.given). Sets to_common; scan poses "
-      "are unchanged, so drift within a mission is not corrected. Refuses a mission whose registered overlap "
-      "is below min_overlap. The paper's point: this leaves local misregistration that looks like change.";
+      "Registers each mission's whole map onto the first mission's with coarse-to-fine GICP (or ICP) and sets "
+      "to_common; scan poses stay, so drift within a mission remains (the paper's baseline). The common frame "
+      "is then levelled. "
+      "Details: docs/alignment.md, \"align.icp\".";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with to_common set"}};
   s.params = param_table().specs();
@@ -146,7 +144,8 @@ const ParamTable<IcpAlignConfig>& param_table() {
     ParamTable<C> t;
     t.bind("voxel", &C::voxel, "map downsampling").range(0.01, 10).unit("m");
     t.bind("max_range", &C::max_range, "points farther from their sensor are left out").range(0.5, 1000).unit("m");
-    t.bind("registration", &C::registration, "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; nearer the truth on scan pairs, opt-in) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"});
+    t.bind("registration", &C::registration,
+           "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"});
     t.bind("initial", &C::initial, "starting guess: identity, centroid offset, or the input to_common")
         .one_of({"identity", "centroid", "input"});
     t.bind("coarse_distance", &C::coarse_distance, "max correspondence distance, coarse stage").range(0.05, 100).unit("m");

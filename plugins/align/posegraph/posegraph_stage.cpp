@@ -196,39 +196,10 @@ StageInfo posegraph_stage_info() {
   s.version = "1.8.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
-      "Keyframes are taken every keyframe_distance metres (or keyframe_angle of turn) of each mission's "
-      "trajectory; each gets a local submap (scans within submap_distance of path, in a gravity-levelled "
-      "frame; while the median submap holds under submap_min_points, all grow by submap_distance up to "
-      "submap_max_distance) and a Scan Context descriptor (max height per ring x sector bin, heights relative to the "
-      "sensor in [min_height, max_height] so indoor ceilings do not fill every bin). For every keyframe the "
-      "ring keys of each earlier mission (and of its own mission more than intra_min_travel back along the "
-      "path, for loops within a mission) are searched with a k-d tree (FLANN); the nearest are compared "
-      "under every column shift and the best under max_descriptor_distance becomes a candidate with its "
-      "yaw. Candidates are verified by coarse-to-fine GICP between the submaps and refused below "
-      "min_overlap (checked both ways, so a floor matched to a floor alone is refused) or above max_rmse; "
-      "a vote per mission pair drops closures that disagree with the best supported one. A mission left unlinked, "
-      "or a pair linked by fewer than 4 closures, is searched for on the whole maps (global_search): plan views "
-      "(what stands 0.3-2.5 m over the ground) correlated over every yaw and offset, the best placements "
-      "registered map onto map; one that clearly beats every rival (and the closures' placement) places the "
-      "mission, with a warning naming it. Missions are placed by a spanning tree over closures from the first (reference) "
-      "mission; a mission without closures is an error naming it. The pose graph holds every mission's "
-      "odometry chain (relative poses of consecutive scans from poses.txt), scan-to-scan edges (each scan "
-      "registered by GICP, from the odometry guess, onto each of the next scan_edges scans, refused below min_overlap or "
-      "above max_rmse (gicp_gn: scan_max_plane_rmse, along planes); in a mission where fewer "
-      "than half of those pass (gicp_gn: three quarters; scan_map_use), onto a local map of the scan_map scans before it instead, placed by the "
-      "registrations before (the ground left out "
-      "with scan_ground_clearance > 0); they constrain horizontal position and yaw: metric steps that remove an odometry scale or heading bias which closures cannot see "
-      "when every mission shares it) and the closures under a robust loss; it is solved with Ceres (quaternion "
-      "manifold), with the reference mission's first pose (or the whole mission, fix_reference) held. After the first "
-      "solve, keyframes that have come close are proposed again (refine_rounds) and verified the same way. "
-      "Last, the graph is solved again without the scan-to-scan edges: if with them the closures' RMS residual is "
-      "more than scan_disagreement times (and 1 cm more than) without, they disagree with the verified closures and "
-      "are left out, with a warning naming whose: with three or more missions only those of a mission whose removal "
-      "alone brings the residual down as far (a sparse scanner's mission among dense ones), else all. Those left "
-      "out that registered scan to scan are tried again onto local maps (scan_map), kept if they agree. "
-      "Output: to_common per mission (anchored at its first scan) and corrected scan poses. Metrics: "
-      "keyframes, candidates, closures, closures_global, pairs_replaced_by_global, scan_edges, scan_edges_left_out, scan_map_missions, closure residuals with and without "
-      "them, costs, and ATE before/after when every mission has poses_gt.txt.";
+      "Aligns the missions into the first one's frame and corrects every scan's pose: Scan Context loop closures "
+      "between keyframe submaps verified by GICP, a whole-map search for weakly linked missions, and one Ceres "
+      "pose graph of odometry, scan-to-scan edges and closures; then the common frame is levelled. "
+      "Details: docs/alignment.md, \"align.posegraph\".";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with corrected poses and to_common"}};
   s.params = param_table().specs();
@@ -245,7 +216,8 @@ const ParamTable<PoseGraphConfig>& param_table() {
     t.bind("keyframe_angle", &C::keyframe_angle, "turn that also starts a keyframe").range(1, 360).unit("deg");
     t.bind("submap_distance", &C::submap_distance, "path length either side of a keyframe joined into its submap")
         .range(0, 100).unit("m");
-    t.bind("submap_min_points", &C::submap_min_points, "while the median keyframe submap holds fewer points (after the voxel), all grow by submap_distance, up to submap_max_distance: sparse scans (a Livox outdoors) register loosely on a few; 0 = fixed spans")
+    t.bind("submap_min_points", &C::submap_min_points,
+           "while the median keyframe submap holds fewer points, all submaps grow by submap_distance, up to submap_max_distance; 0 = fixed spans")
         .range(0, 10000000);
     t.bind("submap_max_distance", &C::submap_max_distance, "the most path either side a sparse submap grows to")
         .range(0, 100).unit("m");
@@ -262,7 +234,8 @@ const ParamTable<PoseGraphConfig>& param_table() {
     t.bind("intra_min_travel", &C::intra_min_travel,
            "loops within a mission: trajectory between the two keyframes at least this (0: none)")
         .range(0, 1e5).unit("m");
-    t.bind("registration", &C::registration, "registration method of every scan, submap and map pair: gicp_gn (ours: GICP by Gauss-Newton, a sparse scanner's one-ring strips given no plane; nearer the truth, and faster, than PCL's), gicp (PCL's Generalized ICP) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"});
+    t.bind("registration", &C::registration,
+           "registration of every scan, submap and map pair: gicp_gn (ours: GICP by Gauss-Newton), gicp (PCL's Generalized ICP) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"});
     t.bind("coarse_distance", &C::coarse_distance, "max correspondence distance, coarse stage").range(0.05, 50).unit("m");
     t.bind("fine_distance", &C::fine_distance, "max correspondence distance, fine stage").range(0.01, 10).unit("m");
     t.bind("icp_iterations", &C::icp_iterations, "iterations per registration stage").range(1, 1000);
@@ -270,10 +243,7 @@ const ParamTable<PoseGraphConfig>& param_table() {
     t.bind("min_overlap", &C::min_overlap, "share of each submap's points with a partner in the other (both ways) to accept a closure").range(0, 1);
     t.bind("max_rmse", &C::max_rmse, "inlier RMSE above which a closure is refused (and a scan-to-scan edge, but with gicp_gn: scan_max_plane_rmse)").range(0.001, 10).unit("m");
     t.bind("global_search", &C::global_search,
-           "a mission that no Scan Context closure links is searched for on the linked missions' maps: "
-           "plan views correlated over every yaw and offset, the best placements registered map onto "
-           "map; pairs linked by fewer than 4 closures are checked the same way (missions of a few scans "
-           "seldom revisit a spot closely enough for Scan Context)");
+           "search the whole maps for a mission that no closure links, and check pairs linked by fewer than 4 closures the same way");
     t.bind("consistency_distance", &C::consistency_distance, "closures of one mission pair agree within this").range(0.01, 100).unit("m");
     t.bind("consistency_angle", &C::consistency_angle, "and within this rotation").range(0.1, 180).unit("deg");
     t.bind("odometry_sigma_translation", &C::odometry_sigma_translation, "std. dev. of an odometry edge").range(1e-5, 10).unit("m");
@@ -296,9 +266,7 @@ const ParamTable<PoseGraphConfig>& param_table() {
         .range(0, 10);
     t.bind("scan_range", &C::scan_range, "scan-to-scan: points farther from the sensor are left out").range(1, 1000).unit("m");
     t.bind("scan_ground_clearance", &C::scan_ground_clearance,
-           "scan-to-scan: points lower than this above the scan's ground (its 2nd-percentile height) are left "
-           "out (the edges constrain x, y and yaw, which the ground cannot tell; 0.3 took a VLP-16 on an open site "
-           "from 0.16 to 0.10 m); 0 = keep the ground").range(0, 10).unit("m");
+           "scan-to-scan: points lower than this above the scan's ground are left out; 0 = keep the ground").range(0, 10).unit("m");
     t.bind("scan_voxel", &C::scan_voxel, "scan-to-scan: finest downsampling").range(0.01, 5).unit("m");
     t.bind("scan_points", &C::scan_points, "scan-to-scan: denser scans are downsampled coarser to about this many points")
         .range(100, 1e7);
@@ -307,21 +275,18 @@ const ParamTable<PoseGraphConfig>& param_table() {
            "(placed by the registrations before; one edge per scan); 1 = never")
         .range(1, 10);
     t.bind("scan_map_use", &C::scan_map_use,
-           "scan-to-map per mission: when fewer than half (gicp_gn: three quarters) of its scan-to-scan registrations pass (sparse scans, "
-           "a 16-beam scanner outdoors), always, or never")
+           "scan-to-map per mission: when too few of its scan-to-scan registrations pass, always, or never")
         .one_of({"when_pairs_fail", "always", "never"});
     t.bind("scan_coarse_distance", &C::scan_coarse_distance, "scan-to-scan: max correspondence distance, coarse stage").range(0.01, 50).unit("m");
     t.bind("scan_fine_distance", &C::scan_fine_distance, "scan-to-scan: max correspondence distance, fine stage").range(0.01, 10).unit("m");
     t.bind("scan_inlier_distance", &C::scan_inlier_distance, "scan-to-scan: distance counted as overlap").range(0.01, 10).unit("m");
-    t.bind("scan_max_plane_rmse", &C::scan_max_plane_rmse, "scan-to-scan with registration gicp_gn: RMSE of the overlapping points along the other scan's local planes above which an edge is refused (point to point, max_rmse, measures a sparse scanner's ring gaps rather than the fit; gicp and icp keep that); raise it for a scanner noisier than 2 cm").range(0.001, 10).unit("m");
+    t.bind("scan_max_plane_rmse", &C::scan_max_plane_rmse,
+           "scan-to-scan with gicp_gn: RMSE along the other scan's local planes above which an edge is refused; raise it for a scanner noisier than 2 cm").range(0.001, 10).unit("m");
     t.bind("scan_sigma_translation", &C::scan_sigma_translation, "std. dev. of a scan-to-scan edge, horizontal (height and level are left to the odometry)").range(1e-5, 10).unit("m");
     t.bind("scan_sigma_rotation", &C::scan_sigma_rotation, "std. dev. of a scan-to-scan edge, yaw")
         .range(1e-4, 90).unit("deg");
     t.bind("scan_disagreement", &C::scan_disagreement,
-           "scan-to-scan edges are left out (with a warning) when, solved with them, the final loop closures' "
-           "RMS residual is more than this many times (and 1 cm more than) its value solved without them: they "
-           "disagree with the verified closures (a sparse scanner's rings register ring onto ring); judged per "
-           "mission with three or more; 0 = always kept")
+           "scan-to-scan edges are left out when with them the closures' RMS residual is more than this many times (and 1 cm more than) without them; 0 = always kept")
         .at_least(0.0);
     t.bind("refine_radius", &C::refine_radius, "keyframes this close in the common frame are tried").range(0.1, 100).unit("m");
     return t;

@@ -37,9 +37,9 @@ class EsfStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Ensemble of Shape Functions (PCL), one 640-d row per object";
     i.doc =
-        "PCL's ESFEstimation on the object's points: histograms of distances, angles, areas and "
-        "distance ratios of 20000 random point triples, classified by voxel occupancy. Rotation "
-        "invariant, fast, no parameters. Deterministic (fixed sampling seed). Rows are L2-normalised.";
+        "PCL's Ensemble of Shape Functions on all of an object's points: one rotation-invariant 640-d row per "
+        "object, L2-normalised; deterministic, no parameters. "
+        "Details: docs/descriptors.md, \"describe.esf\".";
     i.inputs = {{"objects", "objects", "objects to describe"}};
     i.outputs = {{"descriptors", "descriptors", "one unit-norm 640-d row per object"}};
     return i;

@@ -55,14 +55,11 @@ class LearnedStage : public Stage {
     i.version = "1.0.0";
     i.summary = "learned yaw-invariant object descriptor (PointNet-style, libtorch)";
     i.doc =
-        "Centres each object, rotates it about z so the longer side of its footprint's minimum-perimeter "
-        "rectangle is +x (sign by skew), voxel-resamples it to a fixed number of points and runs a small "
-        "PointNet (shared MLP, max+mean pooling joined by the object's shape globals: extents, footprint circle, robust spreads; MLP head) trained with batch-hard triplet loss on instance identity (lista-train). "
-        "Heights are measured from the object's floor_z when a stage measured it (segment.complete) and the model "
-        "was trained with the floor, else from the object's lowest point. "
-        "Output rows are L2-normalised. Weights: the 'weights' parameter, else $LISTA_MODEL_DIR/"
-        "describe-learned.bin, else the installed/build/source models/ folder; a missing or corrupt file "
-        "(SHA-256 sidecar) is an error. See docs/descriptors.md.";
+        "A small PointNet-style network (libtorch, trained by lista-train) on each object's yaw-canonical, "
+        "voxel-resampled points and shape globals, heights from its floor when known: one L2-normalised row "
+        "per object. Weights: the weights parameter, else $LISTA_MODEL_DIR, else the models/ folder; a "
+        "missing or corrupt file is an error. "
+        "Details: docs/descriptors.md, \"describe.learned\".";
     i.inputs = {{"objects", "objects", "objects to describe"}};
     i.outputs = {{"descriptors", "descriptors", "one unit-norm row per object"}};
     i.params = param_table().specs();

@@ -52,10 +52,9 @@ class RiftStage : public Stage {
     i.version = "1.0.0";
     i.summary = "RIFT intensity-gradient histograms (PCL) mean-pooled into one 32-d row per object";
     i.doc =
-        "Voxel-downsamples each object, rescales its intensity to [0, 1] (sensors differ in scale), "
-        "estimates normals and intensity gradients, computes RIFT (4 distance rings x 8 gradient "
-        "orientations) at every downsampled point, and averages them into one L2-normalised row. "
-        "Objects without an intensity channel use height above their lowest point instead (logged).";
+        "RIFT intensity-gradient histograms (PCL; 4 rings x 8 orientations) at voxel-downsampled points, mean-pooled into one L2-normalised 32-d row per object; intensity is rescaled per object, and height "
+        "stands in where there is none. "
+        "Details: docs/descriptors.md, \"describe.rift\".";
     i.inputs = {{"objects", "objects", "objects to describe"}};
     i.outputs = {{"descriptors", "descriptors", "one unit-norm 32-d row per object"}};
     i.params = param_table().specs();

@@ -49,10 +49,9 @@ class ShotStage : public Stage {
     i.version = "1.0.0";
     i.summary = "SHOT histograms (PCL, OpenMP) mean-pooled into one 352-d row per object";
     i.doc =
-        "Voxel-downsamples each object, estimates normals, computes SHOT (352 bins) at every "
-        "downsampled point over the support radius, and averages the valid histograms into one "
-        "L2-normalised row. Rotation invariant (SHOT's local reference frame). Slow on large objects: "
-        "cost grows with points x neighbours.";
+        "SHOT histograms (PCL) at voxel-downsampled points, mean-pooled into one rotation-invariant, L2-normalised "
+        "352-d row per object. Slow on large objects. "
+        "Details: docs/descriptors.md, \"describe.shot\".";
     i.inputs = {{"objects", "objects", "objects to describe"}};
     i.outputs = {{"descriptors", "descriptors", "one unit-norm 352-d row per object"}};
     i.params = param_table().specs();

@@ -111,24 +111,10 @@ StageInfo info() {
   s.version = "1.1.0";
   s.summary = "drops the robot's own body from the scans: points that move with the sensor and are seen through";
   s.doc =
-      "A LiDAR on a robot's back (or carried by a person) sees the robot in every scan; those points move "
-      "with the sensor and would leave a trail of change along every path. Per mission: every scan's points "
-      "within max_range go into sensor-frame cells; a cell occupied in at least min_share of the scans holding "
-      "points is a candidate (so are the floor under a level robot and the walls of a corridor). In `probes` "
-      "scans spread over the mission each candidate becomes a patch (centre and normal of the scan's points in "
-      "it and its neighbours, facing the sensor; flat and spread both ways, or it is not looked at), looked at "
-      "from up to 4 other scans of the mission between witness_min and witness_max away (nearest in scan "
-      "order): a witness ray ending within `cell` of the patch centre votes present; otherwise one passing "
-      "within `cell` of the point `depth` behind the patch and ending more than `margin` beyond it votes "
-      "see-through (a real surface is opaque; this works edge-on too, as the top of a robot's back is seen "
-      "from the mission's other scans); other rays give no vote. A candidate with at least 4 votes, at least "
-      "see_through_share of them see-through, is body, and so is every candidate connected to it unless its "
-      "own votes say present (edges and corners have no normal to vote with); it is dropped from every scan, "
-      "kept points keeping their file index. A robot that never moves witness_min, or a mission without "
-      "witnesses, is left as it is. Missions of fewer than 4 scans holding points are stop-and-go stations: "
-      "their scans are pooled, and a cell occupied in min_share of them and in at least two (the platform "
-      "carrying the sensor), with the less often occupied cells touching it, is dropped (a lone station is "
-      "left as it is). max_range 0 turns the stage off. docs/formats.md, \"The robot's body\".";
+      "Drops the robot's own body (or a handheld scanner's operator) from every scan: what stays put near the "
+      "sensor and is seen through from the mission's other scans, and the platform under a stop-and-go "
+      "scanner's stations. max_range 0 turns it off. "
+      "Details: docs/formats.md, \"The robot's body\".";
   s.inputs = {{"missions", "missions", "missions as read"}};
   s.outputs = {{"missions", "missions", "the same missions without the body's points"}};
   s.params = param_table().specs();

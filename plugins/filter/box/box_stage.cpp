@@ -50,11 +50,9 @@ class BoxFilterStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Region of interest: keeps change points inside an axis-aligned box";
     i.doc =
-        "Keeps the points with min <= p <= max (common frame, every axis). Optionally also drops "
-        "points more than `max_height_above_floor` above the floor, the floor being the "
-        "`floor_quantile` quantile of z over the kept points of all missions (a robust lowest "
-        "level, so a few points under the floor do not move it): the usual way to cut the "
-        "ceiling without knowing the map's absolute heights. 0 disables it. Provenance is kept.";
+        "Keeps the change points inside an axis-aligned box of the common frame; optionally also drops those more "
+        "than max_height_above_floor above a robust floor level (cuts ceilings). "
+        "Details: docs/segmentation.md, \"filter.box\".";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the points inside the region"}};
     i.params = param_table().specs();

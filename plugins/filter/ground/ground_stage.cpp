@@ -40,18 +40,10 @@ class GroundFilterStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Ground removal by per-tile RANSAC plane fitting (PCL)";
     i.doc =
-        "Cuts each mission's change points into square xy tiles of `tile_size`. In each tile up to "
-        "`planes_per_tile` planes within `max_slope` of horizontal are fitted in turn by RANSAC "
-        "(pcl::SACSegmentation, SACMODEL_PERPENDICULAR_PLANE about z), each on the points the "
-        "previous ones left. A plane's inliers are split into patches (footprint cells of "
-        "`footprint_cell` linked across gaps of one cell), each judged alone. A patch is ground when at most `max_below_fraction` of its inlier "
-        "count lies more than 2*distance under it within its own footprint (cells of "
-        "`footprint_cell`): floors, ramps and each level of a multi-level floor pass, table and "
-        "box tops do not (their sides and legs are under them). It must also spread over at "
-        "least `min_area` (convex hull of its footprint cells): a flat object with nothing "
-        "visible under it (pallet, cart deck, lowest shelf board) is smaller than a floor sheet "
-        "and stays. Only ground patches' inliers "
-        "(within `distance`) are removed. Tiles run in parallel; RANSAC uses PCL's fixed seed.";
+        "Removes the ground from each mission's change points: near-horizontal RANSAC planes per tile, whose "
+        "patches count as ground only when nothing lies under them and they spread over min_area (table tops, "
+        "boxes and pallets stay). "
+        "Details: docs/segmentation.md, \"filter.ground\".";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the points that are not ground"}};
     i.params = param_table().specs();

@@ -30,13 +30,9 @@ class MlsFilterStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Moving Least Squares surface smoothing (PCL), one output per input point";
     i.doc =
-        "Projects each change point onto a polynomial surface fitted to its neighbours within "
-        "`radius` (pcl::MovingLeastSquares, no upsampling), which flattens range noise on object "
-        "surfaces before clustering and normal estimation. Only positions change: output point k "
-        "is input point k moved, with the same scan/index provenance, intensity and label, so "
-        "decisions map back to the original points one to one. Points with too few neighbours "
-        "for a fit keep their position, or are dropped with drop_unfitted = true. Uses the "
-        "stage's threads (OpenMP in PCL).";
+        "Moving Least Squares smoothing (PCL): each change point is projected onto the surface fitted to its "
+        "neighbours; positions change, provenance stays (output point k is input point k). "
+        "Details: docs/segmentation.md, \"filter.mls\".";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the same points, smoothed positions"}};
     i.params = param_table().specs();

@@ -38,18 +38,10 @@ class MorphologyFilterStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Erosion then dilation on the voxelised change (noise and sliver removal)";
     i.doc =
-        "Voxelises each mission's change points (edge `voxel`). Erosion keeps a voxel when at least "
-        "`min_neighbours` of its 26 neighbours are occupied (3x3x3 cube as structuring element, "
-        "used as a rank filter so one-voxel-thick surfaces survive); dilation by the same cube, "
-        "`dilate_steps` times, restores border voxels of what survived, never adding empty ones. "
-        "With the default 6: isolated points and lines or strips up to two voxels wide (wall "
-        "edges at grazing angles, sensor noise) go; surfaces three voxels wide and more stay, so "
-        "objects down to 3 voxels across are kept. With `reconstruct` (default) the dilation "
-        "repeats until nothing changes (opening by reconstruction; dilate_steps is then unused): "
-        "every voxel connected to a surviving core comes back, so thin parts of objects (legs, "
-        "shelf boards, edges of flat tops) stay, and only components without any core go. "
-        "Outputs the ORIGINAL points in surviving "
-        "voxels, with provenance. Missions run in parallel.";
+        "Morphological opening of the voxelised change: a rank-filter erosion drops isolated points and thin "
+        "strips, and dilation (by default until stable: opening by reconstruction) restores what is connected to a "
+        "surviving core. Outputs the original points. "
+        "Details: docs/segmentation.md, \"filter.morphology\".";
     i.inputs = {{"changes", "points", "per-mission change points"}};
     i.outputs = {{"changes", "points", "the points whose voxel survives the opening"}};
     i.params = param_table().specs();

@@ -82,14 +82,9 @@ StageInfo info() {
   s.version = "1.0.0";
   s.summary = "Agglomerative (hierarchical) grouping of object descriptors";
   s.doc =
-      "Bottom-up clustering of the descriptor rows (Euclidean) with single, average, complete or Ward "
-      "linkage (Lance-Williams updates). The dendrogram is cut by `cut`: 'gap' (default) undoes the merges "
-      "above the largest relative jump between successive merge heights (h_above / h_below) among the cuts "
-      "into 2..min(k_max, objects / 2) groups. A jump less than min_gap (h_above < (1 + min_gap) x h_below) "
-      "means the heights show no classes: one group, with a warning. Fewer than 4 objects are one group. "
-      "'distance' undoes merges above `distance`; 'k' keeps `k` groups. Confidences as group.kmeans: "
-      "group = 1 - min-max normalised mean distance to the centroid, object = 1 - distance to its centroid / "
-      "the largest such distance.";
+      "Hierarchical grouping of the descriptor rows (single, average, complete or Ward linkage), the dendrogram "
+      "cut at its largest relative gap, at a distance or at k groups; confidences as group.kmeans. "
+      "Details: docs/descriptors.md, \"group.agglomerative\".";
   s.inputs = {{"descriptors", "descriptors", "one descriptor per object"}};
   s.outputs = {{"groups", "groups", "group per object with confidences"}};
   s.params = param_table().specs();

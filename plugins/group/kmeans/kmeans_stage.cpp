@@ -78,12 +78,9 @@ StageInfo info() {
   s.version = "1.0.0";
   s.summary = "K-means grouping of object descriptors, K by the WCSS elbow";
   s.doc =
-      "K-means (Lloyd, k-means++ seeding from the run seed, best of `restarts`) on the descriptor rows. "
-      "With k = 0, K-means runs for K = 1..min(k_max, objects) and K is the elbow of the within-cluster "
-      "sum of squares: with K and WCSS both scaled to [0,1], the K farthest below the chord joining K=1 "
-      "and K=Kmax. Fewer than 3 objects, or a flat curve, give one group. Group confidence = 1 - min-max "
-      "normalised mean distance to the centroid (1 = most compact); object confidence = 1 - distance to "
-      "its centroid / the largest such distance.";
+      "K-means grouping of the descriptor rows, K fixed or by the elbow of the within-cluster sum of squares; "
+      "group confidence from compactness, object confidence from the distance to its centroid. "
+      "Details: docs/descriptors.md, \"group.kmeans\".";
   s.inputs = {{"descriptors", "descriptors", "one descriptor per object"}};
   s.outputs = {{"groups", "groups", "group per object with confidences"}};
   s.params = param_table().specs();

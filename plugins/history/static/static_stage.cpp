@@ -68,26 +68,10 @@ StageInfo info() {
   s.version = "1.2.0";
   s.summary = "Follows each changed object into the neighbouring missions where it stood still";
   s.doc =
-      "Volumetric differencing compares neighbouring missions, so an object that changed between two of "
-      "them and then stood still is found only around its change; the data contract counts its points as "
-      "changed in every mission (a crate moved from A to B and left alone in C is the moved crate in C "
-      "too). For each object the direction away from its change is searched: an added object and one "
-      "moved from an earlier mission forward, a removed one and one moved into a later mission backward. "
-      "In the next mission that way the object stands still when at least min_still_share of its points "
-      "have a point of that mission within radius, and (first step only) at least min_share_gap more "
-      "than in the mission it changed against (a static thing flagged by mistake shows alike in both). "
-      "It is then added to that mission: that mission's points within radius of it, grown (within "
-      "radius) inside its box enlarged by radius, none below its lowest point, and the growth taking no point "
-      "that the mission where the object was absent from this place also shows (the wall or floor it touches); "
-      "same status, group, "
-      "partner and transform as the object followed (a move's copy names the same partner), confidence "
-      "the lower of the object's and its shown share. The search goes on from the copy until the object "
-      "is not found still, a mission already holds it (its history), or that mission's own objects "
-      "cover more than max_reported_share of it (it changed there). Every history lists its copies. "
-      "With follow_contradictions, an added or removed object that stands still (by the same rules) in the "
-      "mission it was said to have changed against, and is gone from its place on the other side, is followed "
-      "that way too; it and its copies take the status the two sides show (still later and gone earlier: "
-      "added; the reverse: removed). With two missions nothing is added.";
+      "Follows each changed object into the neighbouring missions where it stood still and reports it there too "
+      "(the data contract counts it changed in every mission), and corrects an added or removed status that the "
+      "missions contradict. Adds nothing with two missions. "
+      "Details: docs/history.md, \"What it does\".";
   s.inputs = {{"missions", "missions", "aligned missions, whose full clouds are searched"},
               {"objects", "objects", "changed objects of all missions"},
               {"matches", "matches", "status, partner, transform and history of every object"},
@@ -115,8 +99,7 @@ const ParamTable<StillConfig>& param_table() {
            "share of the object already covered by that mission's own objects at which the search stops")
         .range(0.0, 1.0);
     t.bind("follow_contradictions", &C::follow_contradictions,
-           "also follow an added or removed object into the mission it was said to have changed against "
-           "where it stands still there and is gone on the other side, and correct its status");
+           "also follow an added or removed object that stands still in the mission it was said to have changed against, and correct its status");
     return t;
   }();
   return table;

@@ -308,19 +308,10 @@ StageInfo info() {
   s.version = "1.4.0";
   s.summary = "reads a dataset of missions (poses.txt + scans/, the VIEWPOINT layout, or ROS 1/ROS 2 bags)";
   s.doc =
-      "Reads the missions of a dataset folder as in the data contract, section 1: per mission poses.txt "
-      "(TUM or KITTI layout) and scans/ (.pcd ascii/binary/binary_compressed, .ply, KITTI .bin) sorted by "
-      "name, or a folder of map-frame .pcd scans carrying the sensor pose in VIEWPOINT; poses_gt.txt when "
-      "present. A mission folder holding ROS bags (.bag files, or a ROS 2 bag: metadata.yaml with .db3 or .mcap) "
-      "is read as a robot recorded it: clouds from cloud_topic, poses from poses (tf, a topic or a TUM file), a "
-      "mission.toml beside the bags overriding these keys for that mission (docs/formats.md). Scans are read in parallel. Non-finite points are skipped and counted; points at exactly (0, 0, 0) "
-      "in the sensor frame (a driver's missing return) are dropped, metric dropped_zero. Errors: scan count "
-      "!= pose count, unreadable or malformed file (with its line), non-orthonormal rotation, empty "
-      "mission. With scan_spacing > 0, only scans that far apart (or turned scan_turn) are read, the others "
-      "keeping their pose and no points (metric scans_read). With scan_spacing 0, a dense log (500+ scans under "
-      "0.1 m apart at the median: a 10 Hz LiDAR) is read as with scan_spacing = dense_spacing. With min_range > 0, points nearer their sensor are dropped (a robot's own body), the others "
-      "keeping their file index. Poses more than a km from zero (georeferenced) are moved by a whole number of km so float "
-      "points keep millimetres; io.report adds the offset back. See docs/formats.md.";
+      "Reads a dataset's missions (data contract, section 1): poses.txt and scans/ (PCD, PLY, KITTI .bin), the "
+      "VIEWPOINT layout, or ROS 1 and ROS 2 bags; thins dense logs, drops non-finite and zero points, and moves "
+      "georeferenced poses near zero. "
+      "Details: docs/formats.md, \"Input: a dataset of missions\".";
   s.outputs = {{"missions", "missions", "the missions, each in its own map frame (to_common = identity)"}};
   s.params = param_table().specs();
   return s;
@@ -333,28 +324,20 @@ const ParamTable<MissionsConfig>& param_table() {
     t.bind("path", &C::path, "dataset folder; empty = the run's dataset (lista-run --dataset)");
     t.bind("missions", &C::missions, "mission folder names in the order to use; empty = all, sorted");
     t.bind("min_range", &C::min_range,
-           "points nearer their sensor than this are dropped: the robot's own body or the operator, which move with "
-           "the sensor and would leave a trail of change along every path (a legged robot with a LiDAR on its back: "
-           "about 1 m); dropped points keep no place in changes/; 0 keeps all")
+           "points nearer their sensor than this are dropped (a blunt way to drop the robot's body); 0 keeps all")
         .range(0, 100)
         .unit("m");
     t.bind("scan_spacing", &C::scan_spacing,
-           "thin every mission, dense or not: read a scan only where its sensor lies this far from the last scan "
-           "read, or has turned scan_turn from it (first and last always read); the others keep their pose and no "
-           "points (io.report puts those of their points that fall in the change back into changes/); 0 = "
-           "dense_spacing decides")
+           "read a scan only where its sensor lies this far from the last scan read (or has turned scan_turn), in every mission; 0 = dense_spacing decides")
         .range(0, 100)
         .unit("m");
     t.bind("dense_spacing", &C::dense_spacing,
-           "with scan_spacing 0: a dense log (500 or more scans whose sensors lie under 0.1 m apart at the median, as "
-           "a 10 Hz LiDAR at walking pace gives) is read as with scan_spacing = this; 0 reads every scan of it")
+           "a dense log (500 or more scans under 0.1 m apart at the median) is read as with scan_spacing = this; 0 reads every scan")
         .range(0, 100)
         .unit("m");
     t.bind("cloud_topic", &C::cloud_topic, "bag missions: the sensor_msgs/PointCloud2 topic; empty = the only one");
     t.bind("poses", &C::poses,
-           "bag missions: where the clouds' poses come from: tf, an odometry or pose topic, or a TUM file in the "
-           "mission folder; empty = tf when the cloud's frame hangs under a moving tf frame, else the only odometry "
-           "or pose topic");
+           "bag missions: where the clouds' poses come from: tf, an odometry or pose topic, or a TUM file; empty = chosen from the bag");
     t.bind("fixed_frame", &C::fixed_frame,
            "bag missions with tf poses: the map frame; empty = the root of the cloud frame's tf tree");
     t.bind("body_frame", &C::body_frame,

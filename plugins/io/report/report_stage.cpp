@@ -118,19 +118,10 @@ StageInfo info() {
   s.version = "1.3.0";
   s.summary = "writes report.json and changes/<mission>.pcd (data contract, section 2)";
   s.doc =
-      "Writes the change report: report.json (format, missions, alignment = each mission's to_common, "
-      "objects with id, mission, status, centroid, bbox, points, group (-1 without groups), confidence, "
-      "match (null if none), transform for moved objects, and the extensions 'alternative_transforms' (moved "
-      "objects: other poses that fit about as well; empty if unambiguous), 'history' and 'floor_z'; timings_s per "
-      "finished stage) plus 'provenance' (resolved pipeline, plugin versions, git revision, seed, threads, "
-      "per-stage time and peak memory) and 'metrics'. changes/<mission>.pcd (binary; x y z float32 in the "
-      "common frame, scan uint32, index uint32, object int32) holds every object point with its object id "
-      "and, when 'changes' is connected, every change point in no object with -1. Without 'matches' the "
-      "status follows mission order: objects of the first mission are 'removed', of later ones 'added' "
-      "(confidence 0.5, or the group confidence). Scans io.missions did not read (scan_spacing) are read here: "
-      "each of their points in an unread_cell cube holding a change row of its mission joins changes/ with "
-      "that row's object (metrics unread_scans, unread_points_changed). Atomic: files are written into a temp folder inside the "
-      "output folder and renamed into place, report.json last; a failure leaves no report.json.";
+      "Writes report.json, changes/<mission>.pcd (data contract, section 2) and poses/, atomically: a failure "
+      "leaves no report.json. Points of scans io.missions did not read join changes/ where they fall in the "
+      "change. "
+      "Details: docs/formats.md, \"Output: what a run writes\".";
   s.inputs = {{"missions", "missions", "the aligned missions (names, order, alignment)"},
               {"objects", "objects", "the change objects (common frame)"},
               {"groups", "groups", "descriptor groups of the objects", true},

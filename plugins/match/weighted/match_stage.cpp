@@ -140,41 +140,10 @@ StageInfo info() {
   s.version = "1.10.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
-      "For each pair of consecutive missions, the cost of pairing object i (earlier) with j (later) is "
-      "alpha * norm(centroid distance) + beta * norm(descriptor L2 distance) + shape_weight * (1 - shape fit) "
-      "(+ group_penalty across groups when group_mode = soft: the penalty only decides between rival "
-      "partners, it does not count against max_cost, so a group never vetoes a pair the gates accept; hard "
-      "does). normalization = max divides the physical term by its largest candidate value and the descriptor term by the largest descriptor distance between any "
-      "two objects; minmax is the paper's (x - min) / (max - min), which stretches descriptor noise between "
-      "identical objects to the full range. Candidates must lie within max_distance metres (0 = any distance), keep their size "
-      "(height and footprint-rectangle sides within max(max_size_change x the larger, size_slack)), "
-      "max_descriptor_distance (if > 0), then fit as one rigid object: each surviving pair is registered "
-      "(lista::objreg multi-hypothesis ICP on shape_voxel-downsampled points, the view covering fewer voxels "
-      "moved onto the other; started from yaw turns about the centroids and, with corner_hypotheses, when the "
-      "footprints differ in size, corner on corner: a partial view shares a corner with the whole) and shape fit = 0.75 x the larger + 0.25 x the smaller share of points on the other "
-      "object's surface: within shape_distance of one of its points, or, between a sparse scanner's rings, "
-      "within shape_distance / 2 of the plane its points within shape_gap span around it (a partial view must "
-      "be explained; the other view at least in part); fit < min_shape_fit is no candidate, nor is a pair standing on floors in both missions (floor_z "
-      "known) that the registration lifts by more than max_lift relative to the floors or tilts by more than "
-      "max_tilt (a desk's top fitted onto a cabinet's is two things, not one moved); with upright_poses such a "
-      "pair is registered among the poses that keep it on its floor, its yaw turns started floor on floor "
-      "(the best of them is judged), without it "
-      "the best pose of all is judged and refused when off the floor. Last, cost <= max_cost (< 0: alpha + beta + shape_weight x "
-      "(1 - min_shape_fit)). shape_weight = 0 and min_shape_fit = 0 give the paper's two-term cost and skip "
-      "the registration. The Hungarian algorithm picks the cheapest set "
-      "of pairs, each pair only if cheaper than leaving both unmatched. With change points that say against "
-      "which neighbouring mission they changed (PointSet::changed_against, filled by the volumetric stages), "
-      "a pair of missions m, m+1 also needs one end changed against the other, and (far_side_explains) neither "
-      "end may have changed mostly against its other neighbour (m-1, m+2). Matched objects are 'moved' "
-      "(match = partner in the next mission, else the previous one); an unmatched object is 'removed' when "
-      "it changed against the next mission (or is in the first), 'added' when only against the previous one "
-      "(or is in the last). history chains matches across all missions. Confidence of a move = 0.5 * (1 - "
-      "ambiguity) + 0.5 * group confidence, ambiguity = w / (cost of the best rival pair of either end); "
-      "of an unmatched object = 0.5 * min(1, cheapest rejected candidate cost / max_cost; 1 if none) + "
-      "0.5 * group confidence; either then becomes evidence * (0.5 + 0.5 * it), a move's also times its shape fit (a move's ends each their own; "
-      "both ends then carry the lower: one move, one confidence), evidence = 1 - exp(-v / evidence_voxels), v = the object's occupied "
-      "evidence_voxel cubes (the surface it shows): a change a few voxels large is mostly a fragment, a "
-      "leftover or noise.";
+      "Pairs the changed objects of consecutive missions by a weighted cost (centroid and descriptor distance, "
+      "shape fit after registration, group penalty) under size, floor and shape gates, with an optimal "
+      "assignment; sets each object's status, partner and confidence. "
+      "Details: docs/matching.md, \"The cost of a pair\".";
   s.inputs = {{"objects", "objects", "changed objects of all missions"},
               {"descriptors", "descriptors", "one descriptor per object"},
               {"groups", "groups", "descriptor groups (soft or hard constraint)", true}};
@@ -195,14 +164,11 @@ const ParamTable<MatchStageConfig>& param_table() {
            "cost added to a cross-group pair (group_mode = soft); prefers same-group partners, never vetoes")
         .range(0.0, 100.0);
     t.bind("max_size_change", &C::max_size_change,
-           "size gate, a cheap pre-filter before the shape check: largest relative change of height or "
-           "footprint-rectangle sides of a pair (a rigid object keeps its size, but a partial view shows less of "
-           "it); 0 = off")
+           "size gate before the shape check: largest relative change of height or footprint-rectangle sides of a pair; 0 = off")
         .range(0.0, 10.0);
     t.bind("size_slack", &C::size_slack, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m");
     t.bind("max_distance", &C::max_distance,
-           "farthest centroid displacement accepted as a move; 0 = no limit (a site's scale is not known: the size "
-           "and shape gates keep unlike objects apart, the physical term prefers near partners)")
+           "farthest centroid displacement accepted as a move; 0 = no limit")
         .range(0.0, 1e6)
         .unit("m");
     t.bind("max_descriptor_distance", &C::max_descriptor_distance, "largest descriptor distance of a pair; 0 = no gate")
@@ -218,26 +184,20 @@ const ParamTable<MatchStageConfig>& param_table() {
            "shape_distance, shape_gap); 0 = off")
         .range(0.0, 1.0);
     t.bind("far_side_explains", &C::far_side_explains,
-           "3+ missions: an object that changed mostly against its other neighbour (more than twice as many of its "
-           "points changed against it as against this pair's mission) is that change's end and no candidate "
-           "between this pair of missions; false = every object a candidate");
+           "3+ missions: an object that changed mostly against its other neighbour is no candidate between this pair of missions");
     t.bind("shape_voxel", &C::shape_voxel, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m");
     t.bind("shape_distance", &C::shape_distance, "a registered point within this distance of the other object counts as explained")
         .range(0.001, 1.0)
         .unit("m");
     t.bind("shape_gap", &C::shape_gap,
-           "a registered point farther than shape_distance from the other object still counts as explained when "
-           "the other object's points within this distance span a surface around it (a sparse scanner's rings) and "
-           "it lies within shape_distance / 2 of that surface; 0 = points only")
+           "a registered point off the other object still counts within shape_distance / 2 of the surface that the other's points within this distance span; 0 = points only")
         .range(0.0, 1.0)
         .unit("m");
     t.bind("evidence_voxel", &C::evidence_voxel, "cube edge for measuring the surface an object shows (confidence)")
         .range(0.01, 1.0)
         .unit("m");
     t.bind("evidence_voxels", &C::evidence_voxels,
-           "confidence = evidence x (0.5 + 0.5 x the matching and group terms), x the shape fit for a move; "
-           "evidence = 1 - exp(-v / evidence_voxels), v = the object's occupied evidence_voxel cubes (0.63 at this "
-           "many); 0 = the matching and group terms alone")
+           "confidence scale: evidence = 1 - exp(-v / this), v = the object's occupied evidence_voxel cubes; 0 = no evidence factor")
         .range(0.0, 1e6);
     t.bind("max_lift", &C::max_lift,
            "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than "
@@ -246,14 +206,9 @@ const ParamTable<MatchStageConfig>& param_table() {
         .unit("m");
     t.bind("max_tilt", &C::max_tilt, "floor gate: nor tilted by more than this (180 = off)").range(1.0, 180.0).unit("deg");
     t.bind("upright_poses", &C::upright_poses,
-           "floor gate: a pair standing on floors in both missions is registered among upright poses only "
-           "(max_lift, max_tilt), so a better-scoring pose lying on its side does not refuse it; false = register "
-           "freely, refuse the pair when that pose is off the floor");
+           "a pair standing on floors in both missions is registered among upright poses only (max_lift, max_tilt); false = refused when its best pose is off the floor");
     t.bind("corner_hypotheses", &C::corner_hypotheses,
-           "shape check: views whose footprints differ in size (a side by more than 0.1 m) that no yaw turn "
-           "explains (90 % of the moved view within shape_distance) are also registered from the poses that put a "
-           "corner of one footprint on a corner of the other (half a table seen shares a corner with the whole, "
-           "not its centre): the 4 of them (of up to 16) that score best as they stand");
+           "shape check: views of different footprint sizes that no yaw turn explains are also registered corner on corner");
     return t;
   }();
   return table;

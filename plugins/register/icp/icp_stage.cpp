@@ -75,31 +75,10 @@ StageInfo info() {
   s.version = "1.6.1";
   s.summary = "6-DoF transform of each moved object by (G)ICP from SVD and yaw hypotheses";
   s.doc =
-      "For each matched pair: initial guesses are the SVD principal-frame transform (register.svd) with its "
-      "four proper axis flips and yaw_hypotheses rotations about the vertical through the centroids; with "
-      "corner_hypotheses, when the two footprints (minimum-perimeter rectangles) differ in a side by more than "
-      "0.1 m and no coarse pose from those starts placed 90 % of the moved view within inlier_distance, also "
-      "the poses that put a corner of one footprint on a corner of the other, sides parallel "
-      "(a partial view shares a corner with the whole object, not its centre): of those (up to 16) the 4 "
-      "scoring best as they stand. "
-      "Each is refined with PCL Generalized ICP (method = gicp; plain ICP below 30 points or with "
-      "method = icp) on voxel-downsampled points and scored by the symmetric truncated mean squared "
-      "nearest-neighbour distance (truncated at inlier_distance); the three best and the least turned are refined again with the "
-      "correspondence gate narrowed to inlier_distance (with gicp, a point-to-point ICP polish competes: GICP's "
-      "minimum can sit degrees off on box-like objects) and the best is kept; the view covering fewer voxels "
-      "is the one moved (then inverted); among poses scoring within "
-      "symmetry_tolerance (relative) of the best, the one with the smallest rotation wins (a symmetric shape "
-      "fits as well turned by 180 degrees). Large objects: the coarse pass iterates on at most max_points "
-      "source points, the fine pass on at most fine_max_points (at least max_points) and starts with the wide gate again (a pose "
-      "from few points may sit slid along a large face), and scores query at most max_score_points each way. "
-      "p_match = T * p. The other poses within symmetry_tolerance that differ from the chosen one by at least "
-      "distinct_degrees or distinct_metres are written as alternative_transforms (the pose is ambiguous: a box's "
-      "half-turn, a barrel's any turn). "
-      "A pair standing on floors in both missions (floor_z known) is registered among upright poses only: lifted "
-      "by at most max_lift relative to the floors and tilted by at most max_tilt (match.weighted's floor gate); "
-      "alternatives are upright too. With max_lift > 0 its yaw rotations start with its floor on the other's, not "
-      "centroid on centroid (a view missing its top has its centroid low). "
-      "Records the mean inlier share as 'mean_inlier_ratio' and the pairs with alternatives as 'ambiguous_pairs'.";
+      "Refines each moved pair's 6-DoF transform by (G)ICP from several starts (SVD guess and flips, yaw turns, "
+      "corner on corner), keeps the least turned of the poses that fit about as well and lists the others as "
+      "alternative_transforms. "
+      "Details: docs/matching.md, \"register.icp\".";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a refined transform for every moved object"}};
   s.params = param_table().specs();

@@ -65,12 +65,9 @@ StageInfo info() {
   s.version = "1.0.0";
   s.summary = "6-DoF transform of each moved object: shared centroid, orientation from covariance SVD";
   s.doc =
-      "For each matched pair, each object's principal frame is its centroid and the singular vectors of "
-      "its point covariance (decreasing variance); the first two axes are signed so the points' skew "
-      "along them is positive, the third is their cross product. T = F_match * F_object^-1, so "
-      "p_match = T * p. Caveats: symmetric shapes leave axis signs undetermined (a 180 degree flip), "
-      "near-equal variances leave the axes undetermined, partial views bias centroid and axes; such "
-      "pairs are counted in the 'ambiguous_pairs' metric. register.icp refines these.";
+      "6-DoF transform of each moved pair from the two objects' principal frames (centroid and covariance SVD, "
+      "axes signed by skew): a fast first guess; ambiguous frames are counted. "
+      "Details: docs/matching.md, \"register.svd\".";
   s.inputs = {{"objects", "objects", "changed objects"}, {"matches", "matches", "statuses and partners"}};
   s.outputs = {{"matches", "matches", "the matches with a transform for every moved object"}};
   s.params = param_table().specs();

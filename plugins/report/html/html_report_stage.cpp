@@ -69,11 +69,9 @@ StageInfo info() {
   s.version = "1.1.0";
   s.summary = "Self-contained HTML change report with top-down maps, match matrix and descriptor plot";
   s.doc =
-      "Writes <out>/report.html: per consecutive mission pair a top-down change map (static map in grey, "
-      "removed red, added green, moved blue joined by an arrow, ids labelled), the object match matrix with "
-      "similarity as a heat map and matched pairs outlined with their confidence, the descriptors reduced to "
-      "2-D by PCA coloured by group, a table of objects, per-stage timings and provenance. Also writes "
-      "<out>/changes.ply (object points coloured by status, with object, mission and status properties).";
+      "Writes <out>/report.html, one self-contained page (top-down change maps per mission pair, the match "
+      "matrix, a 2-D descriptor plot, an object table, timings and provenance), and <out>/changes.ply. "
+      "Details: docs/formats.md, \"The HTML page\".";
   s.inputs = {{"missions", "missions", "missions as aligned (static map, mission names)"},
               {"objects", "objects", "changed objects"},
               {"groups", "groups", "descriptor groups", true},

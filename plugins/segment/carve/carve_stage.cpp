@@ -52,20 +52,10 @@ class CarveStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Cuts out of a cluster another mission's object that fits inside it (touching objects)";
     i.doc =
-        "Two changed objects that touch in one mission form one cluster (a crate moved against a shelf that also "
-        "moved). When an object of a neighbouring mission (the template: often the same object at its other pose) "
-        "fits inside such a cluster, it is cut out. For each cluster (host) and each smaller object of a "
-        "neighbouring mission whose footprint is at least min_width wide: the template is turned about z in "
-        "yaw_step steps and slid over the host's box in voxel steps, heights unchanged (or moved by the two "
-        "floors' difference); fit = share of its points (voxel-subsampled) within tolerance of a host point, its "
-        "top band's too. With fit >= min_fit, the host's points within tolerance of the placed template are one object, "
-        "each connected part of the rest (min_points or more; smaller ones join the carved part) another. Kept "
-        "only if each side holds min_share of the host's points, their tops differ by min_height_step "
-        "(objects as tall as each other may be one object whose continuous top the cut would run through) and they "
-        "stand beside each other: at most max_overlap of the smaller side's floor cells lie under the other too (a "
-        "partial view fits inside a fuller view of its object, and cutting it out leaves parts above each other). Best "
-        "fits first, each object in one carve at most; ids are renumbered 0..n-1 when anything was cut. Hosts "
-        "over 25 m^2 of footprint are not searched. See docs/segmentation.md.";
+        "Cuts out of a change cluster another mission's object that fits inside it (two touching objects "
+        "reported as one): the template is turned and slid over the cluster, and a cut is kept only when both "
+        "sides are substantial and stand beside each other. "
+        "Details: docs/segmentation.md, \"segment.carve\".";
     i.inputs = {{"objects", "objects", "per-mission clusters (after segment.complete)"}};
     i.outputs = {{"objects", "objects", "clusters with touching objects cut apart"}};
     i.params = param_table().specs();

@@ -39,20 +39,9 @@ class ComoveStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Joins the pieces of one object that moved together (a table seen as its legs)";
     i.doc =
-        "A sparse scanner at table height sees a table as its legs; nothing the difference finds "
-        "connects them, so a moved table becomes three or four moved legs. For each pair of "
-        "consecutive missions, among the slender pieces of each (height at least slender_ratio "
-        "times the short side of the footprint) changed against the other: two pieces of one "
-        "mission at most join_gap apart (box to box) and two of the other whose centroid distances "
-        "agree within position_tolerance give a yaw and a translation (a motion under "
-        "position_tolerance and 10 degrees is no move and is skipped, as is a seed pair the other mission's "
-        "pieces cover where it stands). A piece is covered when at "
-        "least cover_share of its points, moved by it, lie within cover_radius of the other "
-        "mission's slender pieces; the four seeds must be, and every covered piece within join_gap "
-        "of the set joins it, on both sides. Sets of two or more pieces on each side whose joined "
-        "footprint is at most max_extent long are taken by their total points, most first, each "
-        "piece once; each side becomes one object (lowest floor_z). A leg the other mission did "
-        "not see has no evidence and stays apart. Ids are renumbered 0..n-1 when anything joined.";
+        "Joins the slender pieces that one rigid motion carries onto the other mission's pieces (a table a sparse "
+        "scanner saw as its legs) into one object per mission. "
+        "Details: docs/segmentation.md, \"segment.comove\".";
     i.inputs = {{"objects", "objects", "per-mission change clusters"}};
     i.outputs = {{"objects", "objects", "clusters, pieces that moved together joined"}};
     i.params = param_table().specs();

@@ -32,51 +32,10 @@ class CompleteStage : public Stage {
     i.version = "1.6.0";
     i.summary = "Grows partial change clusters of short moves into whole objects";
     i.doc =
-        "First, an object with at least floor_share of its points within the floor clearance of its local floor "
-        "(below) is the floor itself, which the difference flags where beams graze uneven ground: it is dropped "
-        "before anything pairs with it; so is an object thinner than thin_height whose voxels every neighbouring "
-        "mission also holds (static_share of its points): an unchanged horizontal surface such as a table top "
-        "grazed by beams; and so is a thin object whose own mission continues its surface (points within 2 cm of its "
-        "median height in at least half of the 0.1 m columns of a box_margin-wide strip along a side) on at least "
-        "thin_surface_sides of its four sides: a patch of a shelf or table top the other mission's beams grazed "
-        "without hitting it (a sparse scanner), where a thing that moved stands free (a cart's deck) or continues "
-        "on one side only (the sliver of a table top moved a little). An object moved by less than its own size keeps occupying the overlap of its two poses, so "
-        "the volumetric difference finds only slivers of it. For consecutive missions, clusters whose "
-        "boxes are at most pair_gap apart are paired (nearest first, each in at most one completed pair; with "
-        "pair_retry a refused pair frees both for their next candidates; among touching boxes the nearer centroids first); each grows "
-        "through its own mission's full cloud (breadth-first over occupied voxels of edge `voxel`, "
-        "inside the pair's union box grown by box_margin, above the local floor clearance, "
-        "never into another object's points). Where a growth finds more "
-        "than max_leak occupied voxels just outside the region per voxel it grew into (it touches a wall or "
-        "furniture), both grow again inside the union of the two boxes without margin (leak_growth = own_box; "
-        "base: the pair is left alone). The growth is kept only if both grown objects have the "
-        "shape of one rigid object (height above the floor and footprint-rectangle sides agree "
-        "within max(shape_tolerance x the larger, shape_slack)) and, with still_check, the two grown objects "
-        "registered onto each other (lista::objreg's ICP from yaw turns) must fit better moved than where they "
-        "stand, else they grew into a static thing between two changes. With join_fragments, other objects of a pair "
-        "member's mission that its growth reaches are tried in the pair too (a turned short move leaves slivers "
-        "at both ends) and joined into it if the shapes then agree within half that allowance. With "
-        "join_connected, two objects of one mission that no completed pair holds, boxes at most pair_gap apart and "
-        "voxels not touching, are joined when a growth from one inside the union of their boxes grown by "
-        "box_margin (no leak check: a table's top reaches past its legs' boxes) reaches the other over points it "
-        "adds of which at most 1 - static_share lie where every neighbouring mission holds points too: the "
-        "material between them changed with them (a "
-        "removed table's top between the legs the difference found). Then, with self_complete, every object "
-        "grows the same way inside its own box grown by box_margin, down to the floor if it stands "
-        "on it (the difference cannot confirm change next to the floor, so objects lose their base); "
-        "if that growth wants out of the box (it touches a wall or furniture), it is cut to the object's own box "
-        "and the base below its lowest part is added (leak_growth = base: the base only). With "
-        "static_check, when at least static_share of what a self-completion would add lies in voxels "
-        "every neighbouring mission also holds above its own local floor, those points are left out: "
-        "they did not change (a sliver of phantom change on a static wall stays a sliver; below the "
-        "share the growth is kept, as a short move overlaps its other pose). The local "
-        "floor is found around each object; points within max(floor_clearance, 4 sigma of the "
-        "floor's noise) of it are never added. Every object standing on its local floor (lowest point at most "
-        "0.3 m above it) gets that floor's height as its floor_z, which describe.learned measures heights "
-        "from. Last, an object with at least nested_share of its points inside the box of a larger object of the same "
-        "mission (grown by half a voxel) joins it: growth never takes another object's points, so one object cut "
-        "in two by the difference stays two clusters interleaved in one box. Ids and order are kept, except that "
-        "when any object is dropped (floor, unchanged thin surface) or joins another the ids are renumbered 0..n-1.";
+        "Completes change clusters from each mission's full cloud: drops floor patches and unchanged thin "
+        "surfaces, grows the slivers of short moves into whole objects, gives objects back their base, joins "
+        "fragments, and measures the floor each object stands on. "
+        "Details: docs/segmentation.md, \"segment.complete\".";
     i.inputs = {{"objects", "objects", "per-mission change clusters"},
                 {"missions", "missions", "the aligned missions the clusters came from"}};
     i.outputs = {{"objects", "objects", "clusters, completed where a pair agreed"}};
@@ -133,19 +92,14 @@ const ParamTable<CompleteStageConfig>& param_table() {
     t.bind("shape_tolerance", &C::shape_tolerance, "relative disagreement of the pair's extents allowed").range(0, 2);
     t.bind("shape_slack", &C::shape_slack, "absolute disagreement of the pair's extents allowed").range(0, 2).unit("m");
     t.bind("leak_growth", &C::leak_growth,
-           "what a growth that leaks out of its region (the object touches a wall or furniture) keeps: "
-           "own_box = a self-completion what it reaches inside the object's own box, and its base; a "
-           "short-move pair what it reaches inside the union of its two boxes (shapes must agree); "
-           "base = a self-completion only the base below its lowest part, a pair nothing")
+           "what a growth leaking out of its region keeps: own_box = what it reaches inside the object's own box (a pair: the union of its two boxes); base = a self-completion its base only, a pair nothing")
         .one_of({"own_box", "base"});
     t.bind("self_complete", &C::self_complete, "also complete every object inside its own box grown by box_margin (its base, mostly)");
     t.bind("static_check", &C::static_check,
            "self-completion leaves out points every neighbouring mission also holds (see static_share)");
     // Shares of points: fractions in [0, 1].
     t.bind("static_share", &C::static_share,
-           "share of a self-completion held unchanged by every neighbouring mission from which on those points "
-           "are left out; also the share that makes a thin object an unchanged surface (thin_height), and 1 - it "
-           "the most of join_connected's connecting points that may be held there")
+           "share of a self-completion held unchanged by every neighbouring mission from which on those points are left out (also the thin-surface and join_connected share)")
         .range(0, 1);
     t.bind("nested_share", &C::nested_share,
            "share of an object's points inside the box of a larger object of its mission from which "
@@ -168,18 +122,12 @@ const ParamTable<CompleteStageConfig>& param_table() {
            "a pair whose growth is refused (leak or shapes) frees both objects for their next-nearest "
            "candidates; false = each object is offered its nearest candidate only");
     t.bind("pair_order", &C::pair_order,
-           "order in which candidate pairs are tried: by box gap in whole voxels (a gap under one "
-           "voxel touches the growth as an overlap does), then by the horizontal distance of their "
-           "centroids (centroid); or by gap, then object id (gap)")
+           "order of candidate pairs: by box gap in whole voxels, then by centroid distance (centroid) or object id (gap)")
         .one_of({"centroid", "gap"});
     t.bind("join_fragments", &C::join_fragments,
-           "a pair's growth that reaches other objects of its own mission (within one voxel) that no "
-           "completed pair holds grows again with them joined; kept, and they are joined into the "
-           "pair's object, if the shapes then agree (a turned short move leaves slivers at both ends)");
+           "join into a pair's object the other objects of its mission that its growth reaches, when the shapes then agree");
     t.bind("still_check", &C::still_check,
-           "refuse a pair whose two grown objects fit best where they stand: registered onto each "
-           "other, the pose moves them under 5 cm and 5 degrees, or they fit better unmoved than at "
-           "that pose (a cabinet between a box taken away and a barrel put down is no short move)");
+           "refuse a pair whose two grown objects, registered onto each other, fit best where they stand");
     t.bind("join_connected", &C::join_connected,
            "two objects of one mission that no completed pair holds are joined when a growth from one "
            "reaches the other over points mostly not held by the neighbouring missions (a table's "

@@ -33,12 +33,9 @@ class EuclideanSegmentStage : public Stage {
     i.version = "1.1.0";
     i.summary = "PCL Euclidean cluster extraction of the change points";
     i.doc =
-        "Cuts each mission's change points into objects with pcl::EuclideanClusterExtraction "
-        "(k-d tree radius search): points within `tolerance` of each other share a cluster. "
-        "Clusters outside [min_points, max_points] are dropped (PCL drops over-size clusters "
-        "whole); clusters mostly seen free in their own mission are dynamics, not objects. Missions "
-        "run in parallel. segment.voxel with connectivity = \"exact\" gives the same clusters faster. "
-        "docs/segmentation.md.";
+        "PCL Euclidean cluster extraction of each mission's change points (points within tolerance share a "
+        "cluster); clusters mostly seen free in their own mission are set apart as dynamics. "
+        "Details: docs/segmentation.md, \"segment.euclidean\".";
     i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
     i.outputs = {{"objects", "objects", "one object per cluster per mission"}};
     i.params = param_table().specs();

@@ -33,16 +33,9 @@ class OverlapStage : public Stage {
     i.version = "1.0.0";
     i.summary = "Merge/split of change clusters across consecutive missions by overlap ratio";
     i.doc =
-        "inside(a, b) = share of a's points inside b's bounding box grown by `margin`. For each "
-        "pair of consecutive missions: (1) merge - objects of one mission that each lie inside "
-        "the same object of the other (inside >= merge_ratio) and are within merge_gap of each "
-        "other become one (an object moved by less than its own size breaks into fragments, as "
-        "only the non-overlapping parts of its two poses change); (2) split - an object that "
-        "contains two or more objects of the other mission (inside >= split_ratio each) that stand "
-        "more than merge_gap apart is cut, each point going to the nearest of them (objects touching in one mission, or "
-        "one object replaced by several). The gap decides between the two readings: pieces within "
-        "merge_gap are one object broken up, farther ones are separate objects. Merges run before splits; parts under min_points join "
-        "the largest part. Ids are renumbered 0..n-1.";
+        "Merges the fragments of one object and splits clusters that hold several objects, by how the clusters "
+        "of consecutive missions lie inside each other. "
+        "Details: docs/segmentation.md, \"segment.overlap\".";
     i.inputs = {{"objects", "objects", "per-mission change clusters"}};
     i.outputs = {{"objects", "objects", "clusters after merge and split"}};
     i.params = param_table().specs();

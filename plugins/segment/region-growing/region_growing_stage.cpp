@@ -36,16 +36,10 @@ class RegionGrowingStage : public Stage {
     i.version = "1.1.0";
     i.summary = "PCL region growing with normals: splits clusters that touch";
     i.doc =
-        "Estimates normals (pcl::NormalEstimationOMP, k = normal_neighbours) and grows regions "
-        "(pcl::RegionGrowing, k = neighbours): a neighbour joins when its normal is within "
-        "`smoothness` of the current point's, and growth continues from points with curvature "
-        "below `curvature` (surface variation l0/(l0+l1+l2); the default 0.05 stops growth at "
-        "creases, 1 lets it run through them). Objects touching along a crease (resting on a surface, against a "
-        "wall) come apart where Euclidean clustering joins them; the price is that a strongly "
-        "faceted object can split into faces, so keep `smoothness` above the angle between "
-        "k-neighbour normals across a rounded edge. Points in regions outside [min_points, "
-        "max_points] are dropped; regions mostly seen free in their own mission are dynamics, not "
-        "objects. Missions run in parallel. docs/segmentation.md.";
+        "PCL region growing with normals: splits change clusters that touch along a crease, at the price of "
+        "faceted objects falling into faces; clusters mostly seen free in their own mission are set apart as "
+        "dynamics. "
+        "Details: docs/segmentation.md, \"segment.region-growing\".";
     i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
     i.outputs = {{"objects", "objects", "one object per region per mission"}};
     i.params = param_table().specs();

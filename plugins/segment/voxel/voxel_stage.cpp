@@ -46,13 +46,9 @@ class VoxelSegmentStage : public Stage {
     i.version = "1.1.0";
     i.summary = "Connected components of the change over a voxel grid (union-find)";
     i.doc =
-        "Cuts each mission's change points into objects. connectivity = \"voxel\": occupied voxels "
-        "of edge `tolerance` are joined when they touch (26-neighbourhood); any two points closer "
-        "than `tolerance` share a cluster and no join spans more than 2*sqrt(3)*tolerance. "
-        "connectivity = \"exact\": points are joined when within `tolerance`, the same clusters "
-        "as segment.euclidean at that tolerance; the grid only limits the neighbour search. "
-        "Clusters outside [min_points, max_points] are dropped; clusters mostly seen free in their own "
-        "mission are dynamics, not objects. Missions run in parallel. docs/segmentation.md.";
+        "Connected components of each mission's change points over a voxel grid (union-find; connectivity exact "
+        "gives PCL's Euclidean clusters); clusters mostly seen free in their own mission are set apart as dynamics. "
+        "Details: docs/segmentation.md, \"segment.voxel\".";
     i.inputs = {{"changes", "points", "per-mission change points (common frame)"}};
     i.outputs = {{"objects", "objects", "one object per cluster per mission"}};
     i.params = param_table().specs();

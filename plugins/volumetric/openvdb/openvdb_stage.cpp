@@ -17,14 +17,10 @@ StageInfo openvdb_info() {
   info.version = "1.2.0";
   info.summary = "Volumetric change by ray-cast occupancy grids (OpenVDB), differenced between consecutive missions";
   info.doc =
-      "Builds one occupancy map per mission by casting every beam from its sensor origin "
-      "(free space along the beam, a hit at the return), then marks a point changed when its "
-      "voxel is occupied in its own mission and observed free in the previous or next mission. "
-      "Voxels never observed in the other mission are unknown, never changed; two missions of one scan "
-      "each take one hit against one miss as change unless change_threshold is given. Same semantics and "
-      "parameters as volumetric.octomap; this backend casts each scan into bit masks of its own and adds "
-      "them into one OpenVDB grid of hit and miss counters per mission, for throughput. A changed point its own "
-      "mission also saw free is marked as dynamic evidence (someone walking by; \"Dynamics\"). docs/volumetric.md.";
+      "Volumetric change by ray-cast occupancy maps, hit and miss counters in one OpenVDB grid per mission (for "
+      "throughput): same decision and parameters as volumetric.octomap; it also marks the changed points their "
+      "own mission saw free (dynamics). "
+      "Details: docs/volumetric.md, \"Backends\".";
   info.inputs = {{"missions", "missions", "aligned missions (scans, poses, to_common)", false}};
   info.outputs = {{"changes", "points", "changed original points per mission, common frame", false}};
   info.params = raycast::volumetric_params();
