@@ -16,13 +16,13 @@ class BasicContext : public Context {
   Progress& progress() override;
   int threads() const override { return threads_; }
   uint64_t seed() const override { return seed_; }
-  bool cancelled() const override { return cancelled_; }
+  bool cancelled() const override { return cancel_requested; }
   void record(const std::string& key, double value) override;
   void note(const std::string& key, const std::string& text) override;
   RunInfo run_info() const override;
 
   LogLevel min_level = LogLevel::warning;
-  bool cancelled_ = false;
+  bool cancel_requested = false;  // what cancelled() answers
   RunInfo info;  // what run_info() returns; recorded metrics land in info.metrics[stage_id], notes in info.notes[stage_id]
   std::vector<std::string> messages;  // every logged message, for assertions
 

@@ -30,7 +30,7 @@ struct ParamSpec {
   std::optional<double> min, max;     // inclusive bounds for numbers (each element of lists)
   std::vector<std::string> choices;   // allowed values for text
   std::string doc;
-  std::string unit_;                  // e.g. "m", "deg"; empty if none
+  std::string unit_label;             // e.g. "m", "deg"; empty if none
 
   static ParamSpec boolean(std::string name, bool def, std::string doc);
   static ParamSpec integer(std::string name, int64_t def, std::string doc);
@@ -43,7 +43,7 @@ struct ParamSpec {
   ParamSpec& at_least(double lo) { min = lo; return *this; }
   ParamSpec& at_most(double hi) { max = hi; return *this; }
   ParamSpec& one_of(std::vector<std::string> values) { choices = std::move(values); return *this; }
-  ParamSpec& unit(std::string u) { unit_ = std::move(u); return *this; }
+  ParamSpec& unit(std::string u) { unit_label = std::move(u); return *this; }
 
   // Empty if `v` is acceptable, else what is wrong ("must be in [0, 1], got 3").
   // An integer is accepted where a real is declared (converted).

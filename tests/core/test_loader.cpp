@@ -34,7 +34,7 @@ TEST(Loader, LoadsTheTestLibraryAndItsDeclarations) {
   EXPECT_EQ(s->info.kind(), "test");
   EXPECT_NE(s->library.find("liblista_test_stages.so"), std::string::npos);
   ASSERT_NE(s->info.param("scale"), nullptr);
-  EXPECT_EQ(s->info.param("scale")->unit_, "m");
+  EXPECT_EQ(s->info.param("scale")->unit_label, "m");
   EXPECT_GE(r.size(), 7u);
   // Loading the same file again is harmless.
   load_plugin_library(r, lista_test::good_library());

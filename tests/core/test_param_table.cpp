@@ -46,7 +46,7 @@ TEST(ParamTable, DefaultsAreTheFieldsOfADefaultConfig) {
   EXPECT_EQ(std::get<int64_t>(specs[2].default_value), 3);
   EXPECT_EQ(specs[3].type, ParamType::integer);
   EXPECT_EQ(std::get<double>(specs[4].default_value), 1.5);
-  EXPECT_EQ(specs[4].unit_, "m");
+  EXPECT_EQ(specs[4].unit_label, "m");
   EXPECT_EQ(specs[5].choices, (std::vector<std::string>{"fast", "exact"}));
   EXPECT_EQ(specs[6].type, ParamType::real_list);
   EXPECT_EQ(specs[7].type, ParamType::text_list);

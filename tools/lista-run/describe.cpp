@@ -75,7 +75,7 @@ std::string describe_text(const lista::core::RegisteredStage& stage) {
   if (info.params.empty()) os << "  (none)\n";
   for (const auto& p : info.params) {
     os << "  " << p.name << " : " << lista::to_string(p.type) << " = " << lista::to_string(p.default_value);
-    if (!p.unit_.empty()) os << " " << p.unit_;
+    if (!p.unit_label.empty()) os << " " << p.unit_label;
     if (auto r = p.range_text(); !r.empty()) os << "  range " << r;
     if (!p.choices.empty()) {
       os << "  one of";
@@ -91,7 +91,7 @@ std::string describe_json(const lista::core::RegisteredStage& stage) {
   json params = json::array();
   for (const auto& p : info.params) {
     json j{{"name", p.name}, {"type", lista::to_string(p.type)}, {"default", value_json(p.default_value)},
-           {"doc", p.doc}, {"unit", p.unit_}};
+           {"doc", p.doc}, {"unit", p.unit_label}};
     j["min"] = p.min ? json(*p.min) : json(nullptr);
     j["max"] = p.max ? json(*p.max) : json(nullptr);
     j["choices"] = p.choices;

@@ -171,13 +171,14 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
   std::mutex mutex;
   std::condition_variable changed;
   std::map<std::pair<size_t, std::string>, Data> values;
-  std::vector<int> state(n, 0);  // 0 waiting, 1 running, 2 done
+  enum class StageState { waiting, running, done };
+  std::vector<StageState> state(n, StageState::waiting);
   // The running stages, for the crash handler's last line (cancel.hpp).
   // Called with `mutex` held.
   auto publish_running = [&] {
     std::string text;
     for (size_t k = 0; k < n; ++k)
-      if (state[k] == 1)
+      if (state[k] == StageState::running)
         text += (text.empty() ? "" : ", ") + plan.stages[k].id + " (" + plan.stages[k].stage->info.name + ")";
     set_running_stages(text);
   };
@@ -226,7 +227,7 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
       const auto key = std::make_pair(index_of.at(in.from_stage), in.from_port);
       if (--readers[key] == 0) values.erase(key);
     }
-    state[i] = 2;
+    state[i] = StageState::done;
     --running;
     ++done;
     publish_running();
@@ -239,13 +240,14 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
       const bool stopping = !failures.empty() || run.cancel->load();
       if (!stopping) {
         for (size_t i = 0; i < n && running < jobs; ++i) {
-          if (state[i] != 0) continue;
+          if (state[i] != StageState::waiting) continue;
           const auto& s = plan.stages[i];
-          if (!std::all_of(s.depends_on.begin(), s.depends_on.end(), [&](size_t d) { return state[d] == 2; }))
+          if (!std::all_of(s.depends_on.begin(), s.depends_on.end(),
+                           [&](size_t d) { return state[d] == StageState::done; }))
             continue;
           Inputs inputs;
           for (const auto& in : s.inputs) inputs.set(in.port, values.at({index_of.at(in.from_stage), in.from_port}));
-          state[i] = 1;
+          state[i] = StageState::running;
           ++running;
           publish_running();
           if (!options.quiet && run.min_level <= LogLevel::info)
