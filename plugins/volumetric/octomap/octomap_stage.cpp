@@ -9,6 +9,8 @@
 #include <lista_raycast/change_detection.hpp>
 
 #include <algorithm>
+#include <cstdio>
+#include <new>
 
 namespace lista::volumetric {
 
@@ -20,14 +22,10 @@ StageInfo octomap_info() {
   info.version = "1.2.0";
   info.summary = "Volumetric change by ray-cast occupancy grids (OctoMap), differenced between consecutive missions";
   info.doc =
-      "Builds one occupancy map per mission by casting every beam from its sensor origin "
-      "(free space along the beam, a hit at the return), then marks a point changed when its "
-      "voxel is occupied in its own mission and observed free in the previous or next mission. "
-      "Voxels never observed in the other mission are unknown, never changed; two missions of one scan "
-      "each take one hit against one miss as change unless change_threshold is given. Same semantics and "
-      "parameters as volumetric.openvdb; this backend is the paper's: one OctoMap OcTree per "
-      "mission updated like OcTree::insertPointCloud, with key rays computed on several threads; two "
-      "missions are built in parallel, more are built in mission order with at most two trees held at once.";
+      "Volumetric change by ray-cast occupancy maps, one OctoMap OcTree per mission (the paper's backend): a "
+      "point is changed when its voxel is occupied in its mission and observed free in a neighbouring one. Same "
+      "decision and parameters as volumetric.openvdb. "
+      "Details: docs/volumetric.md, \"Backends\".";
   info.inputs = {{"missions", "missions", "aligned missions (scans, poses, to_common)", false}};
   info.outputs = {{"changes", "points", "changed original points per mission, common frame", false}};
   info.params = raycast::volumetric_params();
@@ -39,6 +37,23 @@ class OctomapStage : public Stage {
   explicit OctomapStage(const Params& p) : config_(raycast::volumetric_config(p)) {}
 
   Outputs run(const Inputs& inputs, Context& ctx) override {
+    // Each tree stops itself at its share of the memory (octree_occupancy.cpp);
+    // two built side by side, or the change decision after them, can still
+    // run out: said as plainly.
+    try {
+      return detect(inputs, ctx);
+    } catch (const std::bad_alloc&) {
+      char text[300];
+      std::snprintf(text, sizeof text,
+                    "the occupancy maps outgrow the memory at resolution %g m (max_range %g m); set a coarser "
+                    "resolution or a smaller max_range",
+                    config_.resolution, config_.max_range);
+      throw Error(text);
+    }
+  }
+
+ private:
+  Outputs detect(const Inputs& inputs, Context& ctx) {
     const MissionSet& missions = inputs.get<MissionSet>("missions");
     raycast::check_missions(missions);
     const raycast::PairThresholds thresholds = raycast::pair_thresholds(missions, config_);
@@ -85,7 +100,6 @@ class OctomapStage : public Stage {
     return o;
   }
 
- private:
   raycast::VolumetricConfig config_;
 };
 

@@ -10,8 +10,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <limits>
+#include <string>
+#include <sys/resource.h>
 
 using namespace lista;
 
@@ -38,7 +41,37 @@ MissionPoints run_stage(const Params& p, const MissionSet& missions, int threads
 
 Params defaults() { return Params::defaults(volumetric::volumetric_octomap_info().params); }
 
+// Under a 1 GiB address-space cap above what the process maps now, a
+// 5 mm map of the scene; exits 3 with the stage's error on stderr, 0 if
+// there was none.
+[[noreturn]] void build_too_big_a_map() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  rlim_t used = 0;
+  while (std::getline(status, line))
+    if (line.rfind("VmSize:", 0) == 0) used = rlim_t(std::stoull(line.substr(7))) * 1024;
+  const rlimit cap{used + (rlim_t(1) << 30), used + (rlim_t(1) << 30)};
+  setrlimit(RLIMIT_AS, &cap);
+  Params fine = defaults();
+  fine.set("resolution", 0.005);
+  try {
+    run_stage(fine, scene(), 2);
+  } catch (const Error& e) {
+    std::cerr << e.what() << "\n";
+    std::_Exit(3);
+  }
+  std::_Exit(0);
+}
+
 }  // namespace
+
+// A map that would outgrow the memory stops with an error that says what
+// to change, not with std::bad_alloc inside an OpenMP region (std::terminate).
+TEST(VolumetricOctomapDeathTest, AMapOutgrowingTheMemoryIsAClearError) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  EXPECT_EXIT(build_too_big_a_map(), ::testing::ExitedWithCode(3),
+              "occupancy maps? outgrows? the .*memory.* at resolution 0.005 m");
+}
 
 TEST(VolumetricOctomap, FindsRemovedAndAddedBoxesOnly) {
   BasicContext ctx;
