@@ -382,3 +382,34 @@ TEST(Scenario, OdometryDriftScalesWithTheRouteParams) {
   EXPECT_GT(five.first, 4.5 * once.first);
   EXPECT_LT(five.first, 5.5 * once.first);
 }
+
+// --operator: one more person per mission, standing 1.5-2.5 m behind the
+// sensor at every scan and somewhere else each scan; nothing else drawn
+// changes (its own random stream).
+TEST(Scenario, TheOperatorStandsBesideEveryStationAndChangesNothingElse) {
+  const Preset p = make_preset("tiny");
+  ChangeParams with = p.changes;
+  with.station_operator = true;
+  const Scenario plain = plan_scenario(build_layout(p.layout, 3), p.changes, p.route, 3);
+  const Scenario sc = plan_scenario(build_layout(p.layout, 3), with, p.route, 3);
+  ASSERT_EQ(sc.missions.size(), plain.missions.size());
+  for (size_t m = 0; m < sc.missions.size(); ++m) {
+    const MissionPlan& mission = sc.missions[m];
+    EXPECT_EQ(mission.objects.size(), plain.missions[m].objects.size());
+    ASSERT_EQ(mission.poses_true.size(), plain.missions[m].poses_true.size());
+    for (size_t i = 0; i < mission.poses_true.size(); ++i)
+      EXPECT_TRUE(mission.poses_true[i].isApprox(plain.missions[m].poses_true[i]));
+    ASSERT_EQ(mission.people.size(), plain.missions[m].people.size() + 1);
+    const Person& op = mission.people.back();
+    EXPECT_TRUE(op.beside_sensor);
+    std::set<std::pair<long, long>> places;
+    for (size_t i = 0; i < mission.poses_true.size(); ++i) {
+      const Eigen::Vector2d at = mission.person_pose(op, i).translation().head<2>();
+      const double d = (at - mission.poses_true[i].translation().head<2>()).norm();
+      EXPECT_GT(d, 1.3);
+      EXPECT_LT(d, 2.8);
+      places.insert({std::lround(at.x() * 10), std::lround(at.y() * 10)});
+    }
+    EXPECT_GT(places.size(), mission.poses_true.size() / 2) << "the operator should move between scans";
+  }
+}

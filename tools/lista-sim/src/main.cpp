@@ -34,7 +34,7 @@ std::vector<lista::sim::Shape> furniture_from(const std::string& folder, const c
 int run_dataset(const std::string& preset_name, const std::string& out, uint64_t seed, int missions,
                 int scans, const std::string& sensor_name, int threads, bool overwrite, const std::string& furniture,
                 bool body, const std::vector<std::string>& effects, double drift, double map_tilt, int people,
-                const std::string& format, bool skew, double spin) {
+                bool station_operator, const std::string& format, bool skew, double spin) {
   using namespace lista::sim;
   Preset preset = make_preset(preset_name);
   // Real furniture beside the procedural classes: about a third of the
@@ -43,6 +43,7 @@ int run_dataset(const std::string& preset_name, const std::string& out, uint64_t
   if (missions > 0) preset.route.missions = missions;
   if (scans > 0) preset.route.scans = scans;
   if (people >= 0) preset.changes.people = people;
+  preset.changes.station_operator = station_operator;
   preset.route.drift_per_m *= drift;
   preset.route.yaw_drift_deg_per_m *= drift;
   preset.route.map_tilt_deg = map_tilt;
@@ -135,6 +136,10 @@ int main(int argc, char** argv) {
                  "(default: the preset's, 1 to 3)")
       ->check(CLI::Range(0, 50))
       ->default_str("preset");
+  bool station_operator = false;
+  app.add_flag("--operator", station_operator,
+               "a person standing 1.5-2.5 m behind the sensor at each scan, facing it, somewhere else every scan "
+               "(the surveyor beside a tripod scanner; labelled as no object, dynamic in ground_truth.json)");
   bool skew = false;
   app.add_flag("--skew", skew,
                "sweeps take 0.1 s while the sensor moves on: each ray is cast from where the sensor is at its time, "
@@ -198,7 +203,7 @@ int main(int argc, char** argv) {
       std::cerr << "lista-sim: --preset and --out are required (or use the 'views' subcommand); see --help\n";
       return 2;
     }
-    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt, people, format, skew, spin);
+    return run_dataset(preset, out, seed, missions, scans, sensor, threads, overwrite, scene_furniture, body, effects, drift, map_tilt, people, station_operator, format, skew, spin);
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;

@@ -245,6 +245,18 @@ void add_people(Scenario& sc, MissionPlan& m, const ChangeParams& p, uint32_t& n
   }
 }
 
+// The operator beside a stop-and-go scanner (ChangeParams::station_operator).
+void add_operator(Scenario& sc, MissionPlan& m, uint32_t& next_person, Rng& rng) {
+  Person person;
+  person.id = next_person++;
+  sc.shapes.push_back(make_person(rng.next() & 0xFFFFFFFFull));
+  person.shape = int(sc.shapes.size()) - 1;
+  sc.object_shape[person.id] = person.shape;
+  person.phase = rng.uniform();
+  person.beside_sensor = true;
+  m.people.push_back(person);
+}
+
 void plan_route(const Scenario& sc, MissionPlan& m, int index, const RouteParams& p, Rng& rng) {
   const Layout& l = sc.layout;
   const double length = l.route_length();
@@ -318,6 +330,18 @@ Footprint footprint_of(const Shape& shape, const Iso& pose) {
 }
 
 Iso MissionPlan::person_pose(const Person& p, size_t scan) const {
+  if (p.beside_sensor) {
+    // 1.5-2.5 m behind the sensor (where the route came from: free floor),
+    // up to 0.6 m aside, a different place each scan.
+    const Iso& station = poses_true[std::min(scan, poses_true.size() - 1)];
+    const V2 at = station.translation().head<2>();
+    const Eigen::Vector3d x = station.linear().col(0);
+    const V2 heading = V2(x.x(), x.y()).norm() > 1e-6 ? V2(x.x(), x.y()).normalized() : V2(1.0, 0.0);
+    const V2 side(-heading.y(), heading.x());
+    const double k = double(scan) + 7.0 * p.phase;
+    const V2 xy = at - (2.0 + 0.5 * std::sin(2.4 * k)) * heading + 0.6 * std::sin(1.7 * k + 1.0) * side;
+    return floor_pose(xy, std::atan2(at.y() - xy.y(), at.x() - xy.x()));
+  }
   // Back and forth once per mission: a triangle wave over the scan index.
   const double u = std::fmod(p.phase + 2.0 * double(scan) / std::max<size_t>(1, poses_true.size()), 2.0);
   const double w = u < 1.0 ? u : 2.0 - u;
@@ -336,6 +360,7 @@ Scenario plan_scenario(Layout layout, const ChangeParams& changes, const RoutePa
   Rng objects_rng(seed, hash_string("objects"));
   Rng route_rng(seed, hash_string("route"));
   Rng people_rng(seed, hash_string("people"));
+  Rng operator_rng(seed, hash_string("operator"));  // its own stream: the rest is the same with or without
   uint32_t next_id = 1, next_person = kFirstPersonId;
   for (int k = 0; k < route.missions; ++k) {
     MissionPlan m;
@@ -347,6 +372,7 @@ Scenario plan_scenario(Layout layout, const ChangeParams& changes, const RoutePa
       apply_changes(sc, m, changes, next_id, objects_rng);
     }
     add_people(sc, m, changes, next_person, people_rng);
+    if (changes.station_operator) add_operator(sc, m, next_person, operator_rng);
     plan_route(sc, m, k, route, route_rng);
     sc.missions.push_back(std::move(m));
   }

@@ -32,6 +32,7 @@ struct ChangeParams {
   int removals = 1;
   int additions = 1;
   int people = 1;          // people walking through each mission
+  bool station_operator = false;  // a person standing beside the sensor at each scan (a surveyor)
   ChangeSpacing spacing = ChangeSpacing::any;
   std::vector<std::string> classes;  // object classes to draw from
   std::vector<Shape> extra_shapes;   // loaded meshes (sweethome3d) also drawn from
@@ -56,6 +57,9 @@ struct Person {
   int shape = 0;
   Eigen::Vector2d from, to;  // walks from -> to and back during the mission
   double phase = 0.0;
+  // Stands beside the sensor instead, a little behind it, facing it, at a
+  // place that changes from scan to scan (the operator of a tripod scanner).
+  bool beside_sensor = false;
 };
 
 struct MissionPlan {
