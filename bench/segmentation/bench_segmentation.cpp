@@ -111,12 +111,12 @@ int run(int argc, char** argv) {
                 missions, total, double(total) / missions, sc.objects, tolerance, repeat);
   }
 
-  seg::VoxelClusterConfig vox;
+  segmentation::VoxelClusterConfig vox;
   vox.tolerance = tolerance;
   vox.min_points = 20;
-  seg::VoxelClusterConfig exact = vox;
+  segmentation::VoxelClusterConfig exact = vox;
   exact.exact = true;
-  seg::EuclideanClusterConfig ec;
+  segment::EuclideanClusterConfig ec;
   ec.tolerance = tolerance;
   ec.min_points = 20;
 
@@ -124,17 +124,17 @@ int run(int argc, char** argv) {
   bool same = true;
   const double t_vox = time_it(repeat, [&] {
     n_vox = 0;
-    for (auto& c : clouds) n_vox += seg::cluster_voxels(c.xyz, vox).size();
+    for (auto& c : clouds) n_vox += segmentation::cluster_voxels(c.xyz, vox).size();
   });
   const double t_exact = time_it(repeat, [&] {
     n_exact = 0;
-    for (auto& c : clouds) n_exact += seg::cluster_voxels(c.xyz, exact).size();
+    for (auto& c : clouds) n_exact += segmentation::cluster_voxels(c.xyz, exact).size();
   });
   const double t_pcl = time_it(repeat, [&] {
     n_pcl = 0;
-    for (auto& c : clouds) n_pcl += seg::cluster_euclidean(c, ec).size();
+    for (auto& c : clouds) n_pcl += segment::cluster_euclidean(c, ec).size();
   });
-  for (auto& c : clouds) same &= seg::cluster_voxels(c.xyz, exact) == seg::cluster_euclidean(c, ec);
+  for (auto& c : clouds) same &= segmentation::cluster_voxels(c.xyz, exact) == segment::cluster_euclidean(c, ec);
 
   std::printf("| clustering | time (s) | vs PCL | clusters |\n|---|---|---|---|\n");
   std::printf("| PCL EuclideanClusterExtraction (segment.euclidean) | %.3f | 1.00x | %zu |\n", t_pcl, n_pcl);
@@ -180,7 +180,7 @@ int run(int argc, char** argv) {
       std::map<uint32_t, size_t> size_of;
       for (auto l : labels[m]) size_of[l]++;
       auto sub = clouds[m].select(subsets[m]);
-      found += recovered(seg::cluster_voxels(sub.xyz, vox), labels[m], subsets[m], size_of);
+      found += recovered(segmentation::cluster_voxels(sub.xyz, vox), labels[m], subsets[m], size_of);
     }
     if (seconds) *seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     return found;
@@ -202,7 +202,7 @@ int run(int argc, char** argv) {
     double t_seg = 0;
     auto t0 = Clock::now();
     size_t n = 0;
-    for (size_t m = 0; m < clouds.size(); ++m) n += seg::cluster_voxels(clouds[m].select(after_morph[m]).xyz, vox).size();
+    for (size_t m = 0; m < clouds.size(); ++m) n += segmentation::cluster_voxels(clouds[m].select(after_morph[m]).xyz, vox).size();
     t_seg = std::chrono::duration<double>(Clock::now() - t0).count();
     std::printf("\nground + morphology + segment.voxel, one thread: %.3f s for %zu points, %zu clusters\n",
                 t_ground + t_morph + t_seg, total, n);

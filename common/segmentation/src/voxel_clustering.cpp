@@ -7,7 +7,7 @@
 #include <numeric>
 #include <unordered_map>
 
-namespace lista::seg {
+namespace lista::segmentation {
 namespace {
 
 // 21 bits per axis: +-1e6 voxels, i.e. +-100 km at 10 cm.
@@ -136,4 +136,4 @@ std::vector<std::vector<uint32_t>> cluster_voxels(const std::vector<Eigen::Vecto
   return clusters;
 }
 
-}  // namespace lista::seg
+}  // namespace lista::segmentation

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace lista::align_given {
+namespace lista::align {
 
 namespace {
 
@@ -104,6 +104,6 @@ void register_stages(Registrar& r) {
 
 }  // namespace
 
-}  // namespace lista::align_given
+}  // namespace lista::align
 
-LISTA_PLUGIN(lista::align_given::register_stages)
+LISTA_PLUGIN(lista::align::register_stages)

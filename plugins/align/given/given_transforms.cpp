@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace lista::align_given {
+namespace lista::align {
 
 std::map<std::string, Eigen::Isometry3d> read_transform_file(const std::string& path) {
   std::ifstream in(path);
@@ -71,4 +71,4 @@ Eigen::Isometry3d map_to_world_from_gt(const Mission& m) {
   return T;
 }
 
-}  // namespace lista::align_given
+}  // namespace lista::align

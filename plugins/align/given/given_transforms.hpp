@@ -7,7 +7,7 @@
 #include <map>
 #include <string>
 
-namespace lista::align_given {
+namespace lista::align {
 
 // Reads "<mission> <16 numbers, 4x4 row-major>" or "<mission> <12 numbers,
 // 3x4 [R|t] row-major>" per line; '#' starts a comment. Errors name
@@ -19,4 +19,4 @@ std::map<std::string, Eigen::Isometry3d> read_transform_file(const std::string& 
 // enough). Throws if the mission has no poses_gt.
 Eigen::Isometry3d map_to_world_from_gt(const Mission& mission);
 
-}  // namespace lista::align_given
+}  // namespace lista::align

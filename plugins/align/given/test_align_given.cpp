@@ -84,9 +84,9 @@ TEST(AlignGiven, SingleScanIsEnoughBecauseRotationsCount) {
     m.scans.resize(1);
     m.poses_gt.resize(1);
   }
-  EXPECT_TRUE(align_given::map_to_world_from_gt(set.missions[1]).isApprox(pose(1, 2, -1.0), 1e-9));
+  EXPECT_TRUE(align::map_to_world_from_gt(set.missions[1]).isApprox(pose(1, 2, -1.0), 1e-9));
   set.missions[0].poses_gt.clear();
-  EXPECT_THROW(align_given::map_to_world_from_gt(set.missions[0]), Error);
+  EXPECT_THROW(align::map_to_world_from_gt(set.missions[0]), Error);
 }
 
 TEST(AlignGiven, FileModeAndItsErrors) {
@@ -111,14 +111,14 @@ TEST(AlignGiven, FileModeAndItsErrors) {
   }
   std::ofstream(path) << "A 1 0 0 0  0 1 0 0  0 0 1\nB 2 0 0 0 0 1 0 0 0 0 1 0\n";
   try {
-    align_given::read_transform_file(path);
+    align::read_transform_file(path);
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("t.txt:1: expected a mission name and 16"), std::string::npos) << e.what();
   }
   std::ofstream(path) << "A 1 0 0 0  0 1 0 0  0 0 1 0\nB 2 0 0 0 0 1 0 0 0 0 1 0\n";
   try {
-    align_given::read_transform_file(path);
+    align::read_transform_file(path);
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("t.txt:2: rotation of 'B' is not orthonormal"), std::string::npos)

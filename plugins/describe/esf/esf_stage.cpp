@@ -14,14 +14,14 @@
 // PCL's ESF seeds rand() from the wall clock on every call, which would make
 // runs differ. Its template is compiled here with that clock read replaced by
 // a constant so the same object always gives the same descriptor.
-namespace lista::esf_detail {
+namespace lista::describe {
 inline std::time_t fixed_clock(std::time_t*) { return std::time_t(0x5eed); }
-}  // namespace lista::esf_detail
-#define time(x) lista::esf_detail::fixed_clock(x)
+}  // namespace lista::describe
+#define time(x) lista::describe::fixed_clock(x)
 #include <pcl/features/impl/esf.hpp>
 #undef time
 
-namespace lista::esf {
+namespace lista::describe {
 namespace {
 
 // rand() is process-global: serialise ESF computations.
@@ -75,6 +75,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::esf
+}  // namespace lista::describe
 
-LISTA_PLUGIN(lista::esf::register_stages)
+LISTA_PLUGIN(lista::describe::register_stages)

@@ -13,7 +13,7 @@
 #include <filesystem>
 #include <thread>
 
-namespace lista::learned {
+namespace lista::describe {
 namespace {
 
 // Fixed so the descriptor is a pure function of the object's points (the same
@@ -123,6 +123,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::learned
+}  // namespace lista::describe
 
-LISTA_PLUGIN(lista::learned::register_stages)
+LISTA_PLUGIN(lista::describe::register_stages)

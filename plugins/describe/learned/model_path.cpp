@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-namespace lista::learned {
+namespace lista::describe {
 namespace fs = std::filesystem;
 
 std::vector<std::string> weight_candidates() {
@@ -31,4 +31,4 @@ std::string default_weights_path() {
   return c.empty() ? std::string(kDefaultWeightsFile) : c.front();
 }
 
-}  // namespace lista::learned
+}  // namespace lista::describe

@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-namespace lista::learned {
+namespace lista::describe {
 
 inline constexpr const char* kDefaultWeightsFile = "describe-learned.bin";
 
 std::vector<std::string> weight_candidates();
 std::string default_weights_path();
 
-}  // namespace lista::learned
+}  // namespace lista::describe

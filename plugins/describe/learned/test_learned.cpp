@@ -26,7 +26,7 @@ class LearnedTest : public ::testing::Test {
   void SetUp() override {
     dir_ = fs::temp_directory_path() / ("lista_learned_test_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
-    weights_ = (dir_ / lista::learned::kDefaultWeightsFile).string();
+    weights_ = (dir_ / lista::describe::kDefaultWeightsFile).string();
     torch::manual_seed(3);
     lista::objfeat::DescriptorNet net(lista::objfeat::NetConfig{});
     lista::objfeat::save_weights(net, weights_);
@@ -201,7 +201,7 @@ TEST_F(LearnedTest, FirstModelLayoutStillLoadsAndBadOptionsAreErrors) {
 
 TEST_F(LearnedTest, DefaultWeightsFollowLISTA_MODEL_DIR) {
   ::setenv("LISTA_MODEL_DIR", dir_.c_str(), 1);
-  EXPECT_EQ(lista::learned::default_weights_path(), weights_);
+  EXPECT_EQ(lista::describe::default_weights_path(), weights_);
   EXPECT_NO_THROW(stage(""));
   ::unsetenv("LISTA_MODEL_DIR");
 }
@@ -236,9 +236,9 @@ TEST(DescribeLearnedShipped, SameObjectTwoViewsIsNearerThanOtherObjects) {
   ::unsetenv("LISTA_MODEL_DIR");
   // The build tree mirrors the install tree: <lib>/lista-plugins/../../share/lista/models.
   const fs::path build_tree_copy =
-      (fs::path(LISTA_PLUGIN_DIR) / ".." / ".." / "share" / "lista" / "models" / lista::learned::kDefaultWeightsFile)
+      (fs::path(LISTA_PLUGIN_DIR) / ".." / ".." / "share" / "lista" / "models" / lista::describe::kDefaultWeightsFile)
           .lexically_normal();
-  EXPECT_EQ(fs::path(lista::learned::default_weights_path()), build_tree_copy);
+  EXPECT_EQ(fs::path(lista::describe::default_weights_path()), build_tree_copy);
   auto s = make_stage();
   const int shapes = 8;
   auto d = describe(*s, two_views_each(shapes, 11));

@@ -16,7 +16,7 @@
 
 #include <algorithm>
 
-namespace lista::rift {
+namespace lista::describe {
 namespace {
 
 constexpr int kRings = 4, kOrientations = 8, kBins = kRings * kOrientations;
@@ -147,6 +147,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::rift
+}  // namespace lista::describe
 
-LISTA_PLUGIN(lista::rift::register_stages)
+LISTA_PLUGIN(lista::describe::register_stages)

@@ -16,7 +16,7 @@
 
 #include <cmath>
 
-namespace lista::shot {
+namespace lista::describe {
 namespace {
 
 struct ShotConfig {
@@ -125,6 +125,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::shot
+}  // namespace lista::describe
 
-LISTA_PLUGIN(lista::shot::register_stages)
+LISTA_PLUGIN(lista::describe::register_stages)

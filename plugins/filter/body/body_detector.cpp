@@ -10,7 +10,7 @@
 #include <lista/parallel.hpp>
 #include <lista_geometry/voxel_key.hpp>
 
-namespace lista::filter_body {
+namespace lista::filter {
 
 namespace {
 
@@ -276,4 +276,4 @@ size_t drop_body_points(Mission& m, const BodyCells& cells, const BodyConfig& c,
   return total;
 }
 
-}  // namespace lista::filter_body
+}  // namespace lista::filter

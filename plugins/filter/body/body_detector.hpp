@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace lista::filter_body {
+namespace lista::filter {
 
 struct BodyConfig {
   double max_range = 1.5;         // m: body points lie nearer their sensor than this
@@ -62,4 +62,4 @@ BodyCells find_station_body_cells(const std::vector<const PointSet*>& stations, 
 // over `threads`. Returns how many.
 size_t drop_body_points(Mission& mission, const BodyCells& cells, const BodyConfig& config, int threads = 1);
 
-}  // namespace lista::filter_body
+}  // namespace lista::filter

@@ -9,7 +9,7 @@
 
 #include <cstdio>
 
-namespace lista::filter_body {
+namespace lista::filter {
 
 namespace {
 
@@ -156,6 +156,6 @@ void register_stages(Registrar& r) {
 
 }  // namespace
 
-}  // namespace lista::filter_body
+}  // namespace lista::filter
 
-LISTA_PLUGIN(lista::filter_body::register_stages)
+LISTA_PLUGIN(lista::filter::register_stages)

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace lista::filter_body {
+namespace lista::filter {
 
 RangeImage::RangeImage(const PointSet& cloud) : offsets_(size_t(kAz) * kEl + 1, 0) {
   std::vector<uint32_t> bin(cloud.size());
@@ -66,4 +66,4 @@ int RangeImage::el_bin(const Eigen::Vector3d& q) {
   return std::clamp(int(std::floor(deg + 90.0)), 0, kEl - 1);
 }
 
-}  // namespace lista::filter_body
+}  // namespace lista::filter

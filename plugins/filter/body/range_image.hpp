@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace lista::filter_body {
+namespace lista::filter {
 
 // One scan's points binned by direction (azimuth 0.5 deg, elevation 1 deg),
 // in compressed rows: the points of bin b are points[offsets[b] .. offsets[b+1]).
@@ -41,4 +41,4 @@ class RangeImage {
   std::vector<Eigen::Vector3f> points_;
 };
 
-}  // namespace lista::filter_body
+}  // namespace lista::filter

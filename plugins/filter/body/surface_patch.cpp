@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace lista::filter_body {
+namespace lista::filter {
 
 Patch patch_of(const std::vector<std::pair<uint64_t, Eigen::Vector3f>>& keyed, uint64_t key) {
   const Eigen::Vector3i at = geometry::voxel_of_key(key);
@@ -49,4 +49,4 @@ Patch patch_of(const std::vector<std::pair<uint64_t, Eigen::Vector3f>>& keyed, u
   return patch;
 }
 
-}  // namespace lista::filter_body
+}  // namespace lista::filter

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace lista::filter_body {
+namespace lista::filter {
 
 // A patch of surface: centre and normal of a scan's points in a cell and
 // its neighbours; `valid` only where they are flat enough to have a normal.
@@ -22,4 +22,4 @@ struct Patch {
 // by cell and sorted by key: the points of the cell and its 26 neighbours.
 Patch patch_of(const std::vector<std::pair<uint64_t, Eigen::Vector3f>>& keyed, uint64_t key);
 
-}  // namespace lista::filter_body
+}  // namespace lista::filter

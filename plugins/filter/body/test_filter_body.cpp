@@ -182,7 +182,7 @@ TEST(FilterBody, KeepsTheWallsAndFloorOfACorridorThatStayBesideTheSensor) {
   lista::Mission m = lista::align::testing::make_mission("A", corridor, route, route, 2);
   const lista::Mission before = m;
   const lista::MissionSet in = one_mission(std::move(m));
-  const lista::filter_body::BodyCells cells = lista::filter_body::find_body_cells(in.missions[0], {});
+  const lista::filter::BodyCells cells = lista::filter::find_body_cells(in.missions[0], {});
   EXPECT_GT(cells.candidates, 20u);  // the walls do stay put in the sensor frame
   EXPECT_GT(cells.voted, 20u);
   EXPECT_EQ(cells.confirmed, 0u);
@@ -197,7 +197,7 @@ TEST(FilterBody, LeavesARobotStandingStillAlone) {
   add_body(m, 300, 2);
   const size_t n = m.point_count();
   const lista::MissionSet in = one_mission(std::move(m));
-  EXPECT_FALSE(lista::filter_body::find_body_cells(in.missions[0], {}).checked);
+  EXPECT_FALSE(lista::filter::find_body_cells(in.missions[0], {}).checked);
   const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));
   EXPECT_EQ(only(out).point_count(), n);
 }
@@ -213,7 +213,7 @@ TEST(FilterBody, KeepsAWallBesideARobotThatStoodStillHalfTheMission) {
   lista::Mission m = lista::align::testing::make_mission("A", hall, route, route, 8);
   const size_t n = m.point_count();
   const lista::MissionSet in = one_mission(std::move(m));
-  const lista::filter_body::BodyCells cells = lista::filter_body::find_body_cells(in.missions[0], {});
+  const lista::filter::BodyCells cells = lista::filter::find_body_cells(in.missions[0], {});
   EXPECT_GT(cells.candidates, 10u);  // the wall, in 30 of 54 scans
   EXPECT_EQ(cells.confirmed, 0u);
   const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));

@@ -7,7 +7,7 @@
 #include <limits>
 #include <numeric>
 
-namespace lista::grouping {
+namespace lista::group {
 
 Linkage parse_linkage(const std::string& name) {
   if (name == "single") return Linkage::single;
@@ -103,4 +103,4 @@ GapCut cut_at_largest_gap(int n, const std::vector<Merge>& merges, double min_ju
   return cut;
 }
 
-}  // namespace lista::grouping
+}  // namespace lista::group

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace lista::grouping {
+namespace lista::group {
 
 enum class Linkage { single, average, complete, ward };
 Linkage parse_linkage(const std::string& name);  // throws lista::Error
@@ -37,4 +37,4 @@ struct GapCut {
 };
 GapCut cut_at_largest_gap(int n, const std::vector<Merge>& merges, double min_jump, int k_max);
 
-}  // namespace lista::grouping
+}  // namespace lista::group

@@ -8,7 +8,7 @@
 
 #include <cstdio>
 
-namespace lista::grouping {
+namespace lista::group {
 
 namespace {
 
@@ -36,8 +36,8 @@ class AgglomerativeStage : public Stage {
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& d = in.get<DescriptorSet>("descriptors");
-    check_descriptors(d);
-    const Eigen::MatrixXd x = to_double(d);
+    grouping::check_descriptors(d);
+    const Eigen::MatrixXd x = grouping::to_double(d);
     const int n = static_cast<int>(x.rows());
     const std::vector<Merge> merges = dendrogram(x, linkage_);
     int k = 0;
@@ -48,7 +48,7 @@ class AgglomerativeStage : public Stage {
     ctx.info(std::to_string(n) + " objects in " + std::to_string(k) + " groups");
     ctx.record("k", k);
     Outputs out;
-    out.put("groups", make_groups("group.agglomerative", d.object_ids, x, labels));
+    out.put("groups", grouping::make_groups("group.agglomerative", d.object_ids, x, labels));
     return out;
   }
 
@@ -116,6 +116,6 @@ void register_stages(Registrar& r) {
 
 }  // namespace
 
-}  // namespace lista::grouping
+}  // namespace lista::group
 
-LISTA_PLUGIN(lista::grouping::register_stages)
+LISTA_PLUGIN(lista::group::register_stages)

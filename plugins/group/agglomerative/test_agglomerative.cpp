@@ -9,7 +9,7 @@
 #include <set>
 
 using namespace lista;
-using namespace lista::grouping;
+using namespace lista::group;
 
 namespace {
 

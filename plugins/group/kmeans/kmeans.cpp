@@ -7,7 +7,7 @@
 #include <numeric>
 #include <random>
 
-namespace lista::grouping {
+namespace lista::group {
 
 namespace {
 
@@ -136,4 +136,4 @@ int elbow_k(const std::vector<double>& wcss, double flat_tolerance) {
   return best;
 }
 
-}  // namespace lista::grouping
+}  // namespace lista::group

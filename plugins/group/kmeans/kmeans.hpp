@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace lista::grouping {
+namespace lista::group {
 
 struct KMeansConfig {
   int restarts = 10;         // independent seedings; the lowest WCSS wins
@@ -30,4 +30,4 @@ KMeansResult kmeans(const Eigen::MatrixXd& x, int k, const KMeansConfig& cfg);
 // does not explain the data better: one class).
 int elbow_k(const std::vector<double>& wcss, double flat_tolerance = 1e-9);
 
-}  // namespace lista::grouping
+}  // namespace lista::group

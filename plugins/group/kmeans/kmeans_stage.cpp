@@ -9,7 +9,7 @@
 
 #include <algorithm>
 
-namespace lista::grouping {
+namespace lista::group {
 
 namespace {
 
@@ -28,8 +28,8 @@ class KMeansStage : public Stage {
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& d = in.get<DescriptorSet>("descriptors");
-    check_descriptors(d);
-    const Eigen::MatrixXd x = to_double(d);
+    grouping::check_descriptors(d);
+    const Eigen::MatrixXd x = grouping::to_double(d);
     const int n = static_cast<int>(x.rows());
     cfg_.seed = ctx.seed();
     Outputs out;
@@ -63,7 +63,7 @@ class KMeansStage : public Stage {
     ctx.info(std::to_string(n) + " objects in " + std::to_string(k) + " groups");
     ctx.record("k", k);
     ctx.record("wcss", chosen.wcss);
-    out.put("groups", make_groups("group.kmeans", d.object_ids, x, chosen.labels));
+    out.put("groups", grouping::make_groups("group.kmeans", d.object_ids, x, chosen.labels));
     return out;
   }
 
@@ -106,6 +106,6 @@ void register_stages(Registrar& r) {
 
 }  // namespace
 
-}  // namespace lista::grouping
+}  // namespace lista::group
 
-LISTA_PLUGIN(lista::grouping::register_stages)
+LISTA_PLUGIN(lista::group::register_stages)

@@ -9,7 +9,7 @@
 #include <set>
 
 using namespace lista;
-using namespace lista::grouping;
+using namespace lista::group;
 
 namespace {
 
@@ -109,7 +109,7 @@ TEST(Confidence, PaperMapping) {
   // Cluster 0 tight (spread 0.1), cluster 1 loose (spread 1): 0 is the most compact.
   Eigen::MatrixXd x(6, 1);
   x << 0.0, 0.1, -0.1, 10.0, 11.0, 9.0;
-  const Groups g = make_groups("t", {1, 2, 3, 4, 5, 6}, x, {0, 0, 0, 1, 1, 1});
+  const Groups g = grouping::make_groups("t", {1, 2, 3, 4, 5, 6}, x, {0, 0, 0, 1, 1, 1});
   ASSERT_EQ(g.count, 2);
   EXPECT_DOUBLE_EQ(g.group_confidence[0], 1.0);
   EXPECT_DOUBLE_EQ(g.group_confidence[1], 0.0);

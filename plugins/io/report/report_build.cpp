@@ -7,7 +7,7 @@
 #include <set>
 #include <unordered_set>
 
-namespace lista::report {
+namespace lista::io {
 
 namespace {
 
@@ -201,4 +201,4 @@ std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_ori
   return root.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
-}  // namespace lista::report
+}  // namespace lista::io

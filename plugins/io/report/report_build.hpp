@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace lista::report {
+namespace lista::io {
 
 // The rows of changes/<mission>.pcd for one mission.
 struct ChangeCloud {
@@ -50,4 +50,4 @@ Built build_report(const MissionSet& missions, const ObjectSet& objects, const G
 // coordinates), as the report's extra top-level JSON.
 std::string provenance_json(const RunInfo& run, const Eigen::Vector3d& local_origin, const ObjectSet& objects);
 
-}  // namespace lista::report
+}  // namespace lista::io

@@ -13,7 +13,7 @@
 
 namespace fs = std::filesystem;
 
-namespace lista::report {
+namespace lista::io {
 
 void write_output(const std::string& out_dir, const Built& built) {
   std::error_code ec;
@@ -69,4 +69,4 @@ void write_output(const std::string& out_dir, const Built& built) {
   fs::remove_all(tmp, ec);
 }
 
-}  // namespace lista::report
+}  // namespace lista::io

@@ -5,8 +5,8 @@
 
 #include "report_build.hpp"
 
-namespace lista::report {
+namespace lista::io {
 
 void write_output(const std::string& out_dir, const Built& built);
 
-}  // namespace lista::report
+}  // namespace lista::io

@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <map>
 
-namespace lista::report {
+namespace lista::io {
 
 namespace {
 
@@ -137,6 +137,6 @@ void register_stages(Registrar& r) {
 
 }  // namespace
 
-}  // namespace lista::report
+}  // namespace lista::io
 
-LISTA_PLUGIN(lista::report::register_stages)
+LISTA_PLUGIN(lista::io::register_stages)

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <unordered_map>
 
-namespace lista::report {
+namespace lista::io {
 
 UnreadScans add_unread_scans(const MissionSet& missions, Built& b, double cell, int threads) {
   UnreadScans out;
@@ -54,4 +54,4 @@ UnreadScans add_unread_scans(const MissionSet& missions, Built& b, double cell, 
   return out;
 }
 
-}  // namespace lista::report
+}  // namespace lista::io

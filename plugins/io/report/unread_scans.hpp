@@ -8,7 +8,7 @@
 
 #include "report_build.hpp"
 
-namespace lista::report {
+namespace lista::io {
 
 struct UnreadScans {
   size_t scans = 0;   // scans read here
@@ -21,4 +21,4 @@ struct UnreadScans {
 // order, so the result does not depend on them.
 UnreadScans add_unread_scans(const MissionSet& missions, Built& b, double cell, int threads);
 
-}  // namespace lista::report
+}  // namespace lista::io

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
-namespace lista::report_html {
+namespace lista::report {
 
 namespace {
 template <class T>
@@ -51,4 +51,4 @@ std::string change_ply(const ReportModel& model, const Eigen::Vector3d& local_or
   return out;
 }
 
-}  // namespace lista::report_html
+}  // namespace lista::report

@@ -12,9 +12,9 @@
 
 #include <string>
 
-namespace lista::report_html {
+namespace lista::report {
 
 // Returns the file content (the caller writes it atomically).
 std::string change_ply(const ReportModel& model, const Eigen::Vector3d& local_origin);
 
-}  // namespace lista::report_html
+}  // namespace lista::report

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <limits>
 
-namespace lista::report_html {
+namespace lista::report {
 
 namespace {
 
@@ -149,4 +149,4 @@ std::string render_pca(const ReportModel& model, const DescriptorSet& descriptor
   return svg;
 }
 
-}  // namespace lista::report_html
+}  // namespace lista::report

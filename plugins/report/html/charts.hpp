@@ -9,7 +9,7 @@
 
 #include <string>
 
-namespace lista::report_html {
+namespace lista::report {
 
 // Rows: objects of mission a; columns: objects of mission b. A cell shows the
 // similarity of the two objects (1 - min-max normalised descriptor distance,
@@ -21,4 +21,4 @@ std::string render_match_matrix(const ReportModel& model, const DescriptorSet* d
 // Empty string if there are fewer than two descriptors.
 std::string render_pca(const ReportModel& model, const DescriptorSet& descriptors);
 
-}  // namespace lista::report_html
+}  // namespace lista::report

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <map>
 
-namespace lista::report_html {
+namespace lista::report {
 
 namespace {
 
@@ -213,4 +213,4 @@ std::string render_page(const MissionSet& missions, const ReportModel& model,
   return html;
 }
 
-}  // namespace lista::report_html
+}  // namespace lista::report

@@ -9,7 +9,7 @@
 
 #include <string>
 
-namespace lista::report_html {
+namespace lista::report {
 
 // In every page's head: lista-run removes an earlier report.html before a
 // run only when it carries this mark, never a page of someone else's.
@@ -23,4 +23,4 @@ struct PageOptions {
 std::string render_page(const MissionSet& missions, const ReportModel& model,
                         const DescriptorSet* descriptors, const RunInfo& run, const PageOptions& options);
 
-}  // namespace lista::report_html
+}  // namespace lista::report

@@ -11,7 +11,7 @@
 
 #include <filesystem>
 
-namespace lista::report_html {
+namespace lista::report {
 
 namespace {
 
@@ -102,6 +102,6 @@ void register_stages(Registrar& r) {
 
 }  // namespace
 
-}  // namespace lista::report_html
+}  // namespace lista::report
 
-LISTA_PLUGIN(lista::report_html::register_stages)
+LISTA_PLUGIN(lista::report::register_stages)

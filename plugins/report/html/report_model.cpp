@@ -1,6 +1,6 @@
 #include "report_model.hpp"
 
-namespace lista::report_html {
+namespace lista::report {
 
 const ObjectView* ReportModel::find(int id) const {
   for (const auto& o : objects)
@@ -38,4 +38,4 @@ ReportModel build_model(const ObjectSet& objects, const Groups* groups, const Ma
   return model;
 }
 
-}  // namespace lista::report_html
+}  // namespace lista::report

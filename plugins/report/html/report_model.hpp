@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace lista::report_html {
+namespace lista::report {
 
 // Below this a report is a guess more than a finding: dashed on the maps,
 // highlighted in the table.
@@ -36,4 +36,4 @@ struct ReportModel {
 // one `added` (the same rule as io.report).
 ReportModel build_model(const ObjectSet& objects, const Groups* groups, const Matches* matches);
 
-}  // namespace lista::report_html
+}  // namespace lista::report

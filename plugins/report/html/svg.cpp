@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace lista::report_html {
+namespace lista::report {
 
 std::string escape(const std::string& text) {
   std::string out;
@@ -86,4 +86,4 @@ Rgb heat(double t) {
   return {uint8_t(r), uint8_t(g), uint8_t(b)};
 }
 
-}  // namespace lista::report_html
+}  // namespace lista::report

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-namespace lista::report_html {
+namespace lista::report {
 
 std::string escape(const std::string& text);  // HTML/XML text and attribute escaping
 std::string fmt(double value, int decimals = 2);
@@ -19,4 +19,4 @@ Rgb status_colour(const std::string& status);  // removed red, added green, move
 Rgb palette(int index);                        // distinct colours for groups
 Rgb heat(double t);                            // t in [0,1]: white -> dark red
 
-}  // namespace lista::report_html
+}  // namespace lista::report

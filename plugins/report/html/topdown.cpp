@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace lista::report_html {
+namespace lista::report {
 
 namespace {
 
@@ -340,4 +340,4 @@ std::string render_topdown(const MissionSet& missions, const ReportModel& model,
   return svg;
 }
 
-}  // namespace lista::report_html
+}  // namespace lista::report

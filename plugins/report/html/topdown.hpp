@@ -10,7 +10,7 @@
 
 #include <string>
 
-namespace lista::report_html {
+namespace lista::report {
 
 struct TopdownOptions {
   int pixels = 1000;                  // longest image side
@@ -22,4 +22,4 @@ struct TopdownOptions {
 std::string render_topdown(const MissionSet& missions, const ReportModel& model, size_t a, size_t b,
                            const TopdownOptions& options);
 
-}  // namespace lista::report_html
+}  // namespace lista::report

@@ -11,7 +11,7 @@
 #include <unordered_set>
 #include <vector>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 // Dense bitmap over a box: each marked point marks its own cell "near" (2)
@@ -412,4 +412,4 @@ ObjectSet carve_objects(const ObjectSet& in, const CarveConfig& c, CarveStats* s
   return out;
 }
 
-}  // namespace lista::seg
+}  // namespace lista::segment

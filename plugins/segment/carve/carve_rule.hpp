@@ -50,7 +50,7 @@
 #include <functional>
 #include <vector>
 
-namespace lista::seg {
+namespace lista::segment {
 
 // A host whose footprint is less than this multiple of the template's (and
 // which is not taller by min_height_step) is the same object, not two.
@@ -92,4 +92,4 @@ struct CarveStats {
 
 ObjectSet carve_objects(const ObjectSet& in, const CarveConfig& config, CarveStats* stats = nullptr);
 
-}  // namespace lista::seg
+}  // namespace lista::segment

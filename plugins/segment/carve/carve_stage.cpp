@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 std::string fmt(double v) {
@@ -94,6 +94,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::seg
+}  // namespace lista::segment
 
-LISTA_PLUGIN(lista::seg::register_stages)
+LISTA_PLUGIN(lista::segment::register_stages)

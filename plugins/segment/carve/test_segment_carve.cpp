@@ -70,8 +70,8 @@ TEST(SegmentCarve, CutsTheCrateOutOfTheClusterItTouches) {
   size_t crate_points = 0;
   const lista::ObjectSet in =
       set_of({crate(0, 0.52f, {4.f, 2.f}), crate_against_shelf(1.2f, &crate_points)});
-  lista::seg::CarveStats st;
-  const lista::ObjectSet out = lista::seg::carve_objects(in, {}, &st);
+  lista::segment::CarveStats st;
+  const lista::ObjectSet out = lista::segment::carve_objects(in, {}, &st);
   EXPECT_EQ(st.carved, 1u);
   ASSERT_EQ(out.objects.size(), 3u);
   EXPECT_EQ(out.objects[0].points.size(), in.objects[0].points.size()) << "the template is unchanged";
@@ -94,13 +94,13 @@ TEST(SegmentCarve, ObjectsAsTallAsEachOtherStayWhole) {
   // A shelf as tall as the crate: the cut might run through one object's top.
   size_t crate_points = 0;
   const lista::ObjectSet in = set_of({crate(0, 0.52f, {4.f, 2.f}), crate_against_shelf(0.5f, &crate_points)});
-  lista::seg::CarveStats st;
-  EXPECT_EQ(lista::seg::carve_objects(in, {}, &st).objects.size(), 2u);
+  lista::segment::CarveStats st;
+  EXPECT_EQ(lista::segment::carve_objects(in, {}, &st).objects.size(), 2u);
   EXPECT_EQ(st.fitted, 1u) << "it fits; the height check keeps it whole";
   EXPECT_EQ(st.carved, 0u);
-  lista::seg::CarveConfig no_step;
+  lista::segment::CarveConfig no_step;
   no_step.min_height_step = 0.0;
-  EXPECT_EQ(lista::seg::carve_objects(in, no_step).objects.size(), 3u);
+  EXPECT_EQ(lista::segment::carve_objects(in, no_step).objects.size(), 3u);
 }
 
 TEST(SegmentCarve, AShapeThatDoesNotFitCutsNothing) {
@@ -108,8 +108,8 @@ TEST(SegmentCarve, AShapeThatDoesNotFitCutsNothing) {
   size_t crate_points = 0;
   const lista::ObjectSet in =
       set_of({crate(0, 0.52f, {4.f, 2.f}, 0.3f), crate_against_shelf(1.2f, &crate_points)});
-  lista::seg::CarveStats st;
-  const lista::ObjectSet out = lista::seg::carve_objects(in, {}, &st);
+  lista::segment::CarveStats st;
+  const lista::ObjectSet out = lista::segment::carve_objects(in, {}, &st);
   EXPECT_EQ(st.candidates, 1u);
   EXPECT_EQ(st.fitted, 0u);
   ASSERT_EQ(out.objects.size(), 2u);
@@ -121,8 +121,8 @@ TEST(SegmentCarve, OnlyNeighbouringMissionsAreTemplates) {
   lista::ObjectSet in = set_of({crate(0, 0.52f, {4.f, 2.f}), crate_against_shelf(1.2f, &crate_points)});
   in.missions.push_back("C");
   in.objects[1].mission = 2;  // two missions apart
-  lista::seg::CarveStats st;
-  EXPECT_EQ(lista::seg::carve_objects(in, {}, &st).objects.size(), 2u);
+  lista::segment::CarveStats st;
+  EXPECT_EQ(lista::segment::carve_objects(in, {}, &st).objects.size(), 2u);
   EXPECT_EQ(st.candidates, 0u);
 }
 
@@ -130,9 +130,9 @@ TEST(SegmentCarve, SameResultForAnyOrderAndThreadCount) {
   size_t crate_points = 0;
   const lista::ObjectSet a = set_of({crate(0, 0.52f, {4.f, 2.f}), crate_against_shelf(1.2f, &crate_points)});
   const lista::ObjectSet b = set_of({a.objects[1], a.objects[0]});
-  lista::seg::CarveConfig one, two;
+  lista::segment::CarveConfig one, two;
   two.threads = 2;
-  const lista::ObjectSet ra = lista::seg::carve_objects(a, one), rb = lista::seg::carve_objects(b, two);
+  const lista::ObjectSet ra = lista::segment::carve_objects(a, one), rb = lista::segment::carve_objects(b, two);
   ASSERT_EQ(ra.objects.size(), 3u);
   ASSERT_EQ(rb.objects.size(), 3u);
   // b lists the cluster first: its two parts come first, then the template.
@@ -167,14 +167,14 @@ TEST(SegmentCarve, OneTemplateTwoHostsGivesOneCutWhateverTheOrder) {
   for (auto& i : second.points.index) i += 100000;  // other points of the scan
   second.update_geometry();
   const lista::Object tmpl = crate(0, 0.52f, {4.f, 2.f}), first = crate_against_shelf(1.2f, &crate_points);
-  lista::seg::CarveConfig two;
+  lista::segment::CarveConfig two;
   two.threads = 2;
   std::vector<std::vector<uint32_t>> cut_host;
   for (const auto& order : {std::vector<lista::Object>{tmpl, first, second}, std::vector<lista::Object>{second, first, tmpl},
                             std::vector<lista::Object>{first, tmpl, second}})
-    for (const lista::seg::CarveConfig& c : {lista::seg::CarveConfig{}, two}) {
-      lista::seg::CarveStats st;
-      const lista::ObjectSet out = lista::seg::carve_objects(set_of(order), c, &st);
+    for (const lista::segment::CarveConfig& c : {lista::segment::CarveConfig{}, two}) {
+      lista::segment::CarveStats st;
+      const lista::ObjectSet out = lista::segment::carve_objects(set_of(order), c, &st);
       EXPECT_EQ(st.candidates, 2u);
       ASSERT_EQ(st.carved, 1u);
       ASSERT_EQ(out.objects.size(), 4u);

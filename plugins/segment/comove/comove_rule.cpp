@@ -11,7 +11,7 @@
 #include <set>
 #include <tuple>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 constexpr size_t kSample = 200;                     // points of a piece judged (strided)
@@ -280,4 +280,4 @@ ObjectSet join_comoving(const ObjectSet& given, const ComoveConfig& config, Como
   return out;
 }
 
-}  // namespace lista::seg
+}  // namespace lista::segment

@@ -43,7 +43,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace lista::seg {
+namespace lista::segment {
 
 struct ComoveConfig {
   double slender_ratio = 2.0;        // a piece's height over its footprint's short side, at least (0 = any piece)
@@ -65,4 +65,4 @@ struct ComoveStats {
 
 ObjectSet join_comoving(const ObjectSet& in, const ComoveConfig& config, ComoveStats* stats = nullptr);
 
-}  // namespace lista::seg
+}  // namespace lista::segment

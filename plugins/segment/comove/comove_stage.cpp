@@ -6,7 +6,7 @@
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 const ParamTable<ComoveConfig>& param_table() {
@@ -73,6 +73,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::seg
+}  // namespace lista::segment
 
-LISTA_PLUGIN(lista::seg::register_stages)
+LISTA_PLUGIN(lista::segment::register_stages)

@@ -53,8 +53,8 @@ size_t points_of(const lista::ObjectSet& s, uint32_t mission) {
 
 TEST(SegmentComove, LegsOfAMovedTableBecomeOneTableInEachMission) {
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.7f, {3.f, 1.f})});
-  lista::seg::ComoveStats st;
-  const auto out = lista::seg::join_comoving(in, {}, &st);
+  lista::segment::ComoveStats st;
+  const auto out = lista::segment::join_comoving(in, {}, &st);
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(st.joins, 2u);
   EXPECT_EQ(st.joined, 8u);
@@ -72,14 +72,14 @@ TEST(SegmentComove, LegsInAnotherLayoutStayApart) {
   // Mission 1's posts stand 2.0 x 0.3 m apart: no one motion carries the
   // first table's legs onto them.
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 2.0f, 0.3f, 0.7f, {3.f, 1.f})});
-  EXPECT_EQ(lista::seg::join_comoving(in, {}).objects.size(), 8u);
+  EXPECT_EQ(lista::segment::join_comoving(in, {}).objects.size(), 8u);
 }
 
 TEST(SegmentComove, PiecesStandingWhereTheyWereAreNoMove) {
   // The same legs in both missions (and the table turned 180 degrees about
   // its middle lands on them too): nothing moved, nothing joins.
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.f, {0, 0})});
-  EXPECT_EQ(lista::seg::join_comoving(in, {}).objects.size(), 8u);
+  EXPECT_EQ(lista::segment::join_comoving(in, {}).objects.size(), 8u);
 }
 
 TEST(SegmentComove, BulkyPiecesMovedTogetherAreSeparateObjects) {
@@ -90,19 +90,19 @@ TEST(SegmentComove, BulkyPiecesMovedTogetherAreSeparateObjects) {
                                       piece(m, {1.2f, 0, 0}, {2.0f, 0.8f, 0.5f}, yaw, shift)};
   };
   auto in = make({crates(0, 0.f, {0, 0}), crates(1, 0.5f, {4.f, 0.f})});
-  EXPECT_EQ(lista::seg::join_comoving(in, {}).objects.size(), 4u);
-  lista::seg::ComoveConfig any;
+  EXPECT_EQ(lista::segment::join_comoving(in, {}).objects.size(), 4u);
+  lista::segment::ComoveConfig any;
   any.slender_ratio = 0;
-  EXPECT_EQ(lista::seg::join_comoving(in, any).objects.size(), 2u);
+  EXPECT_EQ(lista::segment::join_comoving(in, any).objects.size(), 2u);
 }
 
 TEST(SegmentComove, AJoinedObjectLongerThanMaxExtentIsRefused) {
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.7f, {3.f, 1.f})});
-  lista::seg::ComoveConfig c;
+  lista::segment::ComoveConfig c;
   c.max_extent = 1.0;  // two legs of a short side still fit
-  EXPECT_EQ(lista::seg::join_comoving(in, c).objects.size(), 4u);
+  EXPECT_EQ(lista::segment::join_comoving(in, c).objects.size(), 4u);
   c.max_extent = 0.5;
-  EXPECT_EQ(lista::seg::join_comoving(in, c).objects.size(), 8u);
+  EXPECT_EQ(lista::segment::join_comoving(in, c).objects.size(), 8u);
 }
 
 TEST(SegmentComove, ALegTheOtherMissionDidNotSeeStaysApart) {
@@ -110,7 +110,7 @@ TEST(SegmentComove, ALegTheOtherMissionDidNotSeeStaysApart) {
   // one is open: a rectangle's L of three corners fits it turned 180
   // degrees too).
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.7f, {3.f, 1.f}, 3)});
-  const auto out = lista::seg::join_comoving(in, {});
+  const auto out = lista::segment::join_comoving(in, {});
   ASSERT_EQ(out.objects.size(), 3u);
   EXPECT_EQ(out.objects[0].mission, 0u);
   EXPECT_EQ(out.objects[1].mission, 0u);
@@ -125,7 +125,7 @@ TEST(SegmentComove, JoinsChainOverThreeMissions) {
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.7f, {3.f, 1.f}),
                   legs(2, 1.2f, 0.6f, -0.4f, {0.f, 4.f})},
                  3);
-  const auto out = lista::seg::join_comoving(in, {});
+  const auto out = lista::segment::join_comoving(in, {});
   ASSERT_EQ(out.objects.size(), 3u);
   for (uint32_t m = 0; m < 3; ++m) EXPECT_EQ(out.objects[m].points.size(), points_of(in, m));
 }
@@ -136,17 +136,17 @@ TEST(SegmentComove, PiecesOnlyJoinWhenTheyChangedAgainstEachOther) {
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.7f, {3.f, 1.f})}, 3);
   for (auto& o : in.objects)
     o.points.changed_against.assign(o.points.size(), lista::changed_against_next);
-  EXPECT_EQ(lista::seg::join_comoving(in, {}).objects.size(), 8u);
+  EXPECT_EQ(lista::segment::join_comoving(in, {}).objects.size(), 8u);
 }
 
 TEST(SegmentComove, NothingToJoinLeavesTheSetAsItWas) {
   // One mission, an empty set, and ids that are not 0..n-1: kept as given.
   auto one = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0})}, 1);
   for (auto& o : one.objects) o.id += 10;
-  const auto out = lista::seg::join_comoving(one, {});
+  const auto out = lista::segment::join_comoving(one, {});
   ASSERT_EQ(out.objects.size(), 4u);
   for (size_t k = 0; k < 4; ++k) EXPECT_EQ(out.objects[k].id, one.objects[k].id);
-  EXPECT_TRUE(lista::seg::join_comoving(make({}, 2), {}).objects.empty());
+  EXPECT_TRUE(lista::segment::join_comoving(make({}, 2), {}).objects.empty());
 }
 
 TEST(SegmentComove, AJoinedObjectTakesTheLowestKnownFloor) {
@@ -154,7 +154,7 @@ TEST(SegmentComove, AJoinedObjectTakesTheLowestKnownFloor) {
   in.objects[0].floor_z = std::numeric_limits<float>::quiet_NaN();
   in.objects[1].floor_z = -0.02f;
   in.objects[4].floor_z = std::numeric_limits<float>::quiet_NaN();
-  const auto out = lista::seg::join_comoving(in, {});
+  const auto out = lista::segment::join_comoving(in, {});
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(out.objects[0].floor_z, -0.02f);
   EXPECT_EQ(out.objects[1].floor_z, 0.f);
@@ -174,8 +174,8 @@ TEST(SegmentComove, AGridOfPostsEndsTheSearchAtItsBudget) {
     return posts;
   };
   auto in = make({grid(0, 0.f), grid(1, 0.4f)});
-  lista::seg::ComoveStats st;
-  const auto out = lista::seg::join_comoving(in, {}, &st);
+  lista::segment::ComoveStats st;
+  const auto out = lista::segment::join_comoving(in, {}, &st);
   EXPECT_EQ(st.searches_cut, std::vector<uint32_t>{0});
   for (const auto& o : out.objects)
     EXPECT_LE(lista::geometry::horizontal_extents(o.points.xyz).x(), 3.0f + 1e-3f);
@@ -185,7 +185,7 @@ TEST(SegmentComove, DoesNotTrustStaleBounds) {
   // Bounds and centroids left at zero by an upstream stage: recomputed.
   auto in = make({legs(0, 1.2f, 0.6f, 0.f, {0, 0}), legs(1, 1.2f, 0.6f, 0.7f, {3.f, 1.f})});
   for (auto& o : in.objects) o.bbox_min = o.bbox_max = o.centroid = Eigen::Vector3f::Zero();
-  EXPECT_EQ(lista::seg::join_comoving(in, {}).objects.size(), 2u);
+  EXPECT_EQ(lista::segment::join_comoving(in, {}).objects.size(), 2u);
 }
 
 TEST(SegmentComove, StageReadsItsParameters) {

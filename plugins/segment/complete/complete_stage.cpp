@@ -6,7 +6,7 @@
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 // The completion's settings; leak_growth and pair_order name its switches.
@@ -143,6 +143,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::seg
+}  // namespace lista::segment
 
-LISTA_PLUGIN(lista::seg::register_stages)
+LISTA_PLUGIN(lista::segment::register_stages)

@@ -10,7 +10,7 @@
 
 #include <cmath>
 
-namespace lista::seg {
+namespace lista::segment {
 
 ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, const CompletionConfig& c,
                            CompletionStats* stats) {
@@ -49,4 +49,4 @@ ObjectSet complete_objects(const ObjectSet& input, const MissionSet& missions, c
   return out;
 }
 
-}  // namespace lista::seg
+}  // namespace lista::segment

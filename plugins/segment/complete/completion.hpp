@@ -117,7 +117,7 @@
 #include <cstddef>
 #include <string>
 
-namespace lista::seg {
+namespace lista::segment {
 
 // An object whose lowest point is at most this far above the local floor
 // stands on it (metres); farther up it stands on something else.
@@ -198,4 +198,4 @@ struct CompletionStats {
 ObjectSet complete_objects(const ObjectSet& objects, const MissionSet& missions,
                            const CompletionConfig& config, CompletionStats* stats = nullptr);
 
-}  // namespace lista::seg
+}  // namespace lista::segment

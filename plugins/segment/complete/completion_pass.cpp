@@ -9,7 +9,7 @@
 #include <cmath>
 #include <iterator>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 
 using geometry::box_gap;
 
@@ -305,4 +305,4 @@ void CompletionPass::set_floors(const FloorsCameWith& came_with) {
   }
 }
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

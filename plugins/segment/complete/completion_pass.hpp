@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 
 // A candidate pair of rules 1-4: objects a and b (indices, consecutive
 // missions) and the regions their growth and their floor are taken in.
@@ -85,4 +85,4 @@ class CompletionPass {
   CompletionStats st_;
 };
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

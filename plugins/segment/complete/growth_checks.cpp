@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <unordered_set>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 
 void add_points(Object& o, const PointSet& cloud, const std::vector<uint32_t>& add) {
   const bool known = o.points.has_changed_against();
@@ -112,4 +112,4 @@ int surface_sides(const Object& o, const LocalCloud& own, float ring, float tol)
   return sides;
 }
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

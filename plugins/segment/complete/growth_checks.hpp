@@ -10,7 +10,7 @@
 
 #include <string>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 
 // Appends the mission cloud's points `add` to an object. They carry no
 // change channel (they are the mission's points, not change points); they
@@ -54,4 +54,4 @@ constexpr float kSurfaceNoise = 0.02f;  // m: a scanned flat surface's points li
 // a little, one (the rest of the top).
 int surface_sides(const Object& o, const LocalCloud& own, float ring, float tol);
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

@@ -8,7 +8,7 @@
 #include <tuple>
 #include <unordered_set>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 
 LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float voxel, int threads) {
   LocalCloud cloud;
@@ -167,4 +167,4 @@ std::vector<uint32_t> not_static(const std::vector<uint32_t>& add, const LocalCl
   return keep;
 }
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

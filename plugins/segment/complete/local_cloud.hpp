@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 
 using geometry::voxel_key;
 
@@ -131,4 +131,4 @@ std::vector<uint32_t> not_static(const std::vector<uint32_t>& add, const LocalCl
                                  const std::vector<size_t>& neighbours, const std::vector<LocalCloud>& clouds,
                                  const CompletionConfig& c);
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <unordered_set>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 
 void drop_objects(ObjectSet& set, const std::vector<char>& gone) {
   std::vector<Object> kept;
@@ -144,4 +144,4 @@ size_t join_connected(ObjectSet& set, const std::vector<std::tuple<float, size_t
   return joined;
 }
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

@@ -11,7 +11,7 @@
 #include <tuple>
 #include <vector>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 
 // Removes the objects marked in `gone` (aligned with set.objects) and
 // renumbers the rest 0..n-1 in order.
@@ -38,4 +38,4 @@ size_t join_connected(ObjectSet& set, const std::vector<std::tuple<float, size_t
                       const std::vector<LocalCloud>& clouds, const std::vector<std::vector<size_t>>& neighbours,
                       const CompletionConfig& c, std::vector<std::string>& notes);
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

@@ -16,7 +16,7 @@
 #include <cmath>
 #include <string>
 
-namespace lista::seg::completion {
+namespace lista::segment::completion {
 namespace {
 
 // Rounds of joining: a joined fragment's growth may reach one more.
@@ -262,4 +262,4 @@ void CompletionPass::commit_pair(const Pair& p, const PairSides& s, const Attemp
   }
 }
 
-}  // namespace lista::seg::completion
+}  // namespace lista::segment::completion

@@ -116,8 +116,8 @@ ObjectSet object_set(std::vector<Object> objects) {
 }
 
 // Pair completion alone: no self-completion, no nested fragments.
-seg::CompletionConfig pairs_only() {
-  seg::CompletionConfig c;
+segment::CompletionConfig pairs_only() {
+  segment::CompletionConfig c;
   c.self_complete = false;
   c.nested_share = 0.0;
   return c;
@@ -138,8 +138,8 @@ ObjectSet slivers(const Scene& s) {
 TEST(SegmentComplete, ShortMoveSliversGrowIntoWholeBoxes) {
   const Scene s = make_scene();
   const ObjectSet in = slivers(s);
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, {}, &st);
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(st.completed, 1u);
   ASSERT_EQ(st.pair_notes.size(), 1u);  // what -v prints
@@ -180,11 +180,11 @@ TEST(SegmentComplete, AShortMoveAgainstAWallGrowsInsideThePairsOwnBox) {
       }
     s.missions.missions[m].scans[0].points = std::make_shared<const PointSet>(c);
   }
-  seg::CompletionConfig c;
+  segment::CompletionConfig c;
   c.self_complete = false;
   c.max_leak = 0.02;
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   EXPECT_EQ(st.completed, 1u);
   ASSERT_EQ(st.pair_notes.size(), 1u);
   EXPECT_NE(st.pair_notes[0].find("completed inside the pair's own box"), std::string::npos) << st.pair_notes[0];
@@ -197,8 +197,8 @@ TEST(SegmentComplete, AShortMoveAgainstAWallGrowsInsideThePairsOwnBox) {
 
   // leak_growth = base: the pair is left as two slivers.
   c.leak_own_box = false;
-  seg::CompletionStats st_base;
-  const ObjectSet out_base = seg::complete_objects(in, s.missions, c, &st_base);
+  segment::CompletionStats st_base;
+  const ObjectSet out_base = segment::complete_objects(in, s.missions, c, &st_base);
   EXPECT_EQ(st_base.completed, 0u);
   ASSERT_EQ(st_base.pair_notes.size(), 1u);
   EXPECT_NE(st_base.pair_notes[0].find("not completed, a growth leaks out"), std::string::npos) << st_base.pair_notes[0];
@@ -213,7 +213,7 @@ TEST(SegmentComplete, GrownPointsKeepTheObjectsChangedAgainstBits) {
   ObjectSet in = slivers(s);
   in.objects[0].points.changed_against.assign(in.objects[0].points.size(), changed_against_next);
   in.objects[1].points.changed_against.assign(in.objects[1].points.size(), changed_against_previous);
-  const ObjectSet out = seg::complete_objects(in, s.missions, {}, nullptr);
+  const ObjectSet out = segment::complete_objects(in, s.missions, {}, nullptr);
   ASSERT_EQ(out.objects.size(), 2u);
   for (size_t k = 0; k < 2; ++k) {
     const PointSet& p = out.objects[k].points;
@@ -231,11 +231,11 @@ TEST(SegmentComplete, DisagreeingShapesAreLeftAlone) {
   ObjectSet in = slivers(s);
   in.objects[1] = sliver(s.cloud[1], 1, 2.49f, 2.7f);
   in.objects[1].id = 1;
-  seg::CompletionConfig c;
+  segment::CompletionConfig c;
   c.pair_gap = 2.0;
   c.self_complete = false;
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   EXPECT_EQ(st.pairs, 1u);
   EXPECT_EQ(st.rejected, 1u);
   ASSERT_EQ(st.pair_notes.size(), 1u);
@@ -271,10 +271,10 @@ TEST(SegmentComplete, AStaticThingBetweenTwoChangesIsNotGrownInto) {
     });
   };
   const ObjectSet in = object_set({small_box(0, 0.71f, 0.99f), small_box(1, 1.61f, 1.77f)});
-  seg::CompletionConfig c = pairs_only();
+  segment::CompletionConfig c = pairs_only();
   c.pair_gap = 1.5;
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   ASSERT_EQ(st.pair_notes.size(), 1u);
   EXPECT_NE(st.pair_notes[0].find("not completed, the grown objects fit best where they stand"), std::string::npos)
       << st.pair_notes[0];
@@ -282,8 +282,8 @@ TEST(SegmentComplete, AStaticThingBetweenTwoChangesIsNotGrownInto) {
     EXPECT_EQ(count_in_box(o.points, {1.01f, 0.01f, 0.1f}, {1.59f, 0.49f, 0.79f}), 0u) << "the cabinet was taken";
   // Without the check the sizes agree and the cabinet is taken on both sides.
   c.still_check = false;
-  seg::CompletionStats st_off;
-  seg::complete_objects(in, s.missions, c, &st_off);
+  segment::CompletionStats st_off;
+  segment::complete_objects(in, s.missions, c, &st_off);
   EXPECT_EQ(st_off.completed, 1u) << (st_off.pair_notes.empty() ? "" : st_off.pair_notes[0]);
 }
 
@@ -298,10 +298,10 @@ TEST(SegmentComplete, ARefusedPairFreesItsObjectsForTheirNextCandidates) {
     return p.x() >= 0.59f && p.x() <= 0.81f && p.z() > 0.05f;  // its whole height
   }));
   in.objects.back().id = 2;
-  seg::CompletionConfig c;
+  segment::CompletionConfig c;
   c.self_complete = false;
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   ASSERT_EQ(st.pair_notes.size(), 2u) << st.pair_notes[0];
   EXPECT_EQ(st.pair_notes[0].rfind("objects 0 + 2: not completed, grown shapes differ", 0), 0u) << st.pair_notes[0];
   EXPECT_EQ(st.pair_notes[1].rfind("objects 0 + 1: completed", 0), 0u) << st.pair_notes[1];
@@ -314,8 +314,8 @@ TEST(SegmentComplete, ARefusedPairFreesItsObjectsForTheirNextCandidates) {
 
   // Without: A's sliver is offered the cabinet only, and stays a sliver.
   c.pair_retry = false;
-  seg::CompletionStats st_once;
-  const ObjectSet out_once = seg::complete_objects(in, s.missions, c, &st_once);
+  segment::CompletionStats st_once;
+  const ObjectSet out_once = segment::complete_objects(in, s.missions, c, &st_once);
   EXPECT_EQ(st_once.pairs, 1u);
   EXPECT_EQ(st_once.completed, 0u);
   EXPECT_EQ(out_once.objects[0].points.size(), in.objects[0].points.size());
@@ -332,9 +332,9 @@ TEST(SegmentComplete, AmongOverlappingBoxesTheNearerCentroidsPairFirst) {
     return p.x() >= 1.84f && p.y() >= 0.34f && p.x() <= 2.46f && p.z() > 0.05f;  // the removed box, whole
   });
   const ObjectSet in = object_set({removed, sliver(s.cloud[0], 0, 0.99f, 1.29f), moved_box_in_b(s)});
-  seg::CompletionConfig c = pairs_only();
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionConfig c = pairs_only();
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   ASSERT_FALSE(st.pair_notes.empty());
   EXPECT_EQ(st.pair_notes[0].rfind("objects 1 + 2: completed", 0), 0u) << st.pair_notes[0];
   EXPECT_EQ(st.completed, 1u);
@@ -344,8 +344,8 @@ TEST(SegmentComplete, AmongOverlappingBoxesTheNearerCentroidsPairFirst) {
 
   // In id order the removed box pairs first and the sliver stays a sliver.
   c.centroid_order = false;
-  seg::CompletionStats st_id;
-  const ObjectSet out_id = seg::complete_objects(in, s.missions, c, &st_id);
+  segment::CompletionStats st_id;
+  const ObjectSet out_id = segment::complete_objects(in, s.missions, c, &st_id);
   ASSERT_FALSE(st_id.pair_notes.empty());
   EXPECT_EQ(st_id.pair_notes[0].rfind("objects 0 + 2: completed", 0), 0u) << st_id.pair_notes[0];
   EXPECT_EQ(out_id.objects[1].points.size(), in.objects[1].points.size());
@@ -359,9 +359,9 @@ TEST(SegmentComplete, APairsGrowthJoinsTheFragmentsItReaches) {
   const Scene s = make_scene(3.2f);
   const ObjectSet in =
       object_set({sliver(s.cloud[0], 0, 0.99f, 1.15f), sliver(s.cloud[0], 0, 1.45f, 1.61f), moved_box_in_b(s)});
-  seg::CompletionConfig c = pairs_only();
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionConfig c = pairs_only();
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(st.joined, 1u);
   ASSERT_FALSE(st.pair_notes.empty());
@@ -376,8 +376,8 @@ TEST(SegmentComplete, APairsGrowthJoinsTheFragmentsItReaches) {
 
   // Without: the pair completes on the nearer strip alone, the other stays.
   c.join_fragments = false;
-  seg::CompletionStats st_alone;
-  const ObjectSet alone = seg::complete_objects(in, s.missions, c, &st_alone);
+  segment::CompletionStats st_alone;
+  const ObjectSet alone = segment::complete_objects(in, s.missions, c, &st_alone);
   EXPECT_EQ(alone.objects.size(), 3u);
   EXPECT_EQ(st_alone.joined, 0u);
 }
@@ -391,8 +391,8 @@ TEST(SegmentComplete, AFragmentThatSpoilsTheShapeIsNotJoined) {
     return p.x() >= 1.64f && p.x() <= 2.26f && p.y() <= 0.41f && p.z() > 0.05f;
   });
   const ObjectSet in = object_set({sliver(s.cloud[0], 0, 1.45f, 1.61f), removed, moved_box_in_b(s)});
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, pairs_only(), &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, pairs_only(), &st);
   EXPECT_EQ(st.joined, 0u);
   ASSERT_EQ(out.objects.size(), 3u);
   EXPECT_EQ(out.objects[1].points.size(), in.objects[1].points.size());
@@ -406,10 +406,10 @@ TEST(SegmentComplete, AFragmentThatSpoilsTheShapeIsNotJoined) {
 // included (a remeasured floor may differ by microns).
 TEST(SegmentComplete, ASecondPassLeavesWholeObjectsAsTheyCame) {
   const Scene s = make_scene();
-  ObjectSet once = seg::complete_objects(slivers(s), s.missions, {});
+  ObjectSet once = segment::complete_objects(slivers(s), s.missions, {});
   ASSERT_TRUE(std::isfinite(once.objects[0].floor_z));
   once.objects[0].floor_z += 0.004f;  // as if measured on other points: kept, not remeasured
-  const ObjectSet twice = seg::complete_objects(once, s.missions, {});
+  const ObjectSet twice = segment::complete_objects(once, s.missions, {});
   ASSERT_EQ(twice.objects.size(), once.objects.size());
   for (size_t i = 0; i < once.objects.size(); ++i) {
     EXPECT_EQ(twice.objects[i].points.size(), once.objects[i].points.size());
@@ -420,11 +420,11 @@ TEST(SegmentComplete, ASecondPassLeavesWholeObjectsAsTheyCame) {
 TEST(SegmentComplete, FarApartClustersAreNotPaired) {
   const Scene s = make_scene();
   ObjectSet in = slivers(s);
-  seg::CompletionConfig c;
+  segment::CompletionConfig c;
   c.pair_gap = 0.1;  // the slivers are 0.32 m apart
   c.self_complete = false;
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   EXPECT_EQ(st.pairs, 0u);
   EXPECT_EQ(out.objects[0].points.size(), in.objects[0].points.size());
 }
@@ -434,7 +434,7 @@ TEST(SegmentComplete, UnknownMissionIsAClearError) {
   ObjectSet in = slivers(s);
   in.missions = {"A", "C"};
   try {
-    seg::complete_objects(in, s.missions, {});
+    segment::complete_objects(in, s.missions, {});
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("'C'"), std::string::npos) << e.what();
@@ -461,8 +461,8 @@ TEST(SegmentComplete, ObjectsGetTheirBaseBackButNotTheFloor) {
   const ObjectSet in = one_object(s.cloud[0], 0, [](const Eigen::Vector3f& p) {
     return p.x() >= 0.99f && p.x() <= 1.61f && p.y() <= 0.41f && p.z() > 0.12f;
   });
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, {}, &st);
   EXPECT_EQ(st.self_completed, 1u);
   ASSERT_EQ(st.object_notes.size(), 1u);  // what -v prints
   EXPECT_EQ(st.object_notes[0].rfind("object 0: grown inside its box, ", 0), 0u) << st.object_notes[0];
@@ -494,8 +494,8 @@ TEST(SegmentComplete, AgainstAWallOnlyTheObjectsOwnBoxIsAdded) {
   ASSERT_GT(count_in_box(c, near_face_lo, near_face_hi), 0u);
   const Eigen::Vector3f wall_lo{0.94f, -1.f, 0.25f}, wall_hi{0.96f, 3.f, 2.5f};
 
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, {}, &st);
   ASSERT_EQ(st.object_notes.size(), 1u);  // what -v prints
   EXPECT_NE(st.object_notes[0].find("leaks out of its box"), std::string::npos) << st.object_notes[0];
   EXPECT_NE(st.object_notes[0].find("grown inside its own box and base"), std::string::npos) << st.object_notes[0];
@@ -506,10 +506,10 @@ TEST(SegmentComplete, AgainstAWallOnlyTheObjectsOwnBoxIsAdded) {
   EXPECT_EQ(count_in_box(got, wall_lo, wall_hi), 0u) << "wall added";
 
   // leak_growth = base: only what lies below the found part's lowest points.
-  seg::CompletionConfig base_only;
+  segment::CompletionConfig base_only;
   base_only.leak_own_box = false;
-  seg::CompletionStats st_base;
-  const ObjectSet out_base = seg::complete_objects(in, s.missions, base_only, &st_base);
+  segment::CompletionStats st_base;
+  const ObjectSet out_base = segment::complete_objects(in, s.missions, base_only, &st_base);
   ASSERT_EQ(st_base.object_notes.size(), 1u);
   EXPECT_NE(st_base.object_notes[0].find("only its base added"), std::string::npos) << st_base.object_notes[0];
   const auto& got_base = out_base.objects[0].points;
@@ -532,13 +532,13 @@ TEST(SegmentComplete, PhantomChangeOnStaticFurnitureStaysASliver) {
   const size_t base = count_in_box(c, {2.5f, 0.f, 0.03f}, {3.0f, 0.5f, 0.19f});
   ASSERT_GT(base, 50u);
 
-  seg::CompletionConfig off;
+  segment::CompletionConfig off;
   off.static_check = false;
-  const ObjectSet grown = seg::complete_objects(in, s.missions, off);
+  const ObjectSet grown = segment::complete_objects(in, s.missions, off);
   EXPECT_EQ(count_in_box(grown.objects[0].points, {2.5f, 0.f, 0.03f}, {3.0f, 0.5f, 0.19f}), base);
 
-  seg::CompletionStats st;
-  const ObjectSet kept = seg::complete_objects(in, s.missions, {}, &st);
+  segment::CompletionStats st;
+  const ObjectSet kept = segment::complete_objects(in, s.missions, {}, &st);
   EXPECT_EQ(kept.objects[0].points.size(), detected);
   EXPECT_GE(st.points_static, base);
 }
@@ -561,10 +561,10 @@ TEST(SegmentComplete, ObjectsStandingOnTheFloorGetItsHeight) {
     return p.x() >= 2.49f && p.y() <= 0.51f && p.z() > 1.1f;  // top of the static box only
   }));
   in.objects.back().id = 1;
-  seg::CompletionConfig c;
+  segment::CompletionConfig c;
   c.self_complete = false;  // the floor is measured without self-completion too
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   EXPECT_NEAR(out.objects[0].floor_z, 0.7f, 0.01f);
   EXPECT_TRUE(std::isnan(out.objects[1].floor_z));
   EXPECT_EQ(st.floors, 1u);
@@ -592,14 +592,14 @@ TEST(SegmentComplete, FragmentInsideALargerObjectsBoxJoinsIt) {
   const size_t strip_points = in.objects[0].points.size(), rest = in.objects[1].points.size();
   ASSERT_GT(strip_points, 5u);
 
-  seg::CompletionConfig on;
+  segment::CompletionConfig on;
   on.join_fragments = false;  // rule 6 alone (rule 1 may pair the moved box with B's static one)
-  seg::CompletionConfig off = on;
+  segment::CompletionConfig off = on;
   off.nested_share = 0.0;
-  EXPECT_EQ(seg::complete_objects(in, s.missions, off).objects.size(), 3u);
+  EXPECT_EQ(segment::complete_objects(in, s.missions, off).objects.size(), 3u);
 
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, on, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, on, &st);
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(st.absorbed, 1u);
   EXPECT_EQ(out.objects[0].id, 0);  // renumbered in order
@@ -636,16 +636,16 @@ TEST(SegmentComplete, TheFloorItselfIsNoObject) {
   ASSERT_GT(in.objects[2].points.size(), 20u);
   ASSERT_GT(in.objects[3].points.size(), 20u);
 
-  seg::CompletionConfig off;
+  segment::CompletionConfig off;
   off.floor_share = 0.0;
   off.thin_surface_sides = 0;  // the floor patch is also a thin patch of a larger surface
   off.pair_retry = false;       // (with it the refused floor pair frees the sliver for B's)
-  seg::CompletionStats st_off;
-  EXPECT_EQ(seg::complete_objects(in, s.missions, off, &st_off).objects.size(), 4u);
+  segment::CompletionStats st_off;
+  EXPECT_EQ(segment::complete_objects(in, s.missions, off, &st_off).objects.size(), 4u);
   EXPECT_EQ(st_off.completed, 0u) << "the floor patch took the sliver's pair";
 
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, {}, &st);
   ASSERT_EQ(out.objects.size(), 3u);
   EXPECT_EQ(st.floor_only, 1u);
   EXPECT_EQ(st.completed, 1u);
@@ -682,12 +682,12 @@ TEST(SegmentComplete, TheFloorRuleStopsATenthOfAMetreAboveTheFloor) {
   for (const auto& p : in.objects[0].points.xyz) under += p.z() < 0.1f;
   ASSERT_LT(double(under), 0.9 * double(in.objects[0].points.size()));
 
-  seg::CompletionConfig c;
+  segment::CompletionConfig c;
   c.floor_clearance = 0.3;
   c.self_complete = false;
   c.thin_height = 0.0;
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   EXPECT_EQ(st.floor_only, 1u) << "the floor patch is still floor";
   ASSERT_EQ(out.objects.size(), 1u);
   EXPECT_EQ(out.objects[0].points.size(), in.objects[0].points.size()) << "the 0.2 m box is kept";
@@ -710,17 +710,17 @@ TEST(SegmentComplete, UnchangedThinSurfacesAreDropped) {
   for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
   ASSERT_GT(in.objects[0].points.size(), 20u);
   ASSERT_GT(in.objects[1].points.size(), 10u);
-  seg::CompletionConfig c;
+  segment::CompletionConfig c;
   c.self_complete = false;  // keep the kept object as it came
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, c, &st);
   EXPECT_EQ(st.thin_static, 1u);
   EXPECT_EQ(st.thin_surface, 0u);  // the moved top's sliver continues on one side only
   ASSERT_EQ(out.objects.size(), 1u);
   EXPECT_EQ(out.objects[0].id, 0);
   EXPECT_EQ(out.objects[0].points.size(), in.objects[1].points.size());
   c.thin_height = 0.0;
-  EXPECT_EQ(seg::complete_objects(in, s.missions, c).objects.size(), 2u);
+  EXPECT_EQ(segment::complete_objects(in, s.missions, c).objects.size(), 2u);
 }
 
 // A shelf 2 x 1 m at 0.2 m, seen by both missions, but the other mission's
@@ -760,16 +760,16 @@ TEST(SegmentComplete, ThinPatchesOfALargerSurfaceAreDropped) {
   for (size_t i = 0; i < in.objects.size(); ++i) in.objects[i].id = int(i);
   ASSERT_GT(in.objects[0].points.size(), 20u);
   ASSERT_GT(in.objects[1].points.size(), 20u);
-  seg::CompletionConfig c;
+  segment::CompletionConfig c;
   c.self_complete = false;
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, missions, c, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, missions, c, &st);
   EXPECT_EQ(st.thin_static, 0u);  // B does not hold the patch: the older rule keeps it
   EXPECT_EQ(st.thin_surface, 1u);
   ASSERT_EQ(out.objects.size(), 1u);
   EXPECT_EQ(out.objects[0].points.size(), in.objects[1].points.size());  // the deck
   c.thin_surface_sides = 0;
-  EXPECT_EQ(seg::complete_objects(in, missions, c).objects.size(), 2u);
+  EXPECT_EQ(segment::complete_objects(in, missions, c).objects.size(), 2u);
 }
 
 namespace {
@@ -811,8 +811,8 @@ TEST(SegmentComplete, ObjectsConnectedOverChangedPointsAreJoined) {
                p.z() > 0.1f && p.z() < 0.6f;
       }));
   const ObjectSet in = object_set(legs);
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, {}, &st);
   EXPECT_EQ(st.connected, 3u);
   ASSERT_EQ(out.objects.size(), 1u);
   EXPECT_EQ(out.objects[0].id, 0);
@@ -823,10 +823,10 @@ TEST(SegmentComplete, ObjectsConnectedOverChangedPointsAreJoined) {
   for (const auto& note : st.object_notes) joined_notes += note.find(": joined, connected over ") != std::string::npos;
   EXPECT_EQ(joined_notes, 3u);
 
-  seg::CompletionConfig off;
+  segment::CompletionConfig off;
   off.join_connected = false;
-  seg::CompletionStats st_off;
-  EXPECT_EQ(seg::complete_objects(in, s.missions, off, &st_off).objects.size(), 4u);
+  segment::CompletionStats st_off;
+  EXPECT_EQ(segment::complete_objects(in, s.missions, off, &st_off).objects.size(), 4u);
   EXPECT_EQ(st_off.connected, 0u);
 }
 
@@ -841,8 +841,8 @@ TEST(SegmentComplete, ObjectsConnectedOnlyOverUnchangedPointsStayApart) {
                                      return p.x() >= 3.25f && p.x() <= 3.551f && p.z() > 0.45f && p.z() < 0.71f;
                                    })});
   ASSERT_LT(lista::geometry::box_gap(in.objects[0], in.objects[1]), 1.0f);
-  seg::CompletionStats st;
-  const ObjectSet out = seg::complete_objects(in, s.missions, {}, &st);
+  segment::CompletionStats st;
+  const ObjectSet out = segment::complete_objects(in, s.missions, {}, &st);
   EXPECT_EQ(st.connected, 0u);
   EXPECT_EQ(out.objects.size(), 2u);
   bool refused = false;

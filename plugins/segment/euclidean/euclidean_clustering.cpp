@@ -8,7 +8,7 @@
 
 #include <algorithm>
 
-namespace lista::seg {
+namespace lista::segment {
 
 std::vector<std::vector<uint32_t>> cluster_euclidean(const PointSet& points,
                                                      const EuclideanClusterConfig& config) {
@@ -36,4 +36,4 @@ std::vector<std::vector<uint32_t>> cluster_euclidean(const PointSet& points,
   return clusters;
 }
 
-}  // namespace lista::seg
+}  // namespace lista::segment

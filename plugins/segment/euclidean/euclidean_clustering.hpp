@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace lista::seg {
+namespace lista::segment {
 
 struct EuclideanClusterConfig {
   double tolerance = 0.1;  // joining distance, m
@@ -18,4 +18,4 @@ struct EuclideanClusterConfig {
 std::vector<std::vector<uint32_t>> cluster_euclidean(const PointSet& points,
                                                      const EuclideanClusterConfig& config);
 
-}  // namespace lista::seg
+}  // namespace lista::segment

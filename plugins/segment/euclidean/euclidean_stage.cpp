@@ -6,7 +6,7 @@
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 const ParamTable<EuclideanClusterConfig>& param_table() {
@@ -43,7 +43,7 @@ class EuclideanSegmentStage : public Stage {
   }
 
   Outputs run(const Inputs& in, Context& context) override {
-    ObjectSet objects = objects_from_missions(
+    ObjectSet objects = segmentation::objects_from_missions(
         in.get<MissionPoints>("changes"), context,
         [&](const PointSet& s, int) { return cluster_euclidean(s, config_); });
     context.record("objects", double(objects.objects.size()));
@@ -62,6 +62,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::seg
+}  // namespace lista::segment
 
-LISTA_PLUGIN(lista::seg::register_stages)
+LISTA_PLUGIN(lista::segment::register_stages)

@@ -10,10 +10,10 @@ TEST(SegmentEuclidean, TwoBoxes30cmApartAreTwoClusters) {
   lista::PointSet s;
   add_box_surface(s, {0, 0, 0}, {0.5f, 0.5f, 0.5f}, 0.05f);
   add_box_surface(s, {0.8f, 0, 0}, {1.3f, 0.5f, 0.5f}, 0.05f);
-  lista::seg::EuclideanClusterConfig c;
-  EXPECT_EQ(lista::seg::cluster_euclidean(s, c).size(), 2u);
+  lista::segment::EuclideanClusterConfig c;
+  EXPECT_EQ(lista::segment::cluster_euclidean(s, c).size(), 2u);
   c.tolerance = 0.35;  // wider than the gap: one cluster
-  EXPECT_EQ(lista::seg::cluster_euclidean(s, c).size(), 1u);
+  EXPECT_EQ(lista::segment::cluster_euclidean(s, c).size(), 1u);
 }
 
 // segment.voxel (exact) must give the very same clusters as PCL.
@@ -25,15 +25,15 @@ TEST(SegmentEuclidean, SameClustersAsVoxelExactOnRandomBlobs) {
     for (int b = 0; b < 25; ++b)
       add_blob(s, {pos(rng), pos(rng), pos(rng) * 0.3f}, rad(rng), 20 + int(rng() % 300), rng);
     for (double tol : {0.05, 0.1, 0.2}) {
-      lista::seg::EuclideanClusterConfig ec;
+      lista::segment::EuclideanClusterConfig ec;
       ec.tolerance = tol;
       ec.min_points = 5;
-      lista::seg::VoxelClusterConfig vc;
+      lista::segmentation::VoxelClusterConfig vc;
       vc.tolerance = tol;
       vc.exact = true;
       vc.min_points = 5;
-      auto a = lista::seg::cluster_euclidean(s, ec);
-      auto b = lista::seg::cluster_voxels(s.xyz, vc);
+      auto a = lista::segment::cluster_euclidean(s, ec);
+      auto b = lista::segmentation::cluster_voxels(s.xyz, vc);
       EXPECT_GT(a.size(), 1u);
       EXPECT_EQ(a, b) << "seed " << seed << " tolerance " << tol;
     }

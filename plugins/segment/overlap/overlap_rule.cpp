@@ -8,7 +8,7 @@
 #include <map>
 #include <numeric>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 double inside(const Object& a, const Object& b, double margin) {
@@ -156,4 +156,4 @@ ObjectSet merge_split_by_overlap(const ObjectSet& input, const OverlapConfig& c,
   return out;
 }
 
-}  // namespace lista::seg
+}  // namespace lista::segment

@@ -28,7 +28,7 @@
 
 #include <lista/objects.hpp>
 
-namespace lista::seg {
+namespace lista::segment {
 
 struct OverlapConfig {
   double margin = 0.05;       // m, bounding boxes grown by this
@@ -45,4 +45,4 @@ struct OverlapStats {
 
 ObjectSet merge_split_by_overlap(const ObjectSet& in, const OverlapConfig& config, OverlapStats* stats = nullptr);
 
-}  // namespace lista::seg
+}  // namespace lista::segment

@@ -26,8 +26,8 @@ TEST(SegmentOverlap, MergesFragmentsOfAnObjectMovedLessThanItsSize) {
   // Mission 0: two fragments of one 1 m object; mission 1: the object whole.
   auto in = make({box_object(0, {0, 0, 0}, {0.4f, 0.6f, 0.6f}), box_object(0, {0.6f, 0, 0}, {1.0f, 0.6f, 0.6f}),
                   box_object(1, {0, 0, 0}, {1.0f, 0.6f, 0.6f})});
-  lista::seg::OverlapStats st;
-  auto out = lista::seg::merge_split_by_overlap(in, {}, &st);
+  lista::segment::OverlapStats st;
+  auto out = lista::segment::merge_split_by_overlap(in, {}, &st);
   ASSERT_EQ(out.objects.size(), 2u);
   EXPECT_EQ(st.merged, 1u);
   EXPECT_EQ(out.objects[0].mission, 0u);
@@ -41,7 +41,7 @@ TEST(SegmentOverlap, PiecesFarApartAreObjectsNotFragments) {
   // apart, and the other mission's object is cut at them instead.
   auto in = make({box_object(0, {0, 0, 0}, {0.4f, 0.6f, 0.6f}), box_object(0, {1.2f, 0, 0}, {1.6f, 0.6f, 0.6f}),
                   box_object(1, {0, 0, 0}, {1.6f, 0.6f, 0.6f})});
-  auto out = lista::seg::merge_split_by_overlap(in, {});
+  auto out = lista::segment::merge_split_by_overlap(in, {});
   ASSERT_EQ(out.objects.size(), 4u);
   EXPECT_EQ(out.objects[0].points.size(), in.objects[0].points.size());
   EXPECT_EQ(out.objects[1].points.size(), in.objects[1].points.size());
@@ -59,8 +59,8 @@ TEST(SegmentOverlap, SplitsACompositeHeldApartInTheOtherMission) {
   composite.update_geometry();
   auto in = make({composite, box_object(1, {0, 0, 0}, {0.28f, 0.48f, 0.48f}),
                   box_object(1, {0.72f, 0, 0}, {1.0f, 0.48f, 0.48f})});
-  lista::seg::OverlapStats st;
-  auto out = lista::seg::merge_split_by_overlap(in, {}, &st);
+  lista::segment::OverlapStats st;
+  auto out = lista::segment::merge_split_by_overlap(in, {}, &st);
   ASSERT_EQ(out.objects.size(), 4u);
   EXPECT_EQ(st.split, 1u);
   EXPECT_EQ(out.objects[0].points.size(), left);
@@ -75,7 +75,7 @@ TEST(SegmentOverlap, LeavesUnrelatedAndNonConsecutiveObjectsAlone) {
   auto in = make({box_object(0, {0, 0, 0}, {0.4f, 0.6f, 0.6f}), box_object(0, {0.6f, 0, 0}, {1.0f, 0.6f, 0.6f}),
                   box_object(1, {5, 5, 0}, {5.5f, 5.5f, 0.5f}), box_object(2, {0, 0, 0}, {1.0f, 0.6f, 0.6f})},
                  3);
-  auto out = lista::seg::merge_split_by_overlap(in, {});
+  auto out = lista::segment::merge_split_by_overlap(in, {});
   ASSERT_EQ(out.objects.size(), 4u);
   for (size_t i = 0; i < 4; ++i) EXPECT_EQ(out.objects[i].points.size(), in.objects[i].points.size());
 }
@@ -93,5 +93,5 @@ TEST(SegmentOverlap, DoesNotTrustStaleBounds) {
   auto in = make({box_object(0, {0, 0, 0}, {0.4f, 0.6f, 0.6f}), box_object(0, {0.6f, 0, 0}, {1.0f, 0.6f, 0.6f}),
                   box_object(1, {0, 0, 0}, {1.0f, 0.6f, 0.6f})});
   for (auto& o : in.objects) o.bbox_min = o.bbox_max = Eigen::Vector3f::Zero();
-  EXPECT_EQ(lista::seg::merge_split_by_overlap(in, {}).objects.size(), 2u);
+  EXPECT_EQ(lista::segment::merge_split_by_overlap(in, {}).objects.size(), 2u);
 }

@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace lista::seg {
+namespace lista::segment {
 
 std::vector<std::vector<uint32_t>> cluster_region_growing(const PointSet& points,
                                                           const RegionGrowingConfig& c, int threads) {
@@ -48,4 +48,4 @@ std::vector<std::vector<uint32_t>> cluster_region_growing(const PointSet& points
   return clusters;
 }
 
-}  // namespace lista::seg
+}  // namespace lista::segment

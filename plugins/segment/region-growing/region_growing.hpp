@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace lista::seg {
+namespace lista::segment {
 
 struct RegionGrowingConfig {
   int normal_neighbours = 16;    // k for normal estimation
@@ -25,4 +25,4 @@ struct RegionGrowingConfig {
 std::vector<std::vector<uint32_t>> cluster_region_growing(const PointSet& points,
                                                           const RegionGrowingConfig& config, int threads);
 
-}  // namespace lista::seg
+}  // namespace lista::segment

@@ -6,7 +6,7 @@
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 const ParamTable<RegionGrowingConfig>& param_table() {
@@ -47,7 +47,7 @@ class RegionGrowingStage : public Stage {
   }
 
   Outputs run(const Inputs& in, Context& context) override {
-    ObjectSet objects = objects_from_missions(
+    ObjectSet objects = segmentation::objects_from_missions(
         in.get<MissionPoints>("changes"), context,
         [&](const PointSet& s, int threads) { return cluster_region_growing(s, c_, threads); });
     context.record("objects", double(objects.objects.size()));
@@ -65,6 +65,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::seg
+}  // namespace lista::segment
 
-LISTA_PLUGIN(lista::seg::register_stages)
+LISTA_PLUGIN(lista::segment::register_stages)

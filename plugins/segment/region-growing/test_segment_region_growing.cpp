@@ -24,9 +24,9 @@ TEST(SegmentRegionGrowing, SplitsABallRestingOnAPlane) {
     for (float y = -1; y < 1.f; y += 0.025f) add_point(s, {x, y, 0});
   const size_t plane = s.size();
   add_sphere(s, {0, 0, 0.3f}, 0.3f, 2500);  // touches the plane at the origin
-  lista::seg::RegionGrowingConfig c;
+  lista::segment::RegionGrowingConfig c;
   c.min_points = 300;  // the crease around the contact forms a small region of its own
-  auto clusters = lista::seg::cluster_region_growing(s, c, 2);
+  auto clusters = lista::segment::cluster_region_growing(s, c, 2);
   ASSERT_EQ(clusters.size(), 2u);
   // One region is (almost all) the plane, the other the ball.
   size_t plane_in_first = 0, ball_in_second = 0;
@@ -36,7 +36,7 @@ TEST(SegmentRegionGrowing, SplitsABallRestingOnAPlane) {
   EXPECT_GT(ball_in_second, (s.size() - plane) * 90 / 100);
   // Without the curvature limit, growth runs through the contact: one region.
   c.curvature = 1.0;
-  EXPECT_EQ(lista::seg::cluster_region_growing(s, c, 2).size(), 1u);
+  EXPECT_EQ(lista::segment::cluster_region_growing(s, c, 2).size(), 1u);
 }
 
 TEST(SegmentRegionGrowing, StageSeparatesDistantBlobsPerMission) {

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 using namespace test_support;
-using lista::seg::cluster_voxels;
-using lista::seg::VoxelClusterConfig;
+using lista::segmentation::cluster_voxels;
+using lista::segmentation::VoxelClusterConfig;
 
 TEST(SegmentVoxel, TwoBoxes30cmApartAreTwoClusters) {
   lista::PointSet s;

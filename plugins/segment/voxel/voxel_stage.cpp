@@ -7,11 +7,11 @@
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
-namespace lista::seg {
+namespace lista::segment {
 namespace {
 
 // The clustering's settings; connectivity names its `exact` switch.
-struct VoxelStageConfig : VoxelClusterConfig {
+struct VoxelStageConfig : segmentation::VoxelClusterConfig {
   std::string connectivity = "voxel";
 };
 
@@ -57,8 +57,8 @@ class VoxelSegmentStage : public Stage {
 
   Outputs run(const Inputs& in, Context& context) override {
     const auto& changes = in.get<MissionPoints>("changes");
-    ObjectSet objects = objects_from_missions(
-        changes, context, [&](const PointSet& s, int) { return cluster_voxels(s.xyz, config_); });
+    ObjectSet objects = segmentation::objects_from_missions(
+        changes, context, [&](const PointSet& s, int) { return segmentation::cluster_voxels(s.xyz, config_); });
     context.record("objects", double(objects.objects.size()));
     Outputs out;
     out.put("objects", std::move(objects));
@@ -66,7 +66,7 @@ class VoxelSegmentStage : public Stage {
   }
 
  private:
-  VoxelClusterConfig config_;
+  segmentation::VoxelClusterConfig config_;
 };
 
 void register_stages(Registrar& r) {
@@ -75,6 +75,6 @@ void register_stages(Registrar& r) {
 }
 
 }  // namespace
-}  // namespace lista::seg
+}  // namespace lista::segment
 
-LISTA_PLUGIN(lista::seg::register_stages)
+LISTA_PLUGIN(lista::segment::register_stages)

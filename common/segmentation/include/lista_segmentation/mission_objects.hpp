@@ -19,7 +19,7 @@
 #include <thread>
 #include <vector>
 
-namespace lista::seg {
+namespace lista::segmentation {
 
 using Clusters = std::vector<std::vector<uint32_t>>;
 
@@ -102,4 +102,4 @@ inline ObjectSet objects_from_missions(const MissionPoints& points, Context& con
   return out;
 }
 
-}  // namespace lista::seg
+}  // namespace lista::segmentation

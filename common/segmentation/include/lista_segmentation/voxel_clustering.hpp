@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace lista::seg {
+namespace lista::segmentation {
 
 struct VoxelClusterConfig {
   double tolerance = 0.1;        // voxel edge and joining distance, m
@@ -26,4 +26,4 @@ struct VoxelClusterConfig {
 std::vector<std::vector<uint32_t>> cluster_voxels(const std::vector<Eigen::Vector3f>& xyz,
                                                   const VoxelClusterConfig& config);
 
-}  // namespace lista::seg
+}  // namespace lista::segmentation
