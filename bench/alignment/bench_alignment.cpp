@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
   app.add_option("datasets", datasets, "dataset folders (missions with poses_gt.txt)")->required();
   app.add_option("--stages", stages, "aligners to run")->delimiter(',');
   app.add_option("--set", sets,
-                 "<plugin>.<param>=<value>: a parameter other than the default, e.g. align.posegraph.scan_edges=0 "
+                 "<plugin>.<param>=<value>: a parameter other than the default, e.g. align.posegraph.scans.neighbours=0 "
                  "(repeatable; keyed by plugin name, where lista-run's --set takes a stage id)");
   app.add_option("--threads", threads, "threads per stage")->check(lista::cli::at_least(1));
   app.add_option("--plugin-dir", plugin_dirs,
@@ -167,7 +167,7 @@ int main(int argc, char** argv) {
   if (auto code = lista::cli::parse_command_line(app, argc, argv, "lista-bench alignment")) return *code;
   try {
     std::vector<bench::Setting> settings;
-    for (const auto& s : sets) settings.push_back(bench::parse_setting(s, "align.posegraph.scan_edges=0"));
+    for (const auto& s : sets) settings.push_back(bench::parse_setting(s, "align.posegraph.scans.neighbours=0"));
     bench::check_compared(settings, stages);
     // Plugins found as lista-run finds them, every setting checked against
     // its plugin's declaration and every dataset folder checked before

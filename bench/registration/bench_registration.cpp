@@ -78,7 +78,7 @@ double percentile(std::vector<double> v, double q) {
 
 // Judged by the gates align.posegraph's scan-to-scan edges use for `method`
 // with their defaults (both ways).
-Outcome run(const std::vector<Pair>& pairs, RegistrationOptions o, const std::string& method) {
+Outcome run(const std::vector<Pair>& pairs, RegistrationOptions o, RegistrationMethod method) {
   o.method = method;
   const RegistrationGates gates = scan_pair_gates(method, kMinOverlap, kMaxRmse, kMaxPlaneRmse);
   o.measure_planes = gates.max_plane_rmse > 0.0;
@@ -143,8 +143,8 @@ int run_dataset(const std::string& dir, const lista::bench::DatasetPairOptions& 
               "(m, deg) | passed: horizontal error median / p95 (m) | passed: yaw error median / p95 (deg) | passed: "
               "along-step error mean (mm) |\n"
               "|---|---:|---:|---:|---:|---:|---|---|---|---:|\n");
-  const Outcome stock = run(pairs, o, "gicp");
-  const Outcome ours = run(pairs, o, "gicp_gn");
+  const Outcome stock = run(pairs, o, RegistrationMethod::gicp);
+  const Outcome ours = run(pairs, o, RegistrationMethod::gicp_gn);
   const Outcome odometry = odometry_of(pairs);
   const double stock_median = percentile(stock.seconds, 0.5);
   for (const auto& [name, r] : {std::pair<const char*, const Outcome*>{"odometry (poses.txt)", &odometry},
@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
   app.add_option("--dataset", dataset,
                  "a recorded dataset with poses_gt.txt: its scan pairs from the odometry instead of the synthetic hall")
       ->check(CLI::ExistingDirectory);
-  app.add_option("--steps", po.steps, "--dataset: each scan onto the next N scans (align.posegraph's scan_edges)")
+  app.add_option("--steps", po.steps, "--dataset: each scan onto the next N scans (align.posegraph's scans.neighbours)")
       ->check(CLI::Range(1, 10));
   app.add_option("--max-pairs", po.max_pairs, "--dataset: at most this many pairs, spread over the dataset (0: all)");
   app.add_option("--threads", po.threads, "--dataset: threads reading the scans")->check(CLI::Range(1, 256));
@@ -224,8 +224,8 @@ int main(int argc, char** argv) {
       p.guess = p.truth * off;
       pairs.push_back(std::move(p));
     }
-    const Outcome stock = run(pairs, o, "gicp");
-    const Outcome ours = run(pairs, o, "gicp_gn");
+    const Outcome stock = run(pairs, o, RegistrationMethod::gicp);
+    const Outcome ours = run(pairs, o, RegistrationMethod::gicp_gn);
     const double stock_median = percentile(stock.seconds, 0.5);
     for (const auto& [name, r] : {std::pair<const char*, const Outcome*>{"PCL GICP (gicp)", &stock},
                                   {"Gauss-Newton GICP (gicp_gn)", &ours}}) {

@@ -129,6 +129,18 @@ std::string ParamSpec::range_text() const {
   return {};
 }
 
+ParamAssignments ParamRename::assignments(const ParamValue& v) const {
+  return translate ? translate(v) : ParamAssignments{{new_name, v}};
+}
+
+std::string ParamRename::warning(const ParamValue& v, const ParamAssignments& as) const {
+  std::string w = "parameter '" + old_name + "' is now '" + new_name + "' (the old name works until the next release)";
+  if (!translate || as.empty()) return w;
+  std::string reads;
+  for (const auto& [name, value] : as) reads += (reads.empty() ? "" : ", ") + name + " = " + to_string(value);
+  return w + "; " + to_string(v) + " reads as " + reads;
+}
+
 bool Params::is_set(const std::string& name) const {
   auto it = explicit_.find(name);
   return it != explicit_.end() && it->second;

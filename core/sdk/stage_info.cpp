@@ -12,6 +12,12 @@ const ParamSpec* StageInfo::param(const std::string& n) const {
   return nullptr;
 }
 
+const ParamRename* StageInfo::renamed_from(const std::string& old_name) const {
+  for (const auto& r : renamed)
+    if (r.old_name == old_name) return &r;
+  return nullptr;
+}
+
 const PortSpec* StageInfo::input(const std::string& n) const {
   for (const auto& p : inputs)
     if (p.name == n) return &p;
@@ -32,6 +38,12 @@ std::string StageInfo::declaration_problem() const {
       return "parameter '" + p.name + "': its range " + p.range_text() + " is empty (lower bound above upper)";
     if (std::string why = p.check(p.default_value); !why.empty())
       return "parameter '" + p.name + "': its default " + why;
+  }
+  std::set<std::string> old;
+  for (const auto& r : renamed) {
+    if (!old.insert(r.old_name).second) return "renames parameter '" + r.old_name + "' twice";
+    if (param(r.old_name)) return "renames '" + r.old_name + "', which is still a parameter";
+    if (!param(r.new_name)) return "renames '" + r.old_name + "' to '" + r.new_name + "', which is no parameter";
   }
   const auto& types = port_types();
   for (const auto* ports : {&inputs, &outputs}) {

@@ -8,9 +8,11 @@
 #include <lista/error.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -52,6 +54,26 @@ struct ParamSpec {
   // The bounds as written in TOML for this type ("[1, 64]" for an integer,
   // "[0.0, 1.0]" for a float, ">= 0.5"); empty if unbounded.
   std::string range_text() const;
+};
+
+// Values of parameters by name, in the order they are set.
+using ParamAssignments = std::vector<std::pair<std::string, ParamValue>>;
+
+// A parameter renamed (moved into a group, or a sentinel value made an
+// explicit switch): a pipeline or --set that writes the old name still works
+// for one release and is told the new spelling.
+struct ParamRename {
+  std::string old_name, new_name;
+  // The new parameters' values for an old value that they spell otherwise
+  // (an old "0 = off" as `enabled = false`); empty: the value is new_name's.
+  // Throws lista::Error for a value of the wrong type.
+  std::function<ParamAssignments(const ParamValue&)> translate;
+
+  // What writing `old_name = v` sets.
+  ParamAssignments assignments(const ParamValue& v) const;
+  // "parameter 'a' is now 'g.a' (the old name works until the next release)",
+  // and for a translated value `v` what it reads as (`as`, when given).
+  std::string warning(const ParamValue& v, const ParamAssignments& as) const;
 };
 
 // The resolved parameters of one stage instance: every declared parameter has

@@ -29,14 +29,17 @@ struct StageInfo {
   std::string doc;      // a few lines (<= 600 chars), last: Details: docs/<page>.md, "<heading>".
   std::vector<PortSpec> inputs, outputs;
   std::vector<ParamSpec> params;
+  std::vector<ParamRename> renamed;  // old names still accepted; not parameters
   std::string kind() const { return name.substr(0, name.find('.')); }
   const ParamSpec* param(const std::string& n) const;
+  const ParamRename* renamed_from(const std::string& old_name) const;
   const PortSpec* input(const std::string& n) const;
   const PortSpec* output(const std::string& n) const;
   // Empty when the declaration holds together, else what is wrong, e.g.
   // "declares parameter 'bins' twice": a parameter or port named twice, a
   // default that its own type, range or choices refuse, a port of a type
-  // that is not a port type (data.hpp). The core refuses such a stage when
+  // that is not a port type (data.hpp), an old name that is still a
+  // parameter or a new one that is not. The core refuses such a stage when
   // its library loads.
   std::string declaration_problem() const;
 };

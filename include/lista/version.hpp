@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#define LISTA_SDK_VERSION 5u
+#define LISTA_SDK_VERSION 6u
 
 #define LISTA_STRINGIFY_IMPL(x) #x
 #define LISTA_STRINGIFY(x) LISTA_STRINGIFY_IMPL(x)

@@ -109,6 +109,28 @@ TEST(Cli, ValidatePrintsJsonVerdict) {
   EXPECT_NE(bad.out.find("did you mean"), std::string::npos) << bad.out;
 }
 
+// --validate accepts an old parameter name and says the new one.
+TEST(Cli, ValidateAcceptsAnOldParameterNameWithAWarning) {
+  lista_test::TempDir dir;
+  std::string text = good_pipeline;
+  const std::string after = "plugin = \"test.source\"\n";
+  text.insert(text.find(after) + after.size(), "sigma = 0.2\n");
+  const auto r = lista_run(dir.write("old.toml", text) + " --validate --set src.noise_level=0");
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("\"valid\": true"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("parameter 'sigma' is now 'noise.sigma' (the old name works until the next release)"),
+            std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"line\": 6"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--set src.noise_level=0: parameter 'noise_level' is now 'noise.sigma'"), std::string::npos)
+      << r.out;
+  // A run prints it once, and the value arrives.
+  const auto plan = lista_run(dir.path.string() + "/old.toml --dry-run");
+  EXPECT_EQ(plan.code, 0) << plan.err;
+  EXPECT_EQ(lines(plan.err), 1u) << plan.err;
+  EXPECT_NE(plan.err.find("lista-run: warning: "), std::string::npos) << plan.err;
+  EXPECT_NE(plan.out.find("noise.sigma = 0.2\n"), std::string::npos) << plan.out;
+}
+
 TEST(Cli, DryRunPrintsThePlanAndRunsNothing) {
   lista_test::TempDir dir;
   const auto r = lista_run(dir.write("ok.toml", good_pipeline) + " --dry-run --set src.count=7");
@@ -129,6 +151,11 @@ TEST(Cli, ListAndDescribePlugins) {
   const auto json = lista_run("--describe test.source --json");
   EXPECT_EQ(json.code, 0);
   EXPECT_NE(json.out.find("\"choices\": [\n        \"fast\",\n        \"exact\"\n      ]"), std::string::npos) << json.out;
+  // Old names are no parameters: a note under them.
+  EXPECT_NE(text.out.find("renamed (the old names work until the next release):\n  sigma -> noise.sigma\n"),
+            std::string::npos) << text.out;
+  EXPECT_NE(json.out.find("\"renamed\": [\n    {\n      \"new\": \"noise.sigma\",\n      \"old\": \"sigma\""),
+            std::string::npos) << json.out;
   const auto unknown = lista_run("--describe test.sourc");
   EXPECT_EQ(unknown.code, 1);
   EXPECT_NE(unknown.err.find("did you mean 'test.source'"), std::string::npos);

@@ -1,5 +1,6 @@
 // ParamTable: one statement per parameter, bound to its config field.
 #include <lista/param_table.hpp>
+#include <lista/stage.hpp>
 
 #include <gtest/gtest.h>
 
@@ -73,4 +74,97 @@ TEST(ParamTable, ReadFillsEveryBoundFieldFromTheRunsParams) {
   EXPECT_EQ(c.scale, 3.0f);
   EXPECT_EQ(c.mode, "exact");
   EXPECT_EQ(c.names, (std::vector<std::string>{"x", "y"}));
+}
+
+namespace {
+
+enum class Speed { slow, fast };
+
+struct Grouped {
+  struct Noise {
+    bool enabled = false;
+    double sigma = 0.1;
+    Speed speed = Speed::fast;
+  } noise;
+  Speed speed = Speed::slow;
+};
+
+ParamTable<Grouped> grouped() {
+  ParamTable<Grouped> t;
+  using N = Grouped::Noise;
+  auto noise = t.group("noise", &Grouped::noise);
+  noise.bind("enabled", &N::enabled, "a switch in a group");
+  noise.bind("sigma", &N::sigma, "a number in a group").at_least(0.0);
+  noise.choice("speed", &N::speed, {{"slow", Speed::slow}, {"fast", Speed::fast}}, "an enum");
+  t.choice("speed", &Grouped::speed, {{"slow", Speed::slow}, {"fast", Speed::fast}}, "an enum");
+  t.renamed("sigma", "noise.sigma");
+  t.renamed("level", "noise.sigma", "noise.enabled", 0.0);
+  return t;
+}
+
+}  // namespace
+
+// A group's parameters fill a struct inside the config; an enum is a text
+// parameter whose choices are its names, so validation checks it once.
+TEST(ParamTable, GroupsFillNestedStructsAndChoicesFillEnums) {
+  const ParamTable<Grouped> t = grouped();
+  const std::vector<ParamSpec> specs = t.specs();
+  ASSERT_EQ(specs.size(), 4u);
+  EXPECT_EQ(specs[0].name, "noise.enabled");
+  EXPECT_EQ(std::get<double>(specs[1].default_value), 0.1);
+  EXPECT_EQ(specs[2].type, ParamType::text);
+  EXPECT_EQ(std::get<std::string>(specs[2].default_value), "fast");
+  EXPECT_EQ(specs[2].choices, (std::vector<std::string>{"slow", "fast"}));
+  EXPECT_EQ(std::get<std::string>(specs[3].default_value), "slow");
+  EXPECT_NE(specs[3].check(std::string("medium")), "");
+  Params p = Params::defaults(specs);
+  p.set("noise.enabled", true);
+  p.set("noise.sigma", 0.5);
+  p.set("noise.speed", std::string("slow"));
+  p.set("speed", std::string("fast"));
+  const Grouped g = t.read(p);
+  EXPECT_TRUE(g.noise.enabled);
+  EXPECT_EQ(g.noise.sigma, 0.5);
+  EXPECT_EQ(g.noise.speed, Speed::slow);
+  EXPECT_EQ(g.speed, Speed::fast);
+}
+
+// An old name fills the new parameter, or, for an old sentinel, the switch
+// that spells it now; the warning names the new spelling and the reading.
+TEST(ParamTable, RenamedParametersKeepTheirOldNamesForARelease) {
+  const ParamTable<Grouped> t = grouped();
+  ASSERT_EQ(t.renames().size(), 2u);
+  const ParamRename& plain = t.renames()[0];
+  EXPECT_EQ(plain.old_name, "sigma");
+  const ParamAssignments as = plain.assignments(0.3);
+  ASSERT_EQ(as.size(), 1u);
+  EXPECT_EQ(as[0].first, "noise.sigma");
+  EXPECT_EQ(std::get<double>(as[0].second), 0.3);
+  EXPECT_EQ(plain.warning(0.3, as), "parameter 'sigma' is now 'noise.sigma' (the old name works until the next release)");
+
+  const ParamRename& level = t.renames()[1];
+  const ParamAssignments off = level.assignments(int64_t{0});  // an integer for the old real
+  ASSERT_EQ(off.size(), 1u);
+  EXPECT_EQ(off[0].first, "noise.enabled");
+  EXPECT_FALSE(std::get<bool>(off[0].second));
+  EXPECT_EQ(level.warning(int64_t{0}, off), "parameter 'level' is now 'noise.sigma' (the old name works until the next "
+                                             "release); 0 reads as noise.enabled = false");
+  const ParamAssignments on = level.assignments(0.2);
+  ASSERT_EQ(on.size(), 2u);
+  EXPECT_TRUE(std::get<bool>(on[0].second));
+  EXPECT_EQ(on[1].first, "noise.sigma");
+  EXPECT_EQ(std::get<double>(on[1].second), 0.2);
+  EXPECT_THROW(level.assignments(std::string("loud")), Error);
+
+  // A declaration that renames onto nothing, or keeps the old name, is refused.
+  StageInfo info;
+  info.name = "test.renamed";
+  info.params = t.specs();
+  info.renamed = t.renames();
+  EXPECT_EQ(info.declaration_problem(), "");
+  EXPECT_EQ(info.renamed_from("level"), &info.renamed[1]);
+  info.renamed.push_back({"speed", "noise.speed", {}});
+  EXPECT_EQ(info.declaration_problem(), "renames 'speed', which is still a parameter");
+  info.renamed.back() = {"rate", "noise.rate", {}};
+  EXPECT_EQ(info.declaration_problem(), "renames 'rate' to 'noise.rate', which is no parameter");
 }

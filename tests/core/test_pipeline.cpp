@@ -421,3 +421,61 @@ TEST(Pipeline, ParameterGroupsAreSubTablesOfTheStage) {
   expect_one_error(source + "[stages.src.noise]\nsigma = -1.0\n", 4, ">= 0");
   expect_one_error(source + "[stages.src.noise.deeper]\nx = 1\n", 3, "unknown parameter 'noise.deeper'");
 }
+
+// A renamed parameter (test.source: `sigma` is now `noise.sigma`; its
+// `noise_level` 0 meant off): the old name in the file or in --set fills the
+// new parameter, and one warning at the key names the new spelling.
+TEST(Pipeline, OldParameterNamesFillTheNewOnesWithAWarning) {
+  // The warnings that name a new spelling (a lone source also has an unused output).
+  const auto renames = [](const Diagnostics& d) {
+    std::vector<Diagnostic> out;
+    for (const auto& w : d.warnings)
+      if (w.message.find(" is now ") != std::string::npos) out.push_back(w);
+    return out;
+  };
+  Diagnostics d;
+  const Plan plan = plan_of(source + "sigma = 0.25\n", d);
+  ASSERT_TRUE(d.ok()) << d.errors.front().str();
+  EXPECT_DOUBLE_EQ(plan.stages.at(0).params.get<double>("noise.sigma"), 0.25);
+  EXPECT_TRUE(plan.stages.at(0).params.is_set("noise.sigma"));
+  ASSERT_EQ(renames(d).size(), 1u);
+  EXPECT_EQ(renames(d)[0].str(),
+            "p.toml:3:1: stage 'src': parameter 'sigma' is now 'noise.sigma' (the old name works until the next release)");
+  EXPECT_EQ(plan.resolved_toml().find("\nsigma ="), std::string::npos) << "the plan speaks the new names only";
+
+  Diagnostics d2;
+  const Plan set = plan_of(source, d2, {"src.sigma=0.5"});
+  ASSERT_TRUE(d2.ok()) << d2.errors.front().str();
+  EXPECT_DOUBLE_EQ(set.stages.at(0).params.get<double>("noise.sigma"), 0.5);
+  ASSERT_EQ(renames(d2).size(), 1u);
+  EXPECT_EQ(renames(d2)[0].message,
+            "--set src.sigma=0.5: parameter 'sigma' is now 'noise.sigma' (the old name works until the next release)");
+
+  // An old sentinel reads as the new switch, and the warning says how.
+  Diagnostics d3;
+  const Plan off = plan_of(source + "noise_level = 0.0\n", d3);
+  ASSERT_TRUE(d3.ok()) << d3.errors.front().str();
+  EXPECT_FALSE(off.stages.at(0).params.get<bool>("noise.enabled"));
+  EXPECT_TRUE(off.stages.at(0).params.is_set("noise.enabled"));
+  ASSERT_EQ(renames(d3).size(), 1u);
+  EXPECT_EQ(renames(d3)[0].message, "parameter 'noise_level' is now 'noise.sigma' (the old name works until the next "
+                                    "release); 0.0 reads as noise.enabled = false");
+  Diagnostics d4;
+  const Plan on = plan_of(source + "noise_level = 0.3\n", d4);
+  ASSERT_TRUE(d4.ok()) << d4.errors.front().str();
+  EXPECT_TRUE(on.stages.at(0).params.get<bool>("noise.enabled"));
+  EXPECT_DOUBLE_EQ(on.stages.at(0).params.get<double>("noise.sigma"), 0.3);
+
+  // Checked as the new parameter; written under both names, an error.
+  expect_one_error(source + "sigma = -1.0\n", 3, "parameter 'noise.sigma' must be >= 0");
+  expect_one_error(source + "noise_level = \"loud\"\n", 3, "parameter 'noise_level' must be float");
+  expect_one_error(source + "sigma = 0.1\n[stages.src.noise]\nsigma = 0.2\n", 5,
+                   "parameter 'noise.sigma' is written twice, as 'sigma' and as 'noise.sigma'; keep 'noise.sigma'");
+  // An old name is no parameter: a typo of it suggests the new one, and the known names are the new ones.
+  const auto unknown = errors_of(source + "sigmaa = 1.0\n");
+  ASSERT_EQ(unknown.size(), 1u);
+  EXPECT_NE(unknown[0].message.find("(did you mean 'noise.sigma'?)"), std::string::npos) << unknown[0].str();
+  expect_one_error(source + "noise_levl = 1.0\n", 3, "(did you mean 'noise.sigma'?)");
+  const std::string known = "known: count, missions, scale, mode, verbose, weights, tags, noise.enabled, noise.sigma";
+  EXPECT_EQ(unknown[0].message.substr(unknown[0].message.size() - known.size()), known) << unknown[0].str();
+}

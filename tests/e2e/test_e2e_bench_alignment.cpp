@@ -24,9 +24,9 @@ TEST(BenchAlignment, EveryBadSettingIsOneLineOfError) {
     const char* says;
   };
   for (const Case& c : {
-           Case{"align.posegraph.scan_edges=1.9", "'scan_edges' must be int, got float 1.9"},
-           Case{"align.posegraph.scan_edges=abc", "'scan_edges' must be int, got string \"abc\""},
-           Case{"align.posegraph.scan_edges=11", "'scan_edges' must be in [0, 10], got 11"},
+           Case{"align.posegraph.scans.neighbours=1.9", "'scans.neighbours' must be int, got float 1.9"},
+           Case{"align.posegraph.scans.neighbours=abc", "'scans.neighbours' must be int, got string \"abc\""},
+           Case{"align.posegraph.scans.neighbours=11", "'scans.neighbours' must be in [0, 10], got 11"},
            Case{"align.posegraph.scan_edge=1", "align.posegraph has no parameter 'scan_edge'"},
            Case{"align.scan_edges=0", "'align' is not among the plugins compared (align.posegraph, align.icp)"},
            Case{"align.posegraph.voxel", "is not of the form <plugin>.<param>=<value>"},

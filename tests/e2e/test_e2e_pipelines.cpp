@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <vector>
@@ -49,7 +50,55 @@ TEST(Pipelines, EveryShippedPipelineValidates) {
     const auto verdict = nlohmann::json::parse(r.output.substr(first), nullptr, false);
     ASSERT_FALSE(verdict.is_discarded()) << r.output;
     EXPECT_TRUE(verdict.value("valid", false)) << r.output;
+    // Shipped files speak the current names: no renamed parameter's warning.
+    EXPECT_EQ(r.output.find("is now"), std::string::npos) << r.output;
   }
+}
+
+// A pipeline written with the flat names of before the parameter groups
+// (and the sentinels they had) still validates and runs as it did, with one
+// warning per old name that names the new spelling.
+TEST(Pipelines, OldParameterNamesStillValidateWithAWarning) {
+  std::string text = e2e::read_file(e2e::source("pipelines/lista.toml"));
+  const auto after = [&](const std::string& line, const std::string& insert) {
+    const auto at = text.find(line);
+    ASSERT_NE(at, std::string::npos) << line;
+    text.insert(at + line.size(), insert);
+  };
+  after("plugin = \"align.posegraph\"\n", "scan_points = 12000\nsolver_iterations = 80\nscan_disagreement = 0\n");
+  after("plugin = \"match.weighted\"\n", "max_tilt = 180\nmax_cost = -1\ngroup_mode = \"hard\"\nmin_shape_fit = 0.7\n");
+  const e2e::TempDir dir("old-names");
+  const std::string file = (dir.path() / "old-names.toml").string();
+  std::ofstream(file) << text;
+  const e2e::Result r = e2e::run(e2e::bin("lista-run") + " '" + file + "' --validate 2>&1");
+  EXPECT_EQ(r.status, 0) << r.output;
+  const auto verdict = nlohmann::json::parse(r.output.substr(r.output.find('{')), nullptr, false);
+  ASSERT_FALSE(verdict.is_discarded()) << r.output;
+  EXPECT_TRUE(verdict.value("valid", false)) << r.output;
+  std::vector<std::string> warnings;
+  for (const auto& w : verdict.at("warnings")) warnings.push_back(w.at("message").get<std::string>());
+  for (const char* said :
+       {"parameter 'scan_points' is now 'scans.points' (the old name works until the next release)",
+        "parameter 'solver_iterations' is now 'graph.iterations'",
+        "parameter 'scan_disagreement' is now 'scans.disagreement' (the old name works until the next release); 0 reads "
+        "as scans.check_disagreement = false",
+        "parameter 'max_tilt' is now 'floor_gate.max_tilt' (the old name works until the next release); 180 reads as "
+        "floor_gate.check_tilt = false",
+        "parameter 'max_cost' is now 'cost_gate.max_cost' (the old name works until the next release); -1 reads as "
+        "cost_gate.automatic = true",
+        "parameter 'group_mode' is now 'groups.mode'", "parameter 'min_shape_fit' is now 'shape_gate.min_fit'"})
+    EXPECT_EQ(std::count_if(warnings.begin(), warnings.end(),
+                            [&](const std::string& w) { return w.rfind(said, 0) == 0; }),
+              1)
+        << said << "\n" << r.output;
+  // The values arrive under the new names.
+  const e2e::Result plan = e2e::run(e2e::bin("lista-run") + " '" + file + "' --dry-run 2>/dev/null");
+  EXPECT_EQ(plan.status, 0) << plan.output;
+  for (const char* line : {"param  scans.points = 12000\n", "param  graph.iterations = 80\n",
+                           "param  scans.check_disagreement = false\n", "param  floor_gate.check_tilt = false\n",
+                           "param  cost_gate.automatic = true\n", "param  groups.mode = \"hard\"\n",
+                           "param  shape_gate.enabled = true\n", "param  shape_gate.min_fit = 0.7\n"})
+    EXPECT_NE(plan.output.find(line), std::string::npos) << line << plan.output;
 }
 
 // The ablations, the demo and the example are full copies of lista.toml

@@ -83,6 +83,8 @@ std::string describe_text(const lista::core::RegisteredStage& stage) {
     }
     os << "\n      " << p.doc << "\n";
   }
+  if (!info.renamed.empty()) os << "renamed (the old names work until the next release):\n";
+  for (const auto& r : info.renamed) os << "  " << r.old_name << " -> " << r.new_name << "\n";
   return os.str();
 }
 
@@ -101,6 +103,8 @@ std::string describe_json(const lista::core::RegisteredStage& stage) {
          {"summary", info.summary}, {"doc", info.doc},         {"library", stage.library},
          {"inputs", ports_json(info.inputs, true)}, {"outputs", ports_json(info.outputs, false)},
          {"params", params}};
+  j["renamed"] = json::array();
+  for (const auto& r : info.renamed) j["renamed"].push_back({{"old", r.old_name}, {"new", r.new_name}});
   return j.dump(2) + "\n";
 }
 

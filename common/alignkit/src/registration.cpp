@@ -130,13 +130,13 @@ using Level = PreparedCloud::Impl::Level;
 
 double coarse_voxel_of(const RegistrationOptions& o) { return std::max(o.voxel, o.coarse_distance / 4.0); }
 
-void check_method(const RegistrationOptions& o) {
-  if (o.method != "gicp" && o.method != "gicp_gn" && o.method != "icp")
-    throw Error("registration method must be 'gicp', 'gicp_gn' or 'icp', got '" + o.method + "'");
-}
-
 Covariances covariances_for(const RegistrationOptions& o) {
-  return o.method == "gicp_gn" ? Covariances::ours : o.method == "gicp" ? Covariances::pcl : Covariances::none;
+  switch (o.method) {
+    case RegistrationMethod::gicp_gn: return Covariances::ours;
+    case RegistrationMethod::gicp: return Covariances::pcl;
+    case RegistrationMethod::icp: break;
+  }
+  return Covariances::none;
 }
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
@@ -210,10 +210,10 @@ Eigen::Isometry3d gicp_gauss_newton(const Level& source, const Level& target, co
 
 Eigen::Isometry3d run_stage(const Level& source, const Level& target, const Eigen::Isometry3d& guess,
                             double max_distance, const RegistrationOptions& o, bool& converged) {
-  if (o.method == "gicp_gn" && source.covariances && target.covariances)
+  if (o.method == RegistrationMethod::gicp_gn && source.covariances && target.covariances)
     return gicp_gauss_newton(source, target, guess, max_distance, o.max_iterations, converged);
   std::unique_ptr<pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ>> reg;
-  const bool gicp = o.method != "icp";
+  const bool gicp = o.method != RegistrationMethod::icp;
   if (gicp) {
     auto g = std::make_unique<Gicp>();
     g->setCorrespondenceRandomness(kCovarianceNeighbours);
@@ -289,7 +289,6 @@ double share(size_t n, const Level& of) { return of.cloud->empty() ? 0.0 : stati
 }  // namespace
 
 PreparedCloud::PreparedCloud(const Cloud& points, const RegistrationOptions& o) {
-  check_method(o);
   auto impl = std::make_shared<Impl>();
   const Covariances kind = covariances_for(o);
   impl->fine = Level(points, kind, o.measure_planes);
@@ -301,7 +300,6 @@ size_t PreparedCloud::size() const { return impl_ ? impl_->fine.cloud->size() : 
 
 RegistrationResult register_prepared(const PreparedCloud& source, const PreparedCloud& target,
                                      const Eigen::Isometry3d& guess, const RegistrationOptions& o) {
-  check_method(o);
   RegistrationResult result;
   if (!source.impl_ || !target.impl_ || !source.impl_->fine.usable() || !target.impl_->fine.usable()) return result;
   const PreparedCloud::Impl& src = *source.impl_;
@@ -347,11 +345,11 @@ bool RegistrationGates::accept(const RegistrationResult& r, const Eigen::Isometr
          rotation_angle(change.linear()) <= max_rotation_change;
 }
 
-RegistrationGates scan_pair_gates(const std::string& method, double min_overlap, double max_rmse,
+RegistrationGates scan_pair_gates(RegistrationMethod method, double min_overlap, double max_rmse,
                                   double max_plane_rmse) {
   RegistrationGates g;
   g.min_overlap = min_overlap;
-  const bool planes = method == "gicp_gn";
+  const bool planes = method == RegistrationMethod::gicp_gn;
   g.max_rmse = planes ? 0.0 : max_rmse;
   g.max_plane_rmse = planes ? max_plane_rmse : 0.0;
   return g;
@@ -359,7 +357,6 @@ RegistrationGates scan_pair_gates(const std::string& method, double min_overlap,
 
 RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
                                    const Eigen::Isometry3d& guess, const RegistrationOptions& o) {
-  check_method(o);
   if (source.size() < 20 || target.size() < 20) return {};
   return register_prepared(PreparedCloud(source, o), PreparedCloud(target, o), guess, o);
 }

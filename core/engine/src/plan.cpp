@@ -19,6 +19,19 @@ std::vector<std::string> param_names(const StageInfo& info) {
   return out;
 }
 
+// " (did you mean 'x'?)" for an unknown parameter: x a parameter, the new
+// name of an old one, or a group's parameter written without its group.
+std::string param_suggestion(const std::string& name, const StageInfo& info) {
+  std::map<std::string, std::string> means;  // a spelling -> the parameter it suggests
+  for (const auto& p : info.params) means.emplace(p.name, p.name);
+  for (const auto& r : info.renamed) means.emplace(r.old_name, r.new_name);
+  for (const auto& p : info.params) means.emplace(p.name.substr(p.name.rfind('.') + 1), p.name);
+  std::vector<std::string> spellings;
+  for (const auto& [spelling, param] : means) spellings.push_back(spelling);
+  const std::vector<std::string> close = similar_names(name, spellings);
+  return close.empty() ? std::string() : " (did you mean '" + means.at(close.front()) + "'?)";
+}
+
 std::vector<std::string> port_names(const std::vector<PortSpec>& ports) {
   std::vector<std::string> out;
   for (const auto& p : ports) out.push_back(p.name);
@@ -41,7 +54,7 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
     const ParamSpec* spec = info.param(name);
     if (!spec) {
       d.error(key_at, s.id, origin + "unknown parameter '" + name + "' for " + info.name +
-                            did_you_mean(name, param_names(info)) + "; known: " + list_or_none(param_names(info)));
+                            param_suggestion(name, info) + "; known: " + list_or_none(param_names(info)));
       return;
     }
     std::optional<ParamValue> typed = value;
@@ -64,7 +77,34 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
     if (spec->type == ParamType::real && v.index() == 1) v = double(std::get<int64_t>(v));
     params.set(name, std::move(v), true, at);
   };
-  for (const auto& p : s.params) apply(p.name, p.value, p.problem, p.where, p.key_where, "");
+  // An old name fills the new parameters and says how they are spelled now;
+  // in the file, a parameter written under both names is an error.
+  std::map<std::string, std::string> spelled;  // parameter -> the name the file wrote it under
+  auto put = [&](const std::string& name, const std::optional<ParamValue>& value, const std::string& problem,
+                 const SourceLocation& at, const SourceLocation& key_at, const std::string& origin) {
+    std::vector<std::pair<std::string, std::optional<ParamValue>>> targets{{name, value}};
+    if (const ParamRename* r = info.param(name) ? nullptr : info.renamed_from(name)) {
+      ParamAssignments as;
+      try {
+        if (value) as = r->assignments(*value);
+      } catch (const Error& e) {
+        d.error(at, s.id, origin + e.message());
+        return;
+      }
+      d.warning(key_at, s.id, origin + r->warning(value.value_or(ParamValue()), as));
+      targets = {{r->new_name, value}};
+      if (value) targets.assign(as.begin(), as.end());
+    }
+    for (const auto& [target, v] : targets) {
+      if (origin.empty() && !spelled.emplace(target, name).second) {
+        d.error(key_at, s.id, "parameter '" + target + "' is written twice, as '" + spelled[target] + "' and as '" +
+                                  name + "'; keep '" + target + "'");
+        return;
+      }
+      apply(target, v, problem, at, key_at, origin);
+    }
+  };
+  for (const auto& p : s.params) put(p.name, p.value, p.problem, p.where, p.key_where, "");
   for (const Override* o : overrides) {
     const std::string origin = "--set " + o->text + ": ";
     // Not parameters but the pipeline's structure: say so instead of "unknown parameter".
@@ -77,7 +117,7 @@ Params resolve_params(const StageSpec& s, const StageInfo& info, const std::vect
       d.error(s.where, s.id, origin + "a stage's inputs cannot be changed with --set; edit a copy of the pipeline file");
       continue;
     }
-    apply(o->param, o->value, o->problem, s.where, s.where, origin);
+    put(o->param, o->value, o->problem, s.where, s.where, origin);
   }
   return params;
 }

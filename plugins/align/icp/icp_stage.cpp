@@ -40,7 +40,7 @@ Eigen::Vector3d centroid(const Cloud& c) {
 struct IcpAlignConfig {
   double voxel = 0.25;      // m
   double max_range = 40.0;  // m
-  std::string registration = "gicp";
+  RegistrationMethod registration = RegistrationMethod::gicp;
   std::string initial = "centroid";
   double coarse_distance = 3.0;  // m
   double fine_distance = 0.5;    // m
@@ -144,8 +144,8 @@ const ParamTable<IcpAlignConfig>& param_table() {
     ParamTable<C> t;
     t.bind("voxel", &C::voxel, "map downsampling").range(0.01, 10).unit("m");
     t.bind("max_range", &C::max_range, "points farther from their sensor are left out").range(0.5, 1000).unit("m");
-    t.bind("registration", &C::registration,
-           "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"});
+    t.choice("registration", &C::registration, registration_method_names(),
+             "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton) or icp (point to point)");
     t.bind("initial", &C::initial, "starting guess: identity, centroid offset, or the input to_common")
         .one_of({"identity", "centroid", "input"});
     t.bind("coarse_distance", &C::coarse_distance, "max correspondence distance, coarse stage").range(0.05, 100).unit("m");

@@ -29,7 +29,7 @@ std::vector<Closure> solve_and_refine(const MissionSet& set, const MissionClosur
   // First solve without the robust loss: the vetted closures start far from
   // their optimum (the drift), where a robust loss would hardly pull.
   PoseGraphOptions plain = o.graph;
-  plain.loss = "none";
+  plain.loss = RobustLoss::none;
   const PoseGraphSummary first = solve(g, closure_edges(set, g, kf, closures, o), plain);
   report.initial_cost = first.initial_cost;
   // Closures the vote refused may agree with the solved graph (drift can make
@@ -105,7 +105,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   g.within.insert(g.within.end(), scan_edges.begin(), scan_edges.end());
   const std::vector<Closure> closures = solve_and_refine(set, found, o, ctx, report, clock, g);
   report.final_closures = closures.size();
-  if (o.scan_disagreement > 0.0 && !scan_edges.empty() && !closures.empty())
+  if (o.check_scan_disagreement && !scan_edges.empty() && !closures.empty())
     vet_scan_edges(set, found.keyframes, closures, scan_edges, scan_report, odometry_only, o, ctx, report, g);
   return with_graph_poses(set, g);
 }

@@ -36,8 +36,9 @@ struct JointAlignmentOptions {
   int refine_rounds = 1;                     // rounds of closures proposed by proximity after a solve
   double refine_radius = 3.0;                // m between keyframes in the common frame
   // Scan-to-scan edges that raise the final closures' RMS residual above
-  // this many times (and 1 cm above) its value without them are left out,
-  // judged per mission (0: never).
+  // scan_disagreement times (and 1 cm above) its value without them are
+  // left out, judged per mission, when this check is on.
+  bool check_scan_disagreement = true;
   double scan_disagreement = 3.0;
 };
 
@@ -61,7 +62,7 @@ struct JointAlignmentReport {
 
 // Whether scan-to-scan edges disagree with the loop closures: the closures'
 // RMS residual solved with them is above `ratio` times (and 1 cm above) the
-// residual solved without them. ratio 0: never.
+// residual solved without them.
 bool scan_edges_disagree(double residual_with, double residual_without, double ratio);
 
 // The warning when fewer than half of at least 8 neighbouring-scan

@@ -109,9 +109,8 @@ std::vector<Candidate> find_candidates(const std::vector<Keyframe>& keyframes, s
   std::vector<std::vector<Candidate>> found(keyframes.size());
   parallel_for(keyframes.size(), threads, [&](size_t q) {
     const Keyframe& query = keyframes[q];
-    const bool intra = o.intra_min_travel > 0.0;
     for (size_t a = 0; a <= query.mission; ++a) {
-      if (a == query.mission && (!intra || query.travelled < o.intra_min_travel)) break;
+      if (a == query.mission && (!o.intra || query.travelled < o.intra_min_travel)) break;
       Candidate best;
       bool any = false;
       // Within one mission the nearest ring keys are mostly the keyframes just

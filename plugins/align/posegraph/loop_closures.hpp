@@ -46,8 +46,9 @@ struct CandidateOptions {
   double max_distance = 0.35;   // Scan Context distance threshold
   int max_per_pair = 200;       // best candidates kept per mission pair
   // Loops within one mission: a keyframe may close onto one of its own
-  // mission this much trajectory earlier (0 disables).
-  double intra_min_travel = 0.0;  // m
+  // mission intra_min_travel of trajectory earlier.
+  bool intra = false;
+  double intra_min_travel = 30.0;  // m
 };
 
 struct Candidate {
@@ -57,8 +58,8 @@ struct Candidate {
 };
 
 // For each keyframe, its best Scan Context match in every earlier mission and,
-// when options.intra_min_travel > 0, in the part of its own mission at least
-// that far back along the trajectory.
+// with options.intra, in the part of its own mission at least
+// intra_min_travel back along the trajectory.
 std::vector<Candidate> find_candidates(const std::vector<Keyframe>& keyframes, size_t mission_count,
                                        const CandidateOptions& options, int threads);
 

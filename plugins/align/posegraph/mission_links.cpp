@@ -266,7 +266,7 @@ std::vector<Eigen::Isometry3d> initial_transforms(const MissionSet& set, const s
     throw Error("mission " + isolated + " links to no other mission: no verified loop closure (" +
                 std::to_string(report.candidates) + " candidates, " + std::to_string(report.verified) +
                 " verified in all, and no placement of its whole map verified). Most often the poses do not fit the scans (scans not in the sensor frame, poses in "
-                "another order); else the missions do not overlap, or relax max_descriptor_distance / min_overlap");
+                "another order); else the missions do not overlap, or relax candidates.max_descriptor_distance / closures.min_overlap");
   if (!detached.empty())
     throw Error("mission " + detached + " is not connected to the reference mission '" + set.missions[0].name +
                 "' by loop closures; every mission must be linked to the reference through overlapping missions");

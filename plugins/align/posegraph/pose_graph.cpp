@@ -60,8 +60,6 @@ PoseGraphSummary optimise_pose_graph(std::vector<Eigen::Isometry3d>& nodes, cons
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   ceres::EigenQuaternionManifold quaternion_manifold;
-  if (o.loss != "cauchy" && o.loss != "huber" && o.loss != "none")
-    throw Error("pose graph loss must be cauchy, huber or none, got '" + o.loss + "'");
 
   for (const auto& e : edges) {
     if (e.from >= nodes.size() || e.to >= nodes.size() || e.from == e.to)
@@ -69,8 +67,8 @@ PoseGraphSummary optimise_pose_graph(std::vector<Eigen::Isometry3d>& nodes, cons
     auto* cost = new ceres::AutoDiffCostFunction<RelativePoseError, 6, 4, 3, 4, 3>(
         new RelativePoseError(e));
     ceres::LossFunction* loss = nullptr;  // owned by the problem
-    if (e.robust && o.loss == "cauchy") loss = new ceres::CauchyLoss(o.loss_scale);
-    if (e.robust && o.loss == "huber") loss = new ceres::HuberLoss(o.loss_scale);
+    if (e.robust && o.loss == RobustLoss::cauchy) loss = new ceres::CauchyLoss(o.loss_scale);
+    if (e.robust && o.loss == RobustLoss::huber) loss = new ceres::HuberLoss(o.loss_scale);
     problem.AddResidualBlock(cost, loss, q[e.from].coeffs().data(), t[e.from].data(),
                              q[e.to].coeffs().data(), t[e.to].data());
   }

@@ -22,8 +22,10 @@ struct PoseGraphEdge {
   bool robust = false;              // under the robust loss (loop closures)
 };
 
+enum class RobustLoss { cauchy, huber, none };
+
 struct PoseGraphOptions {
-  std::string loss = "cauchy";  // "cauchy", "huber" or "none"
+  RobustLoss loss = RobustLoss::cauchy;
   double loss_scale = 1.0;      // in units of sigma
   int max_iterations = 100;
 };

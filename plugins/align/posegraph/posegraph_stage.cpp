@@ -18,126 +18,126 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-// Every parameter, flat (JointAlignmentOptions nests them); angles in
-// degrees, as declared.
+// Every parameter, in its TOML group (JointAlignmentOptions nests them
+// otherwise); angles in degrees, as declared.
 struct PoseGraphConfig {
-  double keyframe_distance = 1.0;
-  double keyframe_angle = 30.0;
-  double submap_distance = 2.0;
-  int submap_min_points = 8000;
-  double submap_max_distance = 10.0;
-  double voxel = 0.2;
-  int rings = 20;
-  int sectors = 60;
-  double max_radius = 40.0;
-  double min_height = -3.0;
-  double max_height = 1.5;
-  int neighbours = 10;
-  double max_descriptor_distance = 0.35;
-  int max_candidates_per_pair = 200;
-  double intra_min_travel = 0.0;
-  std::string registration = "gicp_gn";
-  double coarse_distance = 2.0;
-  double fine_distance = 0.5;
+  struct Keyframes {
+    double distance = 1.0, angle = 30.0;
+    double submap_distance = 2.0;
+    int submap_min_points = 8000;
+    double submap_max_distance = 10.0, voxel = 0.2;
+  } keyframes;
+  struct ScanContext {
+    int rings = 20, sectors = 60;
+    double max_radius = 40.0, min_height = -3.0, max_height = 1.5;
+  } scan_context;
+  struct Candidates {
+    int neighbours = 10;
+    double max_descriptor_distance = 0.35;
+    int per_pair = 200;
+    bool intra = false;
+    double intra_min_travel = 30.0;
+  } candidates;
+  RegistrationMethod registration = RegistrationMethod::gicp_gn;
   int icp_iterations = 40;
-  double inlier_distance = 0.3;
-  double min_overlap = 0.5;
-  double max_rmse = 0.15;
+  struct Closures {
+    double coarse_distance = 2.0, fine_distance = 0.5, inlier_distance = 0.3;
+    double min_overlap = 0.5, max_rmse = 0.15;
+    double consistency_distance = 2.0, consistency_angle = 10.0;
+    double sigma_translation = 0.05, sigma_rotation = 0.5;
+  } closures;
   bool global_search = true;
-  double consistency_distance = 2.0;
-  double consistency_angle = 10.0;
-  double odometry_sigma_translation = 0.02;
-  double odometry_sigma_rotation = 0.3;
-  double closure_sigma_translation = 0.05;
-  double closure_sigma_rotation = 0.5;
-  std::string loss = "cauchy";
-  double loss_scale = 2.0;
-  int solver_iterations = 100;
+  struct Odometry {
+    double sigma_translation = 0.02, sigma_rotation = 0.3;
+  } odometry;
+  struct Scans {
+    int neighbours = 2;
+    double range = 40.0, ground_clearance = 0.0, voxel = 0.1;
+    int points = 15000, map_scans = 3;
+    MapUse map_use = MapUse::when_pairs_fail;
+    double coarse_distance = 1.0, fine_distance = 0.5, inlier_distance = 0.3, max_plane_rmse = 0.06;
+    double sigma_translation = 0.005, sigma_rotation = 0.05;
+    bool check_disagreement = true;
+    double disagreement = 3.0;
+  } scans;
+  struct Graph {
+    RobustLoss loss = RobustLoss::cauchy;
+    double loss_scale = 2.0;
+    int iterations = 100;
+    bool fix_mission = false;
+    int refine_rounds = 1;
+    double refine_radius = 3.0;
+  } graph;
   double level_max_tilt = std::get<double>(level_max_tilt_param().default_value);  // deg
-  std::string fix_reference = "first_pose";
-  int refine_rounds = 1;
-  int scan_edges = 2;
-  double scan_range = 40.0;
-  double scan_ground_clearance = 0.0;
-  double scan_voxel = 0.1;
-  int scan_points = 15000;
-  int scan_map = 3;
-  std::string scan_map_use = "when_pairs_fail";
-  double scan_coarse_distance = 1.0;
-  double scan_fine_distance = 0.5;
-  double scan_inlier_distance = 0.3;
-  double scan_max_plane_rmse = 0.06;
-  double scan_sigma_translation = 0.005;
-  double scan_sigma_rotation = 0.05;
-  double scan_disagreement = 3.0;
-  double refine_radius = 3.0;
 };
 
 const ParamTable<PoseGraphConfig>& param_table();
 
 JointAlignmentOptions options_from(const PoseGraphConfig& c) {
   JointAlignmentOptions o;
-  o.keyframes.keyframe_distance = c.keyframe_distance;
-  o.keyframes.keyframe_angle = c.keyframe_angle * kDeg;
-  o.keyframes.submap_distance = c.submap_distance;
-  o.keyframes.submap_min_points = static_cast<size_t>(c.submap_min_points);
-  o.keyframes.submap_max_distance = c.submap_max_distance;
-  if (o.keyframes.submap_max_distance < o.keyframes.submap_distance)
-    throw Error("submap_max_distance must be at least submap_distance");
-  o.keyframes.voxel = c.voxel;
-  o.keyframes.scan_context.rings = c.rings;
-  o.keyframes.scan_context.sectors = c.sectors;
-  o.keyframes.scan_context.max_radius = c.max_radius;
-  o.keyframes.scan_context.min_z = c.min_height;
-  o.keyframes.scan_context.max_z = c.max_height;
-  if (o.keyframes.scan_context.max_z <= o.keyframes.scan_context.min_z)
-    throw Error("max_height must be above min_height");
-  o.candidates.neighbours = c.neighbours;
-  o.candidates.max_distance = c.max_descriptor_distance;
-  o.candidates.max_per_pair = c.max_candidates_per_pair;
-  o.candidates.intra_min_travel = c.intra_min_travel;
+  const auto& k = c.keyframes;
+  o.keyframes.keyframe_distance = k.distance;
+  o.keyframes.keyframe_angle = k.angle * kDeg;
+  o.keyframes.submap_distance = k.submap_distance;
+  o.keyframes.submap_min_points = static_cast<size_t>(k.submap_min_points);
+  o.keyframes.submap_max_distance = k.submap_max_distance;
+  if (k.submap_max_distance < k.submap_distance)
+    throw Error("keyframes.submap_max_distance must be at least keyframes.submap_distance");
+  o.keyframes.voxel = k.voxel;
+  const auto& sc = c.scan_context;
+  o.keyframes.scan_context.rings = sc.rings;
+  o.keyframes.scan_context.sectors = sc.sectors;
+  o.keyframes.scan_context.max_radius = sc.max_radius;
+  o.keyframes.scan_context.min_z = sc.min_height;
+  o.keyframes.scan_context.max_z = sc.max_height;
+  if (sc.max_height <= sc.min_height) throw Error("scan_context.max_height must be above scan_context.min_height");
+  o.candidates.neighbours = c.candidates.neighbours;
+  o.candidates.max_distance = c.candidates.max_descriptor_distance;
+  o.candidates.max_per_pair = c.candidates.per_pair;
+  o.candidates.intra = c.candidates.intra;
+  o.candidates.intra_min_travel = c.candidates.intra_min_travel;
+  const auto& cl = c.closures;
   o.verify.registration.method = c.registration;
-  o.verify.registration.voxel = o.keyframes.voxel;
-  o.verify.registration.coarse_distance = c.coarse_distance;
-  o.verify.registration.fine_distance = c.fine_distance;
+  o.verify.registration.voxel = k.voxel;
+  o.verify.registration.coarse_distance = cl.coarse_distance;
+  o.verify.registration.fine_distance = cl.fine_distance;
   o.verify.registration.max_iterations = c.icp_iterations;
-  o.verify.registration.inlier_distance = c.inlier_distance;
-  o.verify.min_overlap = c.min_overlap;
+  o.verify.registration.inlier_distance = cl.inlier_distance;
+  o.verify.min_overlap = cl.min_overlap;
   // Coarse clouds match less tightly than fine ones: refuse early only well below the bar.
-  o.verify.registration.min_coarse_overlap = 0.6 * o.verify.min_overlap;
-  o.verify.max_rmse = c.max_rmse;
+  o.verify.registration.min_coarse_overlap = 0.6 * cl.min_overlap;
+  o.verify.max_rmse = cl.max_rmse;
   o.global_search = c.global_search;
-  o.consistency.distance = c.consistency_distance;
-  o.consistency.angle = c.consistency_angle * kDeg;
-  o.odometry_sigma_translation = c.odometry_sigma_translation;
-  o.odometry_sigma_rotation = c.odometry_sigma_rotation * kDeg;
-  o.closure_sigma_translation = c.closure_sigma_translation;
-  o.closure_sigma_rotation = c.closure_sigma_rotation * kDeg;
-  o.graph.loss = c.loss;
-  o.graph.loss_scale = c.loss_scale;
-  o.graph.max_iterations = c.solver_iterations;
-  o.fix_reference_mission = c.fix_reference == "mission";
-  o.refine_rounds = c.refine_rounds;
-  o.refine_radius = c.refine_radius;
-  o.scan_edges.neighbours = c.scan_edges;
-  o.scan_edges.max_range = c.scan_range;
-  o.scan_edges.ground_clearance = c.scan_ground_clearance;
+  o.consistency.distance = cl.consistency_distance;
+  o.consistency.angle = cl.consistency_angle * kDeg;
+  o.odometry_sigma_translation = c.odometry.sigma_translation;
+  o.odometry_sigma_rotation = c.odometry.sigma_rotation * kDeg;
+  o.closure_sigma_translation = cl.sigma_translation;
+  o.closure_sigma_rotation = cl.sigma_rotation * kDeg;
+  o.graph.loss = c.graph.loss;
+  o.graph.loss_scale = c.graph.loss_scale;
+  o.graph.max_iterations = c.graph.iterations;
+  o.fix_reference_mission = c.graph.fix_mission;
+  o.refine_rounds = c.graph.refine_rounds;
+  o.refine_radius = c.graph.refine_radius;
+  const auto& sn = c.scans;
+  o.scan_edges.neighbours = sn.neighbours;
+  o.scan_edges.max_range = sn.range;
+  o.scan_edges.ground_clearance = sn.ground_clearance;
   o.scan_edges.registration = o.verify.registration;
-  o.scan_edges.registration.voxel = c.scan_voxel;
-  o.scan_edges.max_points = static_cast<size_t>(c.scan_points);
-  o.scan_edges.map_scans = c.scan_map;
-  o.scan_edges.map_use = c.scan_map_use == "always" ? MapUse::always
-                         : c.scan_map_use == "never" ? MapUse::never
-                                                     : MapUse::when_pairs_fail;
-  o.scan_edges.registration.coarse_distance = c.scan_coarse_distance;
-  o.scan_edges.registration.fine_distance = c.scan_fine_distance;
-  o.scan_edges.registration.inlier_distance = c.scan_inlier_distance;
-  o.scan_edges.registration.min_coarse_overlap = 0.6 * o.verify.min_overlap;
-  o.scan_edges.gates = scan_pair_gates(o.scan_edges.registration.method, o.verify.min_overlap, o.verify.max_rmse,
-                                       c.scan_max_plane_rmse);
-  o.scan_edges.sigma_translation = c.scan_sigma_translation;
-  o.scan_edges.sigma_rotation = c.scan_sigma_rotation * kDeg;
-  o.scan_disagreement = c.scan_disagreement;
+  o.scan_edges.registration.voxel = sn.voxel;
+  o.scan_edges.max_points = static_cast<size_t>(sn.points);
+  o.scan_edges.map_scans = sn.map_scans;
+  o.scan_edges.map_use = sn.map_use;
+  o.scan_edges.registration.coarse_distance = sn.coarse_distance;
+  o.scan_edges.registration.fine_distance = sn.fine_distance;
+  o.scan_edges.registration.inlier_distance = sn.inlier_distance;
+  o.scan_edges.registration.min_coarse_overlap = 0.6 * cl.min_overlap;
+  o.scan_edges.gates = scan_pair_gates(c.registration, cl.min_overlap, cl.max_rmse, sn.max_plane_rmse);
+  o.scan_edges.sigma_translation = sn.sigma_translation;
+  o.scan_edges.sigma_rotation = sn.sigma_rotation * kDeg;
+  o.check_scan_disagreement = sn.check_disagreement;
+  o.scan_disagreement = sn.disagreement;
   return o;
 }
 
@@ -193,7 +193,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.8.0";
+  s.version = "1.9.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Aligns the missions into the first one's frame and corrects every scan's pose: Scan Context loop closures "
@@ -203,92 +203,143 @@ StageInfo posegraph_stage_info() {
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with corrected poses and to_common"}};
   s.params = param_table().specs();
+  s.renamed = param_table().renames();
   return s;
 }
 
 namespace {
 
+// The flat names before the groups, accepted until the next release.
+void renamed_flat_names(ParamTable<PoseGraphConfig>& t) {
+  const std::pair<const char*, const char*> names[] = {
+      {"keyframe_distance", "keyframes.distance"}, {"keyframe_angle", "keyframes.angle"},
+      {"submap_distance", "keyframes.submap_distance"}, {"submap_min_points", "keyframes.submap_min_points"},
+      {"submap_max_distance", "keyframes.submap_max_distance"}, {"voxel", "keyframes.voxel"},
+      {"rings", "scan_context.rings"}, {"sectors", "scan_context.sectors"}, {"max_radius", "scan_context.max_radius"},
+      {"min_height", "scan_context.min_height"}, {"max_height", "scan_context.max_height"},
+      {"neighbours", "candidates.neighbours"}, {"max_descriptor_distance", "candidates.max_descriptor_distance"},
+      {"max_candidates_per_pair", "candidates.per_pair"}, {"coarse_distance", "closures.coarse_distance"},
+      {"fine_distance", "closures.fine_distance"}, {"inlier_distance", "closures.inlier_distance"},
+      {"min_overlap", "closures.min_overlap"}, {"max_rmse", "closures.max_rmse"},
+      {"consistency_distance", "closures.consistency_distance"}, {"consistency_angle", "closures.consistency_angle"},
+      {"closure_sigma_translation", "closures.sigma_translation"}, {"closure_sigma_rotation", "closures.sigma_rotation"},
+      {"odometry_sigma_translation", "odometry.sigma_translation"}, {"odometry_sigma_rotation", "odometry.sigma_rotation"},
+      {"loss", "graph.loss"}, {"loss_scale", "graph.loss_scale"}, {"solver_iterations", "graph.iterations"},
+      {"fix_reference", "graph.fix_reference"}, {"refine_rounds", "graph.refine_rounds"},
+      {"refine_radius", "graph.refine_radius"}, {"scan_edges", "scans.neighbours"}, {"scan_range", "scans.range"},
+      {"scan_ground_clearance", "scans.ground_clearance"}, {"scan_voxel", "scans.voxel"}, {"scan_points", "scans.points"},
+      {"scan_map", "scans.map_scans"}, {"scan_map_use", "scans.map_use"},
+      {"scan_coarse_distance", "scans.coarse_distance"}, {"scan_fine_distance", "scans.fine_distance"},
+      {"scan_inlier_distance", "scans.inlier_distance"}, {"scan_max_plane_rmse", "scans.max_plane_rmse"},
+      {"scan_sigma_translation", "scans.sigma_translation"}, {"scan_sigma_rotation", "scans.sigma_rotation"}};
+  for (const auto& [old_name, new_name] : names) t.renamed(old_name, new_name);
+  t.renamed("intra_min_travel", "candidates.intra_min_travel", "candidates.intra", 0.0);
+  t.renamed("scan_disagreement", "scans.disagreement", "scans.check_disagreement", 0.0);
+}
+
 const ParamTable<PoseGraphConfig>& param_table() {
   using C = PoseGraphConfig;
   static const ParamTable<C> table = [] {
     ParamTable<C> t;
-    t.bind("keyframe_distance", &C::keyframe_distance, "trajectory length between keyframes").range(0.05, 100).unit("m");
-    t.bind("keyframe_angle", &C::keyframe_angle, "turn that also starts a keyframe").range(1, 360).unit("deg");
-    t.bind("submap_distance", &C::submap_distance, "path length either side of a keyframe joined into its submap")
+    using K = C::Keyframes;
+    auto keyframes = t.group("keyframes", &C::keyframes);
+    keyframes.bind("distance", &K::distance, "trajectory length between keyframes").range(0.05, 100).unit("m");
+    keyframes.bind("angle", &K::angle, "turn that also starts a keyframe").range(1, 360).unit("deg");
+    keyframes.bind("submap_distance", &K::submap_distance, "path length either side of a keyframe joined into its submap")
         .range(0, 100).unit("m");
-    t.bind("submap_min_points", &C::submap_min_points,
-           "while the median keyframe submap holds fewer points, all submaps grow by submap_distance, up to submap_max_distance; 0 = fixed spans")
-        .range(0, 10000000);
-    t.bind("submap_max_distance", &C::submap_max_distance, "the most path either side a sparse submap grows to")
+    keyframes.bind("submap_min_points", &K::submap_min_points,
+                   "while the median submap holds fewer points, all submaps grow by submap_distance, up to "
+                   "submap_max_distance; 0: they never grow").range(0, 10000000);
+    keyframes.bind("submap_max_distance", &K::submap_max_distance, "the most path either side a sparse submap grows to")
         .range(0, 100).unit("m");
-    t.bind("voxel", &C::voxel, "submap downsampling for registration").range(0.01, 5).unit("m");
-    t.bind("rings", &C::rings, "Scan Context rings").range(2, 200);
-    t.bind("sectors", &C::sectors, "Scan Context sectors (yaw resolution 360/sectors deg)").range(8, 720);
-    t.bind("max_radius", &C::max_radius, "Scan Context radius (80 for open roads, 20-40 indoors)").range(1, 500).unit("m");
-    t.bind("min_height", &C::min_height, "lowest point used, relative to the sensor").range(-100, 100).unit("m");
-    t.bind("max_height", &C::max_height, "highest point used, relative to the sensor (below indoor ceilings)")
+    keyframes.bind("voxel", &K::voxel, "submap downsampling for registration").range(0.01, 5).unit("m");
+    using S = C::ScanContext;
+    auto scan_context = t.group("scan_context", &C::scan_context);
+    scan_context.bind("rings", &S::rings, "Scan Context rings").range(2, 200);
+    scan_context.bind("sectors", &S::sectors, "Scan Context sectors (yaw resolution 360/sectors deg)").range(8, 720);
+    scan_context.bind("max_radius", &S::max_radius, "Scan Context radius (80 for open roads, 20-40 indoors)").range(1, 500).unit("m");
+    scan_context.bind("min_height", &S::min_height, "lowest point used, relative to the sensor").range(-100, 100).unit("m");
+    scan_context.bind("max_height", &S::max_height, "highest point used, relative to the sensor (below indoor ceilings)")
         .range(-100, 100).unit("m");
-    t.bind("neighbours", &C::neighbours, "ring-key nearest neighbours compared per keyframe").range(1, 1000);
-    t.bind("max_descriptor_distance", &C::max_descriptor_distance, "Scan Context distance accepted as a candidate").range(0, 1);
-    t.bind("max_candidates_per_pair", &C::max_candidates_per_pair, "best candidates verified per mission pair").range(1, 1e6);
-    t.bind("intra_min_travel", &C::intra_min_travel,
-           "loops within a mission: trajectory between the two keyframes at least this (0: none)")
-        .range(0, 1e5).unit("m");
-    t.bind("registration", &C::registration,
-           "registration of every scan, submap and map pair: gicp_gn (ours: GICP by Gauss-Newton), gicp (PCL's Generalized ICP) or icp (point to point)").one_of({"gicp", "gicp_gn", "icp"});
-    t.bind("coarse_distance", &C::coarse_distance, "max correspondence distance, coarse stage").range(0.05, 50).unit("m");
-    t.bind("fine_distance", &C::fine_distance, "max correspondence distance, fine stage").range(0.01, 10).unit("m");
+    using N = C::Candidates;
+    auto candidates = t.group("candidates", &C::candidates);
+    candidates.bind("neighbours", &N::neighbours, "ring-key nearest neighbours compared per keyframe").range(1, 1000);
+    candidates.bind("max_descriptor_distance", &N::max_descriptor_distance, "Scan Context distance accepted as a candidate")
+        .range(0, 1);
+    candidates.bind("per_pair", &N::per_pair, "best candidates verified per mission pair").range(1, 1e6);
+    candidates.bind("intra", &N::intra, "also loops within a mission");
+    candidates.bind("intra_min_travel", &N::intra_min_travel, "trajectory between the two keyframes of such a loop at least this")
+        .range(0.1, 1e5).unit("m");
+    t.choice("registration", &C::registration, registration_method_names(),
+             "registration of every scan, submap and map pair: gicp_gn (ours: GICP by Gauss-Newton), gicp (PCL's "
+             "Generalized ICP) or icp (point to point)");
     t.bind("icp_iterations", &C::icp_iterations, "iterations per registration stage").range(1, 1000);
-    t.bind("inlier_distance", &C::inlier_distance, "distance counted as overlap in the fitness check").range(0.01, 10).unit("m");
-    t.bind("min_overlap", &C::min_overlap, "share of each submap's points with a partner in the other (both ways) to accept a closure").range(0, 1);
-    t.bind("max_rmse", &C::max_rmse, "inlier RMSE above which a closure is refused (and a scan-to-scan edge, but with gicp_gn: scan_max_plane_rmse)").range(0.001, 10).unit("m");
+    using L = C::Closures;
+    auto closures = t.group("closures", &C::closures);
+    closures.bind("coarse_distance", &L::coarse_distance, "max correspondence distance, coarse stage").range(0.05, 50).unit("m");
+    closures.bind("fine_distance", &L::fine_distance, "max correspondence distance, fine stage").range(0.01, 10).unit("m");
+    closures.bind("inlier_distance", &L::inlier_distance, "distance counted as overlap in the fitness check")
+        .range(0.01, 10).unit("m");
+    closures.bind("min_overlap", &L::min_overlap,
+                  "share of each submap's points with a partner in the other (both ways) to accept a closure").range(0, 1);
+    closures.bind("max_rmse", &L::max_rmse,
+                  "inlier RMSE above which a closure is refused (and a scan-to-scan edge, but with gicp_gn: "
+                  "scans.max_plane_rmse)").range(0.001, 10).unit("m");
+    closures.bind("consistency_distance", &L::consistency_distance, "closures of one mission pair agree within this")
+        .range(0.01, 100).unit("m");
+    closures.bind("consistency_angle", &L::consistency_angle, "and within this rotation").range(0.1, 180).unit("deg");
+    closures.bind("sigma_translation", &L::sigma_translation, "std. dev. of a loop closure").range(1e-5, 10).unit("m");
+    closures.bind("sigma_rotation", &L::sigma_rotation, "std. dev. of a loop closure").range(1e-4, 90).unit("deg");
     t.bind("global_search", &C::global_search,
            "search the whole maps for a mission that no closure links, and check pairs linked by fewer than 4 closures the same way");
-    t.bind("consistency_distance", &C::consistency_distance, "closures of one mission pair agree within this").range(0.01, 100).unit("m");
-    t.bind("consistency_angle", &C::consistency_angle, "and within this rotation").range(0.1, 180).unit("deg");
-    t.bind("odometry_sigma_translation", &C::odometry_sigma_translation, "std. dev. of an odometry edge").range(1e-5, 10).unit("m");
-    t.bind("odometry_sigma_rotation", &C::odometry_sigma_rotation, "std. dev. of an odometry edge").range(1e-4, 90).unit("deg");
-    t.bind("closure_sigma_translation", &C::closure_sigma_translation, "std. dev. of a loop closure").range(1e-5, 10).unit("m");
-    t.bind("closure_sigma_rotation", &C::closure_sigma_rotation, "std. dev. of a loop closure").range(1e-4, 90).unit("deg");
-    t.bind("loss", &C::loss, "robust loss on loop closures").one_of({"cauchy", "huber", "none"});
-    t.bind("loss_scale", &C::loss_scale, "robust loss scale, in standard deviations").range(0.01, 1000);
-    t.bind("solver_iterations", &C::solver_iterations, "Ceres iterations per solve").range(1, 10000);
+    using O = C::Odometry;
+    auto odometry = t.group("odometry", &C::odometry);
+    odometry.bind("sigma_translation", &O::sigma_translation, "std. dev. of an odometry edge").range(1e-5, 10).unit("m");
+    odometry.bind("sigma_rotation", &O::sigma_rotation, "std. dev. of an odometry edge").range(1e-4, 90).unit("deg");
+    using G = C::Graph;
+    auto graph = t.group("graph", &C::graph);
+    graph.choice("loss", &G::loss, {{"cauchy", RobustLoss::cauchy}, {"huber", RobustLoss::huber}, {"none", RobustLoss::none}},
+                 "robust loss on loop closures");
+    graph.bind("loss_scale", &G::loss_scale, "robust loss scale, in standard deviations").range(0.01, 1000);
+    graph.bind("iterations", &G::iterations, "Ceres iterations per solve").range(1, 10000);
+    graph.choice("fix_reference", &G::fix_mission, {{"mission", true}, {"first_pose", false}},
+                 "gauge: only the first mission's first pose fixed (its drift is corrected too), or the whole "
+                 "first mission held as it is (the paper's choice)");
+    graph.bind("refine_rounds", &G::refine_rounds, "rounds of proximity closures after the first solve").range(0, 10);
+    graph.bind("refine_radius", &G::refine_radius, "keyframes this close in the common frame are tried").range(0.1, 100).unit("m");
     // Declared once for every align.* stage that levels (lista_alignkit/level.hpp).
     t.bind("level_max_tilt", &C::level_max_tilt, "") = level_max_tilt_param();
-    t.bind("fix_reference", &C::fix_reference,
-           "gauge: only the first mission's first pose fixed (its drift is corrected too), or the whole "
-           "first mission held as it is (the paper's choice)")
-        .one_of({"mission", "first_pose"});
-    t.bind("refine_rounds", &C::refine_rounds, "rounds of proximity closures after the first solve").range(0, 10);
-    t.bind("scan_edges", &C::scan_edges,
-           "scan-to-scan registrations per scan (onto the next N scans; scan to map gives one per scan); "
-           "0: odometry alone")
-        .range(0, 10);
-    t.bind("scan_range", &C::scan_range, "scan-to-scan: points farther from the sensor are left out").range(1, 1000).unit("m");
-    t.bind("scan_ground_clearance", &C::scan_ground_clearance,
-           "scan-to-scan: points lower than this above the scan's ground are left out; 0 = keep the ground").range(0, 10).unit("m");
-    t.bind("scan_voxel", &C::scan_voxel, "scan-to-scan: finest downsampling").range(0.01, 5).unit("m");
-    t.bind("scan_points", &C::scan_points, "scan-to-scan: denser scans are downsampled coarser to about this many points")
-        .range(100, 1e7);
-    t.bind("scan_map", &C::scan_map,
-           "scan-to-map: each scan registered, in order, onto a local map of this many scans before it "
-           "(placed by the registrations before; one edge per scan); 1 = never")
-        .range(1, 10);
-    t.bind("scan_map_use", &C::scan_map_use,
-           "scan-to-map per mission: when too few of its scan-to-scan registrations pass, always, or never")
-        .one_of({"when_pairs_fail", "always", "never"});
-    t.bind("scan_coarse_distance", &C::scan_coarse_distance, "scan-to-scan: max correspondence distance, coarse stage").range(0.01, 50).unit("m");
-    t.bind("scan_fine_distance", &C::scan_fine_distance, "scan-to-scan: max correspondence distance, fine stage").range(0.01, 10).unit("m");
-    t.bind("scan_inlier_distance", &C::scan_inlier_distance, "scan-to-scan: distance counted as overlap").range(0.01, 10).unit("m");
-    t.bind("scan_max_plane_rmse", &C::scan_max_plane_rmse,
-           "scan-to-scan with gicp_gn: RMSE along the other scan's local planes above which an edge is refused; raise it for a scanner noisier than 2 cm").range(0.001, 10).unit("m");
-    t.bind("scan_sigma_translation", &C::scan_sigma_translation, "std. dev. of a scan-to-scan edge, horizontal (height and level are left to the odometry)").range(1e-5, 10).unit("m");
-    t.bind("scan_sigma_rotation", &C::scan_sigma_rotation, "std. dev. of a scan-to-scan edge, yaw")
-        .range(1e-4, 90).unit("deg");
-    t.bind("scan_disagreement", &C::scan_disagreement,
-           "scan-to-scan edges are left out when with them the closures' RMS residual is more than this many times (and 1 cm more than) without them; 0 = always kept")
-        .at_least(0.0);
-    t.bind("refine_radius", &C::refine_radius, "keyframes this close in the common frame are tried").range(0.1, 100).unit("m");
+    using E = C::Scans;
+    auto scans = t.group("scans", &C::scans);
+    scans.bind("neighbours", &E::neighbours,
+               "scan-to-scan registrations per scan (onto the next N scans; scan to map gives one per scan); "
+               "0: odometry alone").range(0, 10);
+    scans.bind("range", &E::range, "points farther from the sensor are left out").range(1, 1000).unit("m");
+    scans.bind("ground_clearance", &E::ground_clearance,
+               "points lower than this above the scan's ground are left out; 0: the ground is kept").range(0, 10).unit("m");
+    scans.bind("voxel", &E::voxel, "finest downsampling").range(0.01, 5).unit("m");
+    scans.bind("points", &E::points, "denser scans are downsampled coarser to about this many points").range(100, 1e7);
+    scans.bind("map_scans", &E::map_scans,
+               "scan to map: each scan registered, in order, onto a local map of this many scans before it "
+               "(placed by the registrations before; one edge per scan); 1: never").range(1, 10);
+    scans.choice("map_use", &E::map_use,
+                 {{"when_pairs_fail", MapUse::when_pairs_fail}, {"always", MapUse::always}, {"never", MapUse::never}},
+                 "scan to map per mission: when too few of its scan-to-scan registrations pass, always, or never");
+    scans.bind("coarse_distance", &E::coarse_distance, "max correspondence distance, coarse stage").range(0.01, 50).unit("m");
+    scans.bind("fine_distance", &E::fine_distance, "max correspondence distance, fine stage").range(0.01, 10).unit("m");
+    scans.bind("inlier_distance", &E::inlier_distance, "distance counted as overlap").range(0.01, 10).unit("m");
+    scans.bind("max_plane_rmse", &E::max_plane_rmse,
+               "with gicp_gn: RMSE along the other scan's local planes above which an edge is refused; raise it for "
+               "a scanner noisier than 2 cm").range(0.001, 10).unit("m");
+    scans.bind("sigma_translation", &E::sigma_translation,
+               "std. dev. of a scan-to-scan edge, horizontal (height and level are left to the odometry)")
+        .range(1e-5, 10).unit("m");
+    scans.bind("sigma_rotation", &E::sigma_rotation, "std. dev. of a scan-to-scan edge, yaw").range(1e-4, 90).unit("deg");
+    scans.bind("check_disagreement", &E::check_disagreement, "scan-to-scan edges that fight the loop closures are left out");
+    scans.bind("disagreement", &E::disagreement,
+               "edges fight the closures when with them the closures' RMS residual is more than this many times "
+               "(and 1 cm more than) without them").at_least(0.0);
+    renamed_flat_names(t);
     return t;
   }();
   return table;

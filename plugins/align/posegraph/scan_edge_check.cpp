@@ -29,7 +29,7 @@ std::string scan_edges_warning(const std::string& mission, size_t accepted, size
 bool scan_edges_disagree(double residual_with, double residual_without, double ratio) {
   // The 1 cm keeps millimetre residuals (a dense scanner indoors) from
   // deciding on noise.
-  return ratio > 0.0 && residual_with > ratio * residual_without && residual_with > residual_without + 0.01;
+  return residual_with > ratio * residual_without && residual_with > residual_without + 0.01;
 }
 
 std::vector<char> missions_to_blame(double residual_with_all, const std::vector<double>& residual_without_each,
@@ -61,7 +61,7 @@ std::vector<PoseGraphEdge> scan_edges_with_notes(const MissionSet& set, const st
       ctx.info("mission '" + set.missions[m].name + "': " + std::to_string(scan_report.pairs_accepted[m]) + " of " +
                std::to_string(scan_report.pairs_tried[m]) +
                " scan-to-scan registrations accepted, so each scan is registered onto a local map of the " +
-               std::to_string(o.scan_edges.map_scans) + " scans before it instead (scan_map): " +
+               std::to_string(o.scan_edges.map_scans) + " scans before it instead (scans.map_scans): " +
                std::to_string(scan_report.accepted_per_mission[m]) + " of " +
                std::to_string(scan_report.tried_per_mission[m]) + " accepted");
   }
@@ -86,7 +86,7 @@ void vet_scan_edges(const MissionSet& set, const std::vector<Keyframe>& kf, cons
     Graph h = odometry_only;
     h.within.insert(h.within.end(), edges.begin(), edges.end());
     PoseGraphOptions plain = o.graph;
-    plain.loss = "none";
+    plain.loss = RobustLoss::none;
     solve(h, closure_edges(set, h, kf, closures, o), plain);
     PoseGraphOptions robust = o.graph;
     cost = solve(h, closure_edges(set, h, kf, closures, o), robust).final_cost;
@@ -181,7 +181,7 @@ void vet_scan_edges(const MissionSet& set, const std::vector<Keyframe>& kf, cons
     if (replaced)
       ctx.info("scan-to-scan registrations disagree with the loop closures " + residuals + ": those of " +
                left + " registered onto local maps of " + std::to_string(o.scan_edges.map_scans) +
-               " scans instead (scan_map), which agree");
+               " scans instead (scans.map_scans), which agree");
     else
       ctx.warn("scan-to-scan registrations disagree with the loop closures " + residuals +
                ": those of " + left + " left out, whose poses rest on odometry and closures; a sparse scanner's "

@@ -38,7 +38,7 @@ Eigen::Isometry3d offset(double x, double y, double z, double yaw_deg) {
 // Keyframes every 2 m keep the suite fast; the defaults run on the datasets.
 Params light() {
   Params p;
-  p.set("keyframe_distance", 2.0);
+  p.set("keyframes.distance", 2.0);
   return p;
 }
 
@@ -84,7 +84,7 @@ ScanPair scan_pair(const Scene& hall, const std::vector<Eigen::Isometry3d>& rout
 // align.posegraph's scan-to-scan registration settings, Gauss-Newton GICP.
 RegistrationOptions scan_options_gn() {
   RegistrationOptions o;
-  o.method = "gicp_gn";
+  o.method = RegistrationMethod::gicp_gn;
   o.voxel = 0.1;
   o.coarse_distance = 1.0;
   return o;
@@ -123,7 +123,7 @@ TEST(PoseGraph, PullsDriftedChainOntoClosure) {
   std::vector<bool> fixed(nodes.size(), false);
   fixed[0] = true;
   PoseGraphOptions o;
-  o.loss = "none";
+  o.loss = RobustLoss::none;
   const PoseGraphSummary s = optimise_pose_graph(nodes, fixed, edges, o);
   ASSERT_TRUE(s.usable);
   EXPECT_LT(s.final_cost, s.initial_cost);
@@ -143,7 +143,7 @@ TEST(AlignPosegraph, BringsDriftedMissionBack) {
   // Mission a's poses are the truth here: hold all of it (the default holds
   // only its first pose and would share b's drift between the two).
   Params p = light();
-  p.set("fix_reference", std::string("mission"));
+  p.set("graph.fix_reference", std::string("mission"));
   const Outputs out = run_stage(set, ctx, p);
   const auto& aligned = out.at("missions").as<MissionSet>();
   ASSERT_EQ(aligned.missions.size(), 2u);
@@ -477,7 +477,7 @@ TEST(LoopClosures, IntraMissionCandidatesOnlyFarBackAlongThePath) {
   const auto kf = make_keyframes(set, ko, 2);
   CandidateOptions co;
   EXPECT_TRUE(find_candidates(kf, 1, co, 2).empty());  // off by default
-  co.intra_min_travel = 30.0;
+  co.intra = true;
   const auto found = find_candidates(kf, 1, co, 2);
   ASSERT_FALSE(found.empty());
   for (const auto& c : found) {
@@ -544,12 +544,12 @@ TEST(LoopClosures, SparseSubmapsGrowTogetherAlongThePath) {
 TEST(AlignPosegraph, ASubmapCapBelowTheSpanIsAnError) {
   const StageInfo info = posegraph_stage_info();
   Params p = Params::defaults(info.params);
-  p.set("submap_max_distance", 1.0);  // under submap_distance (2 m)
+  p.set("keyframes.submap_max_distance", 1.0);  // under submap_distance (2 m)
   try {
     make_posegraph_stage(p);
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("submap_max_distance must be at least submap_distance"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("keyframes.submap_max_distance must be at least keyframes.submap_distance"), std::string::npos)
         << e.what();
   }
 }
@@ -568,7 +568,7 @@ TEST(AlignPosegraph, ScanEdgesRemoveAScaleErrorBothMissionsShare) {
     BasicContext ctx("align", 2, 0);
     ctx.min_level = LogLevel::warning;
     Params p = light();
-    p.set("scan_edges", int64_t{scan_edges});
+    p.set("scans.neighbours", int64_t{scan_edges});
     const auto after = trajectory_error(run_stage(set, ctx, p).at("missions").as<MissionSet>());
     const auto& metrics = ctx.info.metrics["align"];
     EXPECT_EQ(metrics.at("scan_edges") > 0, scan_edges > 0);
@@ -627,7 +627,6 @@ TEST(AlignPosegraph, ScanEdgesThatFightTheClosuresAreLeftOut) {
   EXPECT_TRUE(scan_edges_disagree(0.022, 0.004, 3.0));
   EXPECT_FALSE(scan_edges_disagree(0.0095, 0.0055, 3.0));  // not several-fold
   EXPECT_FALSE(scan_edges_disagree(0.009, 0.001, 3.0));    // several-fold, but millimetres
-  EXPECT_FALSE(scan_edges_disagree(0.5, 0.01, 0.0));       // 0: always kept
   EXPECT_TRUE(scan_edges_disagree(0.05, 0.02, 2.0));
   EXPECT_FALSE(scan_edges_disagree(0.05, 0.02, 3.0));
 }
@@ -703,7 +702,7 @@ TEST(Registration, GaussNewtonGicpFindsWhatPclsGicpFinds) {
   std::mt19937 rng(9);
   const RegistrationOptions ours = scan_options_gn();
   RegistrationOptions pcl_gicp = ours;
-  pcl_gicp.method = "gicp";
+  pcl_gicp.method = RegistrationMethod::gicp;
   for (int k : {2, 6, 10}) {
     const auto [a, b, truth] = scan_pair(hall, route, k, rng);
     for (const Eigen::Isometry3d& off : {offset(0.4, -0.2, 0.0, 6.0), offset(-0.25, 0.3, 0.05, -4.0)}) {
@@ -717,11 +716,6 @@ TEST(Registration, GaussNewtonGicpFindsWhatPclsGicpFinds) {
       EXPECT_NEAR(g.inlier_rmse, p.inlier_rmse, 0.005);
     }
   }
-  // A method neither names is refused.
-  RegistrationOptions bad = ours;
-  bad.method = "ndt";
-  const Cloud c = voxel_downsample(cast_scan(hall, route[0], 0, rng).xyz, ours.voxel);
-  EXPECT_THROW(register_clouds(c, c, Eigen::Isometry3d::Identity(), bad), lista::Error);
 }
 
 TEST(Registration, GaussNewtonGicpKeepsRingsOffRings) {
@@ -757,7 +751,7 @@ TEST(Registration, PlaneRmseMeasuresTheFitNotTheRingGaps) {
   RegistrationOptions measure_only = scan_options_gn();
   measure_only.max_iterations = 0;
   measure_only.measure_planes = true;
-  const RegistrationGates gates = scan_pair_gates("gicp_gn", 0.5, 0.15, 0.06);  // the stage's defaults
+  const RegistrationGates gates = scan_pair_gates(RegistrationMethod::gicp_gn, 0.5, 0.15, 0.06);  // the stage's defaults
   for (int k : {2, 8, 14}) {
     const auto [a, b, truth] = scan_pair(hall, route, k, rng);
     const RegistrationResult at_truth = register_clouds(b, a, truth, measure_only);
@@ -776,8 +770,8 @@ TEST(Registration, ScanPairGatesJudgeEachMethodByItsRmse) {
   r.overlap = r.reverse_overlap = 0.8;
   r.inlier_rmse = 0.16;  // a sparse scanner's ring gaps
   const Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
-  const RegistrationGates planes = scan_pair_gates("gicp_gn", 0.5, 0.15, 0.06);
-  const RegistrationGates points = scan_pair_gates("gicp", 0.5, 0.15, 0.06);
+  const RegistrationGates planes = scan_pair_gates(RegistrationMethod::gicp_gn, 0.5, 0.15, 0.06);
+  const RegistrationGates points = scan_pair_gates(RegistrationMethod::gicp, 0.5, 0.15, 0.06);
   EXPECT_FALSE(planes.accept(r, guess, true));  // NaN: not measured
   r.plane_rmse = 0.03;
   EXPECT_TRUE(planes.accept(r, guess, true));
@@ -786,7 +780,7 @@ TEST(Registration, ScanPairGatesJudgeEachMethodByItsRmse) {
   r.inlier_rmse = 0.12;
   EXPECT_FALSE(planes.accept(r, guess, true));
   EXPECT_TRUE(points.accept(r, guess, true));
-  EXPECT_TRUE(scan_pair_gates("icp", 0.5, 0.15, 0.06).accept(r, guess, true));
+  EXPECT_TRUE(scan_pair_gates(RegistrationMethod::icp, 0.5, 0.15, 0.06).accept(r, guess, true));
 }
 
 TEST(TrajectoryError, ReportsTheRigidFitItUsed) {

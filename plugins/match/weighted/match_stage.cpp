@@ -20,13 +20,19 @@ namespace {
 // The matcher's settings and the stage's own: the shape check's registration
 // and floor gate.
 struct MatchStageConfig : WeightedMatchConfig {
-  double shape_voxel = 0.04;      // m
-  double shape_distance = 0.05;   // m
-  double shape_gap = 0.15;        // m
-  double max_lift = 0.15;         // m
-  double max_tilt = 20.0;         // deg
-  bool upright_poses = true;
-  bool corner_hypotheses = true;
+  struct Shape {
+    double voxel = 0.04, distance = 0.05;  // m
+    bool surfaces = true;
+    double gap = 0.15;  // m
+    bool corner_hypotheses = true;
+  } shape;
+  struct FloorGate {
+    bool check_lift = true;
+    double max_lift = 0.15;  // m
+    bool check_tilt = true;
+    double max_tilt = 20.0;  // deg
+    bool upright_poses = true;
+  } floor_gate;
 };
 
 const ParamTable<MatchStageConfig>& param_table();
@@ -36,14 +42,16 @@ class WeightedMatchStage : public Stage {
   explicit WeightedMatchStage(const Params& p) {
     const MatchStageConfig c = param_table().read(p);
     cfg_ = c;
-    max_lift_ = c.max_lift;
-    max_tilt_ = c.max_tilt;
-    upright_poses_ = c.upright_poses;
-    shape_ = registration::shape_check_config(c.shape_voxel, c.shape_distance);
-    shape_.corner_hypotheses = c.corner_hypotheses;
+    // stays_on_floor's "no check": no lift (0), any tilt.
+    max_lift_ = c.floor_gate.check_lift ? c.floor_gate.max_lift : 0.0;
+    max_tilt_ = c.floor_gate.check_tilt ? c.floor_gate.max_tilt : 180.0;
+    upright_poses_ = c.floor_gate.upright_poses;
+    shape_ = registration::shape_check_config(c.shape.voxel, c.shape.distance);
+    shape_.corner_hypotheses = c.shape.corner_hypotheses;
+    surfaces_ = c.shape.surfaces;
     surface_.voxel = shape_.voxel;
     surface_.inlier = shape_.inlier_distance;
-    surface_.gap = c.shape_gap;
+    surface_.gap = c.shape.gap;
     surface_.max_points = shape_.max_score_points;
     if (cfg_.alpha + cfg_.beta + cfg_.shape_weight <= 0.0) throw Error("alpha + beta + shape_weight must be > 0");
   }
@@ -73,7 +81,7 @@ class WeightedMatchStage : public Stage {
       registration::IcpResult r = registration::icp_refine(a, b, cfg);
       // Judged again on the surfaces, not the points: a sparse scanner's
       // views interleave their rings (registration::surface_share).
-      if (surface_.gap > 0.0) {
+      if (surfaces_) {
         const registration::SurfaceShares on = registration::surface_shares(a, b, r.transform, surface_);
         r.source_inliers = on.source;
         r.target_inliers = on.target;
@@ -83,7 +91,7 @@ class WeightedMatchStage : public Stage {
       upright_decided[k] = r.inadmissible_preferred;
       // A registration that lifts a floor-standing object (a desk's top onto a
       // cabinet's) or tips it over fits two things, not one object moved.
-      // -1: never a candidate, whatever min_shape_fit (the cost clamps it to a misfit of 1).
+      // -1: never a candidate, whatever the shape gate (the cost clamps it to a misfit of 1).
       if (!registration::stays_on_floor(oa, ob, r.transform, max_lift_, max_tilt_)) fit[k] = -1.0;
       ctx.progress().advance();
     });
@@ -131,13 +139,13 @@ class WeightedMatchStage : public Stage {
   registration::IcpConfig shape_;
   registration::SurfaceShareConfig surface_;
   double max_lift_ = 0.0, max_tilt_ = 180.0;
-  bool upright_poses_ = true;
+  bool upright_poses_ = true, surfaces_ = true;
 };
 
 StageInfo info() {
   StageInfo s;
   s.name = "match.weighted";
-  s.version = "1.10.0";
+  s.version = "1.11.0";
   s.summary = "Object correspondences by weighted physical + descriptor + shape-fit cost, optimal assignment";
   s.doc =
       "Pairs the changed objects of consecutive missions by a weighted cost (centroid and descriptor distance, "
@@ -149,7 +157,31 @@ StageInfo info() {
               {"groups", "groups", "descriptor groups (soft or hard constraint)", true}};
   s.outputs = {{"matches", "matches", "status, partner, cost, confidence and history of every object"}};
   s.params = param_table().specs();
+  s.renamed = param_table().renames();
   return s;
+}
+
+// The flat names before the groups, accepted until the next release; an
+// old "0 = off" (max_tilt: 180) reads as the group's switch.
+void renamed_flat_names(ParamTable<MatchStageConfig>& t) {
+  const std::pair<const char*, const char*> names[] = {
+      {"group_mode", "groups.mode"}, {"group_penalty", "groups.penalty"}, {"size_slack", "size_gate.slack"},
+      {"shape_voxel", "shape.voxel"}, {"shape_distance", "shape.distance"},
+      {"corner_hypotheses", "shape.corner_hypotheses"}, {"evidence_voxel", "evidence.voxel"},
+      {"upright_poses", "floor_gate.upright_poses"}};
+  for (const auto& [old_name, new_name] : names) t.renamed(old_name, new_name);
+  t.renamed("max_distance", "distance_gate.max_distance", "distance_gate.enabled", 0.0);
+  t.renamed("max_size_change", "size_gate.max_change", "size_gate.enabled", 0.0);
+  t.renamed("max_descriptor_distance", "descriptor_gate.max_distance", "descriptor_gate.enabled", 0.0);
+  t.renamed("min_shape_fit", "shape_gate.min_fit", "shape_gate.enabled", 0.0);
+  t.renamed("shape_gap", "shape.gap", "shape.surfaces", 0.0);
+  t.renamed("evidence_voxels", "evidence.voxels", "evidence.enabled", 0.0);
+  t.renamed("max_lift", "floor_gate.max_lift", "floor_gate.check_lift", 0.0);
+  t.renamed("max_tilt", "floor_gate.max_tilt", "floor_gate.check_tilt", 180.0);
+  t.renamed("max_cost", "cost_gate.max_cost", [](double v) {
+    return v < 0.0 ? ParamAssignments{{"cost_gate.automatic", true}}
+                   : ParamAssignments{{"cost_gate.automatic", false}, {"cost_gate.max_cost", v}};
+  });
 }
 
 const ParamTable<MatchStageConfig>& param_table() {
@@ -158,57 +190,73 @@ const ParamTable<MatchStageConfig>& param_table() {
     ParamTable<C> t;
     t.bind("alpha", &C::alpha, "weight of the normalised physical distance").range(0.0, 100.0);
     t.bind("beta", &C::beta, "weight of the normalised descriptor distance").range(0.0, 100.0);
-    t.bind("normalization", &C::normalization, "how each distance is scaled to [0,1]").one_of({"max", "minmax"});
-    t.bind("group_mode", &C::group_mode, "how descriptor groups constrain pairs").one_of({"soft", "hard", "ignore"});
-    t.bind("group_penalty", &C::group_penalty,
-           "cost added to a cross-group pair (group_mode = soft); prefers same-group partners, never vetoes")
-        .range(0.0, 100.0);
-    t.bind("max_size_change", &C::max_size_change,
-           "size gate before the shape check: largest relative change of height or footprint-rectangle sides of a pair; 0 = off")
-        .range(0.0, 10.0);
-    t.bind("size_slack", &C::size_slack, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m");
-    t.bind("max_distance", &C::max_distance,
-           "farthest centroid displacement accepted as a move; 0 = no limit")
-        .range(0.0, 1e6)
-        .unit("m");
-    t.bind("max_descriptor_distance", &C::max_descriptor_distance, "largest descriptor distance of a pair; 0 = no gate")
-        .at_least(0.0);
-    t.bind("max_cost", &C::max_cost,
-           "largest weighted cost of a pair; < 0 = alpha + beta + shape_weight x (1 - min_shape_fit)")
-        .range(-1.0, 1e6);
     t.bind("shape_weight", &C::shape_weight,
-           "weight of the shape misfit (1 - fit after registering the pair); 0 = the paper's two terms")
+           "weight of the shape misfit (1 - fit after registering the pair); 0: the paper's two terms").range(0.0, 100.0);
+    t.choice("normalization", &C::normalization, {{"max", Normalization::max}, {"minmax", Normalization::minmax}},
+             "how each distance is scaled to [0,1]");
+    using G = C::GroupConstraint;
+    auto groups = t.group("groups", &C::groups);
+    groups.choice("mode", &G::mode, {{"soft", GroupMode::soft}, {"hard", GroupMode::hard}, {"ignore", GroupMode::ignore}},
+                  "how descriptor groups constrain pairs");
+    groups.bind("penalty", &G::penalty, "cost added to a cross-group pair (mode soft); prefers same-group partners, never vetoes")
         .range(0.0, 100.0);
-    t.bind("min_shape_fit", &C::min_shape_fit,
-           "shape gate: smallest fit of a pair (shares of points on the other object's surface after registration; "
-           "shape_distance, shape_gap); 0 = off")
-        .range(0.0, 1.0);
+    using D = C::DistanceGate;
+    auto distance_gate = t.group("distance_gate", &C::distance_gate);
+    distance_gate.bind("enabled", &D::enabled, "refuse pairs whose centroids moved farther than max_distance");
+    distance_gate.bind("max_distance", &D::max_distance, "farthest centroid displacement accepted as a move").range(0.0, 1e6).unit("m");
+    using Z = C::SizeGate;
+    auto size_gate = t.group("size_gate", &C::size_gate);
+    size_gate.bind("enabled", &Z::enabled, "refuse pairs of different sizes before the shape check");
+    size_gate.bind("max_change", &Z::max_change, "largest relative change of height or footprint-rectangle sides of a pair")
+        .range(0.0, 10.0);
+    size_gate.bind("slack", &Z::slack, "size change always allowed (partial views, noise)").range(0.0, 10.0).unit("m");
+    using R = C::DescriptorGate;
+    auto descriptor_gate = t.group("descriptor_gate", &C::descriptor_gate);
+    descriptor_gate.bind("enabled", &R::enabled, "refuse pairs whose descriptors differ more than max_distance");
+    descriptor_gate.bind("max_distance", &R::max_distance, "largest descriptor distance of a pair (the descriptor's units)")
+        .at_least(0.0);
+    using K = C::CostGate;
+    auto cost_gate = t.group("cost_gate", &C::cost_gate);
+    cost_gate.bind("automatic", &K::automatic,
+                   "the largest weighted cost of a pair is alpha + beta + shape_weight x (1 - shape_gate.min_fit); false: max_cost");
+    cost_gate.bind("max_cost", &K::max_cost, "largest weighted cost of a pair").range(0.0, 1e6);
+    using F = C::ShapeGate;
+    auto shape_gate = t.group("shape_gate", &C::shape_gate);
+    shape_gate.bind("enabled", &F::enabled, "refuse pairs that one rigid object does not explain");
+    shape_gate.bind("min_fit", &F::min_fit,
+                    "smallest fit of a pair (shares of points on the other object's surface after registration)").range(0.0, 1.0);
+    using S = C::Shape;
+    auto shape = t.group("shape", &C::shape);
+    shape.bind("voxel", &S::voxel, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m");
+    shape.bind("distance", &S::distance, "a registered point within this distance of the other object counts as explained")
+        .range(0.001, 1.0).unit("m");
+    shape.bind("surfaces", &S::surfaces,
+               "a registered point also counts near the surface the other's points span (gap); false: points only");
+    shape.bind("gap", &S::gap,
+               "a registered point off the other object still counts within distance / 2 of the surface that the "
+               "other's points within this distance span").range(0.001, 1.0).unit("m");
+    shape.bind("corner_hypotheses", &S::corner_hypotheses,
+               "views of different footprint sizes that no yaw turn explains are also registered corner on corner");
     t.bind("far_side_explains", &C::far_side_explains,
            "3+ missions: an object that changed mostly against its other neighbour is no candidate between this pair of missions");
-    t.bind("shape_voxel", &C::shape_voxel, "voxel size the shape check downsamples to").range(0.005, 1.0).unit("m");
-    t.bind("shape_distance", &C::shape_distance, "a registered point within this distance of the other object counts as explained")
-        .range(0.001, 1.0)
-        .unit("m");
-    t.bind("shape_gap", &C::shape_gap,
-           "a registered point off the other object still counts within shape_distance / 2 of the surface that the other's points within this distance span; 0 = points only")
-        .range(0.0, 1.0)
-        .unit("m");
-    t.bind("evidence_voxel", &C::evidence_voxel, "cube edge for measuring the surface an object shows (confidence)")
-        .range(0.01, 1.0)
-        .unit("m");
-    t.bind("evidence_voxels", &C::evidence_voxels,
-           "confidence scale: evidence = 1 - exp(-v / this), v = the object's occupied evidence_voxel cubes; 0 = no evidence factor")
-        .range(0.0, 1e6);
-    t.bind("max_lift", &C::max_lift,
-           "floor gate: a pair standing on floors in both missions (floor_z known) must not be lifted by more than "
-           "this, relative to the floors, when registered; 0 = off")
-        .range(0.0, 100.0)
-        .unit("m");
-    t.bind("max_tilt", &C::max_tilt, "floor gate: nor tilted by more than this (180 = off)").range(1.0, 180.0).unit("deg");
-    t.bind("upright_poses", &C::upright_poses,
-           "a pair standing on floors in both missions is registered among upright poses only (max_lift, max_tilt); false = refused when its best pose is off the floor");
-    t.bind("corner_hypotheses", &C::corner_hypotheses,
-           "shape check: views of different footprint sizes that no yaw turn explains are also registered corner on corner");
+    using E = C::Evidence;
+    auto evidence = t.group("evidence", &C::evidence);
+    evidence.bind("enabled", &E::enabled, "confidence scaled by the surface an object shows");
+    evidence.bind("voxel", &E::voxel, "cube edge for measuring the surface an object shows").range(0.01, 1.0).unit("m");
+    evidence.bind("voxels", &E::voxels, "confidence scale: evidence = 1 - exp(-v / this), v = the object's occupied voxel cubes")
+        .range(0.01, 1e6);
+    using L = C::FloorGate;
+    auto floor_gate = t.group("floor_gate", &C::floor_gate);
+    floor_gate.bind("check_lift", &L::check_lift,
+                    "a pair standing on floors in both missions (floor_z known) is refused when registered lifted, "
+                    "relative to the floors, by more than max_lift");
+    floor_gate.bind("max_lift", &L::max_lift, "the most lift such a pair is registered with").range(0.001, 100.0).unit("m");
+    floor_gate.bind("check_tilt", &L::check_tilt, "or tilted by more than max_tilt");
+    floor_gate.bind("max_tilt", &L::max_tilt, "the most tilt such a pair is registered with").range(1.0, 180.0).unit("deg");
+    floor_gate.bind("upright_poses", &L::upright_poses,
+                    "a pair standing on floors in both missions is registered among upright poses only; false: refused "
+                    "when its best pose is off the floor");
+    renamed_flat_names(t);
     return t;
   }();
   return table;

@@ -10,14 +10,14 @@
 namespace lista::matching {
 namespace {
 
-// Scales the entries of `d` where `mask` holds, as configured: "minmax" over
-// the masked entries; "max" divides by max(largest masked entry, floor).
-void normalise(Eigen::MatrixXd& d, const BoolMatrix& mask, const std::string& how, double floor = 0.0) {
+// Scales the entries of `d` where `mask` holds, as configured: minmax over
+// the masked entries; max divides by max(largest masked entry, floor).
+void normalise(Eigen::MatrixXd& d, const BoolMatrix& mask, Normalization how, double floor = 0.0) {
   double lo = std::numeric_limits<double>::max(), hi = 0.0;
   for (int i = 0; i < d.rows(); ++i)
     for (int j = 0; j < d.cols(); ++j)
       if (mask(i, j)) lo = std::min(lo, d(i, j)), hi = std::max(hi, d(i, j));
-  if (how == "max") lo = 0.0, hi = std::max(hi, floor);
+  if (how == Normalization::max) lo = 0.0, hi = std::max(hi, floor);
   const double range = hi - lo;
   for (int i = 0; i < d.rows(); ++i)
     for (int j = 0; j < d.cols(); ++j)
@@ -61,7 +61,7 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
   pc.allowed.setConstant(n, m, true);
   pc.cross = Eigen::MatrixXd::Zero(n, m);
   std::vector<Eigen::Vector3d> size_a, size_b;
-  if (cfg.max_size_change > 0.0) {
+  if (cfg.size_gate.enabled) {
     for (const Object* o : a) size_a.push_back(size_of(*o));
     for (const Object* o : b) size_b.push_back(size_of(*o));
   }
@@ -74,17 +74,16 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
       pc.descriptor(i, j) = (ra >= 0 && rb >= 0)
           ? (desc.values.row(ra) - desc.values.row(rb)).cast<double>().norm()
           : std::numeric_limits<double>::quiet_NaN();
-      bool ok = (cfg.max_distance <= 0.0 || pc.physical(i, j) <= cfg.max_distance) &&
+      bool ok = (!cfg.distance_gate.enabled || pc.physical(i, j) <= cfg.distance_gate.max_distance) &&
                 (a_changed[size_t(i)] || b_changed[size_t(j)]);
-      if (cfg.max_size_change > 0.0 && !same_size(size_a[size_t(i)], size_b[size_t(j)], cfg.max_size_change, cfg.size_slack))
-        ok = false;
-      if (cfg.max_descriptor_distance > 0.0 && !(pc.descriptor(i, j) <= cfg.max_descriptor_distance))
-        ok = false;
-      if (groups && cfg.group_mode != "ignore") {
+      const auto& size = cfg.size_gate;
+      if (size.enabled && !same_size(size_a[size_t(i)], size_b[size_t(j)], size.max_change, size.slack)) ok = false;
+      if (cfg.descriptor_gate.enabled && !(pc.descriptor(i, j) <= cfg.descriptor_gate.max_distance)) ok = false;
+      if (groups && cfg.groups.mode != GroupMode::ignore) {
         const int ga = groups->group_of(a[i]->id), gb = groups->group_of(b[j]->id);
         const bool same = ga >= 0 && ga == gb;
-        if (!same && cfg.group_mode == "hard") ok = false;
-        if (!same) pc.cross(i, j) = cfg.group_penalty;
+        if (!same && cfg.groups.mode == GroupMode::hard) ok = false;
+        if (!same) pc.cross(i, j) = cfg.groups.penalty;
       }
       pc.allowed(i, j) = ok;
     }
@@ -98,7 +97,7 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
       if (!std::isfinite(pc.descriptor(i, j))) pc.descriptor(i, j) = dmax;
   // Shape check last: it registers every surviving pair, the costly part.
   pc.shape = Eigen::MatrixXd::Zero(n, m);
-  if (cfg.shape_weight > 0.0 || cfg.min_shape_fit > 0.0) {
+  if (cfg.shape_weight > 0.0 || cfg.shape_gate.enabled) {
     std::vector<std::pair<const Object*, const Object*>> todo;
     std::vector<std::pair<int, int>> where;
     for (int i = 0; i < n; ++i)
@@ -110,7 +109,7 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
     for (size_t k = 0; k < todo.size(); ++k) {
       const auto [i, j] = where[k];
       pc.shape(i, j) = 1.0 - std::clamp(f[k], 0.0, 1.0);
-      if (f[k] < cfg.min_shape_fit) pc.allowed(i, j) = false;
+      if (f[k] < cfg.shape_gate.bar()) pc.allowed(i, j) = false;
     }
   }
   Eigen::MatrixXd p = pc.physical, d = pc.descriptor;

@@ -103,7 +103,7 @@ const std::vector<Box> step{{{0, 0, 0}, {0.8f, 0.5f, 0.37f}}, {{0, 0.25f, 0.37f}
 const std::vector<Box> table_shape{{{0, 0, 0.7f}, {0.8f, 0.5f, 0.74f}},
                                    {{0.38f, 0.08f, 0.04f}, {0.42f, 0.12f, 0.7f}},
                                    {{0.2f, 0.0f, 0}, {0.6f, 0.2f, 0.04f}}};
-const std::map<std::string, ParamValue> no_shape_check{{"min_shape_fit", 0.0}, {"shape_weight", 0.0}};
+const std::map<std::string, ParamValue> no_shape_check{{"shape_gate.enabled", false}, {"shape_weight", 0.0}};
 
 // Groups of the given objects: one label and confidence each, every group sure.
 Groups groups_of(std::vector<int> ids, std::vector<int> group, std::vector<double> confidence) {
@@ -185,7 +185,7 @@ TEST(MatchWeighted, PhysicalGateKeepsFarChangesApart) {
   s.objects.missions = {"A", "B"};
   const int a = s.add(0, {0, 0, 0}, chair);
   const int b = s.add(1, {20, 0, 0}, chair);
-  Matches m = run_stage(s, {{"max_distance", 5.0}});
+  Matches m = run_stage(s, {{"distance_gate.enabled", true}, {"distance_gate.max_distance", 5.0}});
   EXPECT_EQ(m.find(a)->status, ChangeStatus::removed);
   EXPECT_EQ(m.find(b)->status, ChangeStatus::added);
   m = run_stage(s);  // no gate by default: across a room is a move
@@ -203,7 +203,7 @@ TEST(MatchWeighted, ByDefaultAMoveAcrossALargeSiteIsPaired) {
   Matches m = run_stage(s);
   EXPECT_EQ(m.find(a)->status, ChangeStatus::moved);
   EXPECT_EQ(m.find(a)->match, b);
-  m = run_stage(s, {{"max_distance", 50.0}});
+  m = run_stage(s, {{"distance_gate.enabled", true}, {"distance_gate.max_distance", 50.0}});
   EXPECT_EQ(m.find(a)->status, ChangeStatus::removed);
 }
 
@@ -219,7 +219,7 @@ TEST(MatchWeighted, SizeGateKeepsUnlikeSizesApart) {
   EXPECT_EQ(m.find(a)->match, c);
   EXPECT_EQ(m.find(b)->status, ChangeStatus::added);
   // Gate and shape check off: the nearer one wins.
-  m = run_stage(s, {{"max_size_change", 0.0}, {"min_shape_fit", 0.0}, {"shape_weight", 0.0}});
+  m = run_stage(s, {{"size_gate.enabled", false}, {"shape_gate.enabled", false}, {"shape_weight", 0.0}});
   EXPECT_EQ(m.find(a)->match, b);
 }
 
@@ -233,17 +233,17 @@ TEST(MatchWeighted, WeightedGateAndGroups) {
   // is taken across groups, whatever the penalty, and costs the penalty more.
   const Matches soft = run_stage(s, {}, &g);
   EXPECT_EQ(soft.find(a)->status, ChangeStatus::moved);
-  const Matches no_penalty = run_stage(s, {{"group_penalty", 0.0}}, &g);
+  const Matches no_penalty = run_stage(s, {{"groups.penalty", 0.0}}, &g);
   EXPECT_EQ(no_penalty.find(a)->status, ChangeStatus::moved);
   EXPECT_NEAR(soft.find(a)->cost - no_penalty.find(a)->cost, 0.5, 1e-9);
   // The gate still judges the pair itself: a tight max_cost refuses it.
-  EXPECT_EQ(run_stage(s, {{"max_cost", 0.01}}, &g).find(a)->status, ChangeStatus::removed);
+  EXPECT_EQ(run_stage(s, {{"cost_gate.automatic", false}, {"cost_gate.max_cost", 0.01}}, &g).find(a)->status, ChangeStatus::removed);
   // Hard forbids it whatever the penalty; ignore drops groups.
-  EXPECT_EQ(run_stage(s, {{"group_mode", std::string("hard")}, {"group_penalty", 0.0}}, &g).find(a)->status,
+  EXPECT_EQ(run_stage(s, {{"groups.mode", std::string("hard")}, {"groups.penalty", 0.0}}, &g).find(a)->status,
             ChangeStatus::removed);
-  EXPECT_EQ(run_stage(s, {{"group_mode", std::string("ignore")}}, &g).find(a)->status, ChangeStatus::moved);
+  EXPECT_EQ(run_stage(s, {{"groups.mode", std::string("ignore")}}, &g).find(a)->status, ChangeStatus::moved);
   // Descriptor gate in descriptor units: chair vs table are sqrt(2) apart.
-  EXPECT_EQ(run_stage(s, {{"max_descriptor_distance", 1.0}}).find(a)->status, ChangeStatus::removed);
+  EXPECT_EQ(run_stage(s, {{"descriptor_gate.enabled", true}, {"descriptor_gate.max_distance", 1.0}}).find(a)->status, ChangeStatus::removed);
 }
 
 // Both reports of one move carry one confidence, the less sure end's: the
@@ -269,7 +269,7 @@ TEST(MatchWeighted, SoftGroupsDecideBetweenRivals) {
   const int far_same_group = s.add(1, {2, 0, 0}, chair);
   const Groups g = groups_of({a, near_other_group, far_same_group}, {0, 1, 0}, {1, 1, 1});
   EXPECT_EQ(run_stage(s, {}, &g).find(a)->match, far_same_group);
-  EXPECT_EQ(run_stage(s, {{"group_mode", std::string("ignore")}}, &g).find(a)->match, near_other_group);
+  EXPECT_EQ(run_stage(s, {{"groups.mode", std::string("ignore")}}, &g).find(a)->match, near_other_group);
   // The loser is left unpaired: an addition.
   EXPECT_EQ(run_stage(s, {}, &g).find(near_other_group)->status, ChangeStatus::added);
 }
@@ -412,7 +412,7 @@ TEST(MatchWeighted, BadInputIsAnError) {
   s.add(3, {0, 0, 0}, chair);
   EXPECT_THROW(run_stage(s), Error);
   EXPECT_THROW(plugin_test::make_stage("match.weighted", {{"alpha", 0.0}, {"beta", 0.0}, {"shape_weight", 0.0}}), Error);
-  EXPECT_THROW(plugin_test::make_stage("match.weighted", {{"min_shape_fit", 1.5}}), Error);
+  EXPECT_THROW(plugin_test::make_stage("match.weighted", {{"shape_gate.min_fit", 1.5}}), Error);
 }
 
 TEST(MatchWeighted, ShapeCheckKeepsUnlikeShapesApart) {
@@ -465,8 +465,8 @@ TEST(MatchWeighted, FloorGateKeepsALowObjectOffATallOnesTop) {
   Matches m = run_stage(s);
   EXPECT_EQ(m.find(low)->status, ChangeStatus::removed);
   EXPECT_EQ(m.find(tall)->status, ChangeStatus::added);
-  m = run_stage(s, {{"max_lift", 0.0}});
-  EXPECT_EQ(m.find(low)->status, ChangeStatus::moved) << "max_lift 0: gate off";
+  m = run_stage(s, {{"floor_gate.check_lift", false}});
+  EXPECT_EQ(m.find(low)->status, ChangeStatus::moved) << "lift check off";
   EXPECT_EQ(m.find(low)->match, tall);
 }
 
@@ -496,7 +496,7 @@ TEST(MatchWeighted, FloorGateMeasuresLiftFromTheFloorsAndTilt) {
 
 // Confidence scales with the surface an object shows: a removed object of
 // a few voxels (a fragment, a leftover) is less sure than one of many, the
-// rest alike; evidence_voxels = 0 gives both the unscaled value.
+// rest alike; with the evidence off both get the unscaled value.
 TEST(MatchWeighted, ConfidenceGrowsWithTheSurfaceShown) {
   Scene s;
   s.objects.missions = {"A", "B"};
@@ -513,17 +513,16 @@ TEST(MatchWeighted, ConfidenceGrowsWithTheSurfaceShown) {
   EXPECT_NEAR(on.find(big)->confidence, 1.0 - std::exp(-200.0 / 40.0), 1e-9);
   EXPECT_NEAR(on.find(small)->confidence, 1.0 - std::exp(-3.0 / 40.0), 1e-9);
   auto off_params = no_shape_check;
-  off_params["evidence_voxels"] = 0.0;
+  off_params["evidence.enabled"] = false;
   const Matches off = run_stage(s, off_params, &g);
   EXPECT_DOUBLE_EQ(off.find(big)->confidence, 1.0) << "no candidate, sure group: the unscaled value";
   EXPECT_DOUBLE_EQ(off.find(small)->confidence, 1.0);
 
   WeightedMatchConfig cfg;
-  cfg.evidence_voxels = 40.0;
   Object o;
   o.points.xyz = wall;
   EXPECT_NEAR(surface_evidence(o, cfg), 1.0 - std::exp(-200.0 / 40.0), 1e-12);
-  cfg.evidence_voxel = 1.0;  // the whole wall in two 1 m cubes
+  cfg.evidence.voxel = 1.0;  // the whole wall in two 1 m cubes
   EXPECT_NEAR(surface_evidence(o, cfg), 1.0 - std::exp(-2.0 / 40.0), 1e-12);
 }
 
@@ -542,8 +541,7 @@ TEST(MatchWeighted, AMovesConfidenceScalesWithItsFit) {
   const int b = s.add_points(1, wall_b, chair);
   WeightedMatchConfig cfg;
   cfg.shape_weight = 0.5;
-  cfg.min_shape_fit = 0.8;
-  cfg.evidence_voxels = 40.0;
+  cfg.shape_gate.min_fit = 0.8;
   auto with_fit = [&](double f) {
     return match_weighted(s.objects, s.descriptors, nullptr, cfg, nullptr,
                           [f](const std::vector<std::pair<const Object*, const Object*>>& pairs) {
@@ -555,6 +553,6 @@ TEST(MatchWeighted, AMovesConfidenceScalesWithItsFit) {
   ASSERT_EQ(less.find(a)->match, b);
   EXPECT_NEAR(less.find(a)->confidence, 0.9 * sure.find(a)->confidence, 1e-12);
   EXPECT_DOUBLE_EQ(less.find(a)->confidence, less.find(b)->confidence);
-  cfg.evidence_voxels = 0.0;  // before 1.7.0: the fit is not a factor
+  cfg.evidence.enabled = false;  // the fit is no factor then
   EXPECT_DOUBLE_EQ(with_fit(0.9).find(a)->confidence, with_fit(1.0).find(a)->confidence);
 }

@@ -53,18 +53,13 @@ struct Pairing {
 };
 
 // Checks the configuration and the objects; warns of objects without a
-// descriptor. Returns the cost gate (max_cost, or its default).
+// descriptor. Returns the cost gate.
 double checked_gate(const ObjectSet& objects, const DescriptorSet& descriptors, const WeightedMatchConfig& cfg,
                     std::string* warning, const PairFit& fit) {
-  if (cfg.normalization != "max" && cfg.normalization != "minmax")
-    throw Error("normalization must be 'max' or 'minmax', got '" + cfg.normalization + "'");
-  if (cfg.group_mode != "soft" && cfg.group_mode != "hard" && cfg.group_mode != "ignore")
-    throw Error("group_mode must be 'soft', 'hard' or 'ignore', got '" + cfg.group_mode + "'");
-  if ((cfg.shape_weight > 0.0 || cfg.min_shape_fit > 0.0) && !fit)
-    throw Error("the shape term needs a pair fit function");
-  // Default gate: the costliest pair that passes every other gate.
-  const double max_cost =
-      cfg.max_cost < 0.0 ? cfg.alpha + cfg.beta + cfg.shape_weight * (1.0 - cfg.min_shape_fit) : cfg.max_cost;
+  if ((cfg.shape_weight > 0.0 || cfg.shape_gate.enabled) && !fit) throw Error("the shape term needs a pair fit function");
+  // The automatic gate: the costliest pair that passes every other gate.
+  const double max_cost = cfg.cost_gate.automatic ? cfg.alpha + cfg.beta + cfg.shape_weight * (1.0 - cfg.shape_gate.bar())
+                                                  : cfg.cost_gate.max_cost;
   const size_t n_missions = objects.missions.size();
   for (const Object& o : objects.objects)
     if (o.mission >= n_missions)
@@ -138,7 +133,7 @@ void pair_missions(size_t m, const ObjectSet& objects, const DescriptorSet& desc
   // A pair is used only if it costs less than leaving both alone; leaving
   // costs just above the gate plus the penalty, so that an accepted pair,
   // even across groups and exactly at the gate, still counts.
-  const double penalty = cfg.group_mode == "soft" ? std::max(0.0, cfg.group_penalty) : 0.0;
+  const double penalty = cfg.groups.mode == GroupMode::soft ? std::max(0.0, cfg.groups.penalty) : 0.0;
   const double leave = (max_cost + penalty) * (1.0 + 1e-9) + 1e-12;
   const std::vector<int> assigned = assign_with_gate(pc.weighted, pc.allowed, leave);
 
@@ -224,7 +219,7 @@ Matches changes_from(const ObjectSet& objects, const Groups* groups, const Weigh
     // A change is as sure as the surface it shows (a few voxels are mostly
     // a fragment, a leftover or noise), a move also as its shape fit. The
     // terms above count for half.
-    if (cfg.evidence_voxels > 0.0) {
+    if (cfg.evidence.enabled) {
       c.confidence = surface_evidence(o, cfg) * (0.5 + 0.5 * c.confidence);
       if (c.status == ChangeStatus::moved) c.confidence *= s.move_fit[i];
     }
@@ -256,13 +251,13 @@ void one_confidence_per_move(Matches& out, const ObjectSet& objects, const Pairi
 }  // namespace
 
 double surface_evidence(const Object& object, const WeightedMatchConfig& cfg) {
-  if (cfg.evidence_voxels <= 0.0) return 1.0;
-  const double inv = 1.0 / cfg.evidence_voxel;
+  if (!cfg.evidence.enabled) return 1.0;
+  const double inv = 1.0 / cfg.evidence.voxel;
   std::unordered_set<uint64_t> cubes;
   cubes.reserve(object.points.size());
   for (const auto& p : object.points.xyz)
     cubes.insert(geometry::voxel_key((p.cast<double>() * inv).array().floor().cast<int>()));
-  return 1.0 - std::exp(-double(cubes.size()) / cfg.evidence_voxels);
+  return 1.0 - std::exp(-double(cubes.size()) / cfg.evidence.voxels);
 }
 
 Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptors,
@@ -270,7 +265,7 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
                        const PairFit& fit) {
   const double max_cost = checked_gate(objects, descriptors, cfg, warning, fit);
   const size_t n_obj = objects.objects.size();
-  const double desc_scale = cfg.normalization == "max" ? descriptor_scale(objects, descriptors) : 0.0;
+  const double desc_scale = cfg.normalization == Normalization::max ? descriptor_scale(objects, descriptors) : 0.0;
   // Against which neighbouring missions each object changed (both when the
   // changes carry no such channel).
   std::vector<uint8_t> against(n_obj);

@@ -14,7 +14,7 @@ using namespace lista;
 
 // A test stage's declaration: version 1.0.0, the given ports and parameters.
 StageInfo declare(std::string name, std::string summary, std::vector<PortSpec> inputs, std::vector<PortSpec> outputs,
-                  std::vector<ParamSpec> params = {}) {
+                  std::vector<ParamSpec> params = {}, std::vector<ParamRename> renamed = {}) {
   StageInfo i;
   i.name = std::move(name);
   i.version = "1.0.0";
@@ -22,6 +22,7 @@ StageInfo declare(std::string name, std::string summary, std::vector<PortSpec> i
   i.inputs = std::move(inputs);
   i.outputs = std::move(outputs);
   i.params = std::move(params);
+  i.renamed = std::move(renamed);
   return i;
 }
 
@@ -65,7 +66,18 @@ class Source : public Stage {
                     ParamSpec::real_list("weights", {1.0, 2.0}, "weights").at_least(0),
                     ParamSpec::text_list("tags", {}, "free tags"),
                     ParamSpec::boolean("noise.enabled", false, "a parameter group: add noise"),
-                    ParamSpec::real("noise.sigma", 0.0, "its spread").at_least(0).unit("m")});
+                    ParamSpec::real("noise.sigma", 0.0, "its spread").at_least(0).unit("m")},
+                   renames());
+  }
+  // Names of before the noise group: `sigma` as is, `noise_level` 0 meant off.
+  static std::vector<ParamRename> renames() {
+    ParamRename level{"noise_level", "noise.sigma", [](const ParamValue& v) {
+                        if (v.index() != 1 && v.index() != 2) throw Error("parameter 'noise_level' must be float");
+                        const double x = v.index() == 1 ? double(std::get<int64_t>(v)) : std::get<double>(v);
+                        return x == 0.0 ? ParamAssignments{{"noise.enabled", false}}
+                                        : ParamAssignments{{"noise.enabled", true}, {"noise.sigma", x}};
+                      }};
+    return {{"sigma", "noise.sigma", {}}, level};
   }
   Outputs run(const Inputs&, Context& ctx) override {
     ctx.record("start_ms", now_ms());

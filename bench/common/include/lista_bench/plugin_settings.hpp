@@ -17,8 +17,8 @@ namespace lista::bench {
 
 struct Setting {
   std::string text;    // as given
-  std::string plugin;  // before the last '.' of the part ahead of '='
-  std::string param;
+  std::string plugin;  // before the last '.' of the part ahead of '=' (a group's
+  std::string param;   // parameter, plugin.group.key, is matched by the plugin's name)
   core::Override parsed;  // its value, or why there is none
 };
 
@@ -30,7 +30,8 @@ Setting parse_setting(const std::string& text, const std::string& example);
 // `compared`: a setting for a plugin the run leaves out would do nothing.
 void check_compared(const std::vector<Setting>& settings, const std::vector<std::string>& compared);
 
-// `info`'s defaults with every setting naming `name` applied. Throws
+// `info`'s defaults with every setting naming `name` applied (an old name of
+// a renamed parameter with a warning on stderr, as lista-run). Throws
 // lista::Error naming the setting for a parameter `info` does not declare or
 // a value its declaration refuses (type, range, choices).
 Params params_of(const std::string& name, const StageInfo& info, const std::vector<Setting>& settings);

@@ -9,16 +9,24 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace lista::align {
 
+// gicp: PCL's Generalized ICP (BFGS); gicp_gn: ours, the GICP cost solved
+// by Gauss-Newton, with covariances that give a one-ring strip no plane
+// (about as fast per pair; many times nearer the truth on a sparse scanner's
+// scan pairs, docs/bench/alignment.md); icp: PCL's point-to-point ICP.
+enum class RegistrationMethod { gicp, gicp_gn, icp };
+
+// The names the align.* stages' `registration` parameter gives them.
+inline std::vector<std::pair<std::string, RegistrationMethod>> registration_method_names() {
+  return {{"gicp", RegistrationMethod::gicp}, {"gicp_gn", RegistrationMethod::gicp_gn}, {"icp", RegistrationMethod::icp}};
+}
+
 struct RegistrationOptions {
-  // "gicp": PCL's Generalized ICP (BFGS); "gicp_gn": ours, the GICP cost
-  // solved by Gauss-Newton, with covariances that give a one-ring strip no
-  // plane (about as fast per pair; many times nearer the truth on a sparse
-  // scanner's scan pairs; opt-in: end to end its reports moved both ways,
-  // docs/bench/alignment.md); "icp": PCL's point-to-point ICP.
-  std::string method = "gicp";
+  RegistrationMethod method = RegistrationMethod::gicp;
   double voxel = 0.2;           // m; fine-stage downsampling
   double coarse_distance = 2.0; // m; max correspondence distance of the coarse stage
   double fine_distance = 0.5;   // m; of the fine stage
@@ -64,14 +72,14 @@ struct RegistrationGates {
   bool accept(const RegistrationResult& r, const Eigen::Isometry3d& guess, bool both_ways) const;
 };
 
-// The gates align.posegraph judges a method's scan pairs by: for "gicp_gn"
+// The gates align.posegraph judges a method's scan pairs by: for gicp_gn
 // the RMSE along planes (at most `max_plane_rmse`), for the others point to
 // point (at most `max_rmse`). On VLP-16 scan pairs the point-to-point RMSE
 // of gicp_gn's accurate registrations (0.13-0.16 m, the ring gaps) sits at
 // the 0.15 m bar, while along planes they score 2-5 cm; PCL's GICP, whose
 // pairs pulled ring onto ring score lower point to point, gave worse
 // reports when judged along planes (docs/bench/alignment.md, 2026-11-30).
-RegistrationGates scan_pair_gates(const std::string& method, double min_overlap, double max_rmse,
+RegistrationGates scan_pair_gates(RegistrationMethod method, double min_overlap, double max_rmse,
                                   double max_plane_rmse);
 
 // A cloud made ready once for any number of registrations: its coarse and
