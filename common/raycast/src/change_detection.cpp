@@ -29,6 +29,7 @@ PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfi
     const size_t na = a.scans.size(), nb = b.scans.size();
     const double best = std::max(most(na) - least(nb), most(nb) - least(na));
     out.value.push_back(c.change_threshold);
+    out.single_look.push_back(c.prob_hit - c.prob_miss > c.change_threshold);
     if (best > c.change_threshold) continue;
     char text[480];
     if (c.change_threshold_given) {
@@ -45,6 +46,7 @@ PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfi
     // saw the voxel occupied and every scan of the other saw it free (one
     // scan each: one hit against one miss, nothing else observed it).
     out.value.back() = best - kStrongestEvidenceSlack;
+    out.single_look.back() = true;
     std::snprintf(text, sizeof text,
                   "missions '%s' (%zu scan%s) and '%s' (%zu scan%s) are too few scans for change_threshold %.2f: "
                   "a voxel every scan of one saw occupied and every scan of the other saw free is change "
@@ -67,6 +69,7 @@ struct Decider {
   const VolumetricConfig& c;
   float occupied_logodds;
   double threshold_previous, threshold_next;  // change_threshold of each pair (pair_thresholds)
+  bool single_look_previous, single_look_next;  // PairThresholds::single_look of each pair
 
   // True if no voxel within the neighbourhood of v is occupied in `other`.
   bool clear_around(OccupancyReader& other, const Voxel& v) const {
@@ -80,20 +83,50 @@ struct Decider {
     return true;
   }
 
-  // The ChangedAgainst bits of voxel v of the own map against the previous
-  // and the next mission's (either may be null); 0 = not changed.
-  uint8_t changed(OccupancyReader& own, OccupancyReader* previous, OccupancyReader* next, const Voxel& v) const {
+  // True if `other` saw free the space one or two voxels behind point p
+  // (index units) along its beam from `origin`: the miss went through
+  // where the point's surface stood, not past it. Where the beam runs on
+  // into a surface the other mission holds (the floor under an object's
+  // foot), the space level with the point is asked instead.
+  bool seen_behind(OccupancyReader& other, const Voxel& v, const Eigen::Vector3d& p,
+                   const Eigen::Vector3d& origin) const {
+    const Eigen::Vector3d beam = (p - origin).normalized();
+    const Eigen::Vector3d level = Eigen::Vector3d(beam.x(), beam.y(), 0.0).normalized();
+    float l_other;
+    bool into_static = false;
+    for (double depth : {1.0, 2.0}) {
+      const Voxel w = voxel_of(p + depth * beam);
+      if (w == v || !other.logodds(w, l_other)) continue;
+      if (l_other < 0.f) return true;
+      into_static = into_static || l_other > occupied_logodds;
+    }
+    if (!into_static || !level.allFinite()) return false;
+    for (double depth : {1.0, 2.0}) {
+      const Voxel w = voxel_of(p + depth * level);
+      if (w != v && other.logodds(w, l_other) && l_other < 0.f) return true;
+    }
+    return false;
+  }
+
+  // The ChangedAgainst bits of point p (index units; its voxel v, its
+  // scan's sensor at `origin`) of the own map against the previous and the
+  // next mission's (either may be null); 0 = not changed.
+  uint8_t changed(OccupancyReader& own, OccupancyReader* previous, OccupancyReader* next, const Eigen::Vector3d& p,
+                  const Eigen::Vector3d& origin) const {
+    const Voxel v = voxel_of(p);
     float l_own;
     if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return 0;
     const double p_own = probability(l_own);
-    auto against = [&](OccupancyReader* other, double threshold) {
+    auto against = [&](OccupancyReader* other, double threshold, bool single_look) {
       float l_other;
       if (!other || !other->logodds(v, l_other)) return false;  // unobserved there: unknown, not change
       if (p_own - probability(l_other) <= threshold) return false;
+      if (single_look && !seen_behind(*other, v, p, origin)) return false;
       return clear_around(*other, v);
     };
-    const uint8_t bits = uint8_t((against(previous, threshold_previous) ? changed_against_previous : 0) |
-                                 (against(next, threshold_next) ? changed_against_next : 0));
+    const uint8_t bits =
+        uint8_t((against(previous, threshold_previous, single_look_previous) ? changed_against_previous : 0) |
+                (against(next, threshold_next, single_look_next) ? changed_against_next : 0));
     return bits && own.seen_free(v) ? uint8_t(bits | seen_free_in_own_mission) : bits;
   }
 };
@@ -115,7 +148,9 @@ void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_
   const Mission& mission = missions.missions[m];
   const Decider decide{config, logodds(config.occupied_threshold),
                        m > 0 ? thresholds.value[m - 1] : config.change_threshold,
-                       m < thresholds.value.size() ? thresholds.value[m] : config.change_threshold};
+                       m < thresholds.value.size() ? thresholds.value[m] : config.change_threshold,
+                       m > 0 && thresholds.single_look[m - 1],
+                       m < thresholds.single_look.size() && thresholds.single_look[m]};
   const double inv_res = 1.0 / config.resolution;
 #pragma omp parallel num_threads(std::max(1, threads))
   {
@@ -126,9 +161,10 @@ void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_
     for (long i = 0; i < static_cast<long>(mission.scans.size()); ++i) {
       const PointSet& pts = *mission.scans[i].points;
       const Eigen::Affine3d to_index = Eigen::Scaling(inv_res) * mission.sensor_to_common(static_cast<size_t>(i));
+      const Eigen::Vector3d origin = to_index.translation();
       std::vector<uint8_t>& b = bits[static_cast<size_t>(i)];
       for (size_t j = 0; j < pts.size(); ++j)
-        b[j] |= decide.changed(*own, previous.get(), next.get(), voxel_of(to_index * pts.xyz[j].cast<double>()));
+        b[j] |= decide.changed(*own, previous.get(), next.get(), to_index * pts.xyz[j].cast<double>(), origin);
     }
   }
 }

@@ -1,5 +1,6 @@
 // filter.box: keeps the change points inside a region of interest.
 #include <lista/data.hpp>
+#include <lista/missions.hpp>
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 
@@ -53,7 +54,8 @@ class BoxFilterStage : public Stage {
         "Keeps the change points inside an axis-aligned box of the common frame; optionally also drops those more "
         "than max_height_above_floor above a robust floor level (cuts ceilings). "
         "Details: docs/segmentation.md, \"filter.box\".";
-    i.inputs = {{"changes", "points", "per-mission change points"}};
+    i.inputs = {{"changes", "points", "per-mission change points"},
+                {"missions", "missions", "the aligned missions; the floor is read from their points", true}};
     i.outputs = {{"changes", "points", "the points inside the region"}};
     i.params = param_table().specs();
     return i;
@@ -65,13 +67,11 @@ class BoxFilterStage : public Stage {
     for (size_t m = 0; m < changes.sets.size(); ++m) {
       const auto& s = changes.sets[m];
       for (uint32_t i = 0; i < s.size(); ++i)
-        if ((s.xyz[i].array() >= min_.array()).all() && (s.xyz[i].array() <= max_.array()).all())
-          keep[m].push_back(i);
+        if (inside(s.xyz[i])) keep[m].push_back(i);
     }
     if (ceiling_ > 0) {
-      std::vector<float> z;
-      for (size_t m = 0; m < keep.size(); ++m)
-        for (auto i : keep[m]) z.push_back(changes.sets[m].xyz[i].z());
+      std::vector<float> z = in.has("missions") ? heights(in.get<MissionSet>("missions"))
+                                                 : heights(changes, keep);
       if (!z.empty()) {
         auto nth = z.begin() + std::ptrdiff_t(floor_quantile_ * double(z.size() - 1));
         std::nth_element(z.begin(), nth, z.end());
@@ -98,6 +98,39 @@ class BoxFilterStage : public Stage {
   }
 
  private:
+  bool inside(const Eigen::Vector3f& p) const { return (p.array() >= min_.array()).all() && (p.array() <= max_.array()).all(); }
+
+  // Heights of the kept change points.
+  static std::vector<float> heights(const MissionPoints& changes, const std::vector<std::vector<uint32_t>>& keep) {
+    std::vector<float> z;
+    for (size_t m = 0; m < keep.size(); ++m)
+      for (auto i : keep[m]) z.push_back(changes.sets[m].xyz[i].z());
+    return z;
+  }
+
+  // Heights of the missions' points inside the box, every k-th point of
+  // every scan (about kSamples in all): the floor is the scene's, not the
+  // lowest change's, so it holds when no change stands on the floor.
+  std::vector<float> heights(const MissionSet& missions) const {
+    constexpr size_t kSamples = 400000;
+    size_t total = 0;
+    for (const Mission& m : missions.missions)
+      for (const Scan& s : m.scans) total += s.points ? s.points->size() : 0;
+    const size_t step = std::max<size_t>(1, total / kSamples);
+    std::vector<float> z;
+    for (const Mission& m : missions.missions)
+      for (size_t i = 0; i < m.scans.size(); ++i) {
+        if (!m.scans[i].points) continue;
+        const Eigen::Isometry3f to_common = m.sensor_to_common(i).cast<float>();
+        const auto& xyz = m.scans[i].points->xyz;
+        for (size_t j = 0; j < xyz.size(); j += step) {
+          const Eigen::Vector3f p = to_common * xyz[j];
+          if (inside(p)) z.push_back(p.z());
+        }
+      }
+    return z;
+  }
+
   Eigen::Vector3f min_, max_;
   double ceiling_ = 0, floor_quantile_ = 0.01;
 };
