@@ -123,3 +123,57 @@ TEST(SingleLook, OnlyWhereOneHitAgainstOneMissPasses) {
   c.change_threshold_given = true;
   EXPECT_TRUE(raycast::pair_thresholds(many, c).single_look[0]) << "a threshold one look passes makes every pair single-look";
 }
+
+// A mission of stations has most of its points in voxels one scan saw:
+// with two scans that each saw their own voxel the share is 1; where both
+// scans hit the same voxel it is not one look.
+TEST(Stations, OneLookShareCountsPointsWhoseVoxelOneScanSaw) {
+  raycast::VolumetricConfig config;
+  config.resolution = 1.0;
+  MissionSet set = two_stations();
+  Mission& a = set.missions[0];
+  a.scans.push_back(a.scans[0]);  // a second scan with the same point
+  GivenMap once;
+  once.set(5, 0, 0, hit);
+  EXPECT_DOUBLE_EQ(raycast::one_look_share(a, once, config), 1.0);
+  GivenMap twice;
+  twice.set(5, 0, 0, 2 * hit);
+  EXPECT_DOUBLE_EQ(raycast::one_look_share(a, twice, config), 0.0);
+}
+
+// Two missions of stations (several scans each, so the pair keeps the
+// default threshold; most points one look): one hit against one miss is
+// change when the miss went through the surface; with change_threshold
+// given, it is not.
+TEST(Stations, OneHitAgainstOneMissIsChangeBetweenStations) {
+  raycast::VolumetricConfig config;
+  config.resolution = 1.0;
+  config.neighbourhood = 0;
+  MissionSet set = two_stations();
+  // Three stations a mission, 20 m apart: farther apart than their points reach.
+  for (Mission& m : set.missions) {
+    m.scans.resize(3, m.scans[0]);
+    for (size_t i = 0; i < 3; ++i) m.scans[i].pose.translation() = Eigen::Vector3d(20.0 * double(i), 0, 0);
+  }
+  GivenMap a;
+  for (int x : {5, 25, 45}) a.set(x, 0, 0, hit);  // each station's point, one look each
+  GivenMap b;
+  b.set(5, 0, 0, miss);
+  b.set(6, 0, 0, miss);
+  // B's stations see their own point 9.5 m out, one look each.
+  auto pts = std::make_shared<PointSet>();
+  pts->xyz.emplace_back(9.5f, 0.5f, 0.5f);
+  pts->scan.push_back(0);
+  pts->index.push_back(0);
+  for (Scan& s : set.missions[1].scans) s.points = pts;
+  for (int x : {9, 29, 49}) b.set(x, 0, 0, hit);
+  raycast::ChangeStats stats;
+  EXPECT_EQ(raycast::detect_changes(set, {&a, &b}, config, 1, &stats).sets[0].size(), 1u);
+  ASSERT_EQ(stats.notes.size(), 1u);
+  EXPECT_NE(stats.notes[0].find("scanned from stations"), std::string::npos) << stats.notes[0];
+  b.cells.erase({6, 0, 0});
+  EXPECT_EQ(raycast::detect_changes(set, {&a, &b}, config, 1).sets[0].size(), 0u) << "a skimming look";
+  b.set(6, 0, 0, miss);
+  config.change_threshold_given = true;
+  EXPECT_EQ(raycast::detect_changes(set, {&a, &b}, config, 1).sets[0].size(), 0u) << "a given threshold holds";
+}

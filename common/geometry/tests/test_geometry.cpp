@@ -1,12 +1,15 @@
-// lista::geometry: box gaps and the yaw-invariant footprint.
+// lista::geometry: box gaps, the yaw-invariant footprint, stations.
 #include <lista_geometry/object_geometry.hpp>
 #include <lista_geometry/radius_grid.hpp>
+#include <lista_geometry/stations.hpp>
 #include <lista_geometry/voxel_key.hpp>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <memory>
 
 namespace {
 
@@ -106,4 +109,30 @@ TEST(RadiusGrid, FindsExactlyThePointsWithinTheRadiusAcrossCells) {
   EXPECT_EQ(found, (std::vector<uint32_t>{0, 2}));  // 0.09 and 0.087 m; 0.11 m is out
   EXPECT_TRUE(grid.any_near(xyz, Eigen::Vector3f(0.25f, 0.f, 0.f)));
   EXPECT_FALSE(grid.any_near(xyz, Eigen::Vector3f(0.f, 0.5f, 0.f)));
+}
+
+// Stations: scans farther apart than their points reach, or a single scan.
+TEST(Stations, ScansFartherApartThanTheirPointsReach) {
+  auto ring = [](double radius) {
+    auto pts = std::make_shared<lista::PointSet>();
+    for (int k = 0; k < 640; ++k)
+      pts->xyz.emplace_back(float(radius * std::cos(0.01 * k)), float(radius * std::sin(0.01 * k)), 0.f);
+    return pts;
+  };
+  auto mission = [&](double step, double radius, int scans) {
+    lista::Mission m;
+    for (int i = 0; i < scans; ++i) {
+      lista::Scan s;
+      s.pose.translation() = Eigen::Vector3d(step * i, 0, 0);
+      s.points = ring(radius);
+      m.scans.push_back(s);
+    }
+    return m;
+  };
+  EXPECT_TRUE(lista::geometry::scanned_from_stations(mission(12.0, 5.0, 3)));
+  EXPECT_FALSE(lista::geometry::scanned_from_stations(mission(1.0, 5.0, 30))) << "a driving mission";
+  EXPECT_TRUE(lista::geometry::scanned_from_stations(mission(0.0, 5.0, 1))) << "one scan is one station";
+  lista::Mission dropout = mission(12.0, 5.0, 2);
+  dropout.scans[1].points = std::make_shared<lista::PointSet>();
+  EXPECT_TRUE(lista::geometry::scanned_from_stations(dropout)) << "an empty scan is stepped over";
 }

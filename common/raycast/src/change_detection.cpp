@@ -1,8 +1,11 @@
 #include <lista_raycast/change_detection.hpp>
 
+#include <lista_geometry/stations.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <omp.h>
 
@@ -70,6 +73,8 @@ struct Decider {
   float occupied_logodds;
   double threshold_previous, threshold_next;  // change_threshold of each pair (pair_thresholds)
   bool single_look_previous, single_look_next;  // PairThresholds::single_look of each pair
+  bool one_look_previous, one_look_next;  // both missions of the pair are stations (one_look_share)
+  float hit_once, miss_once;              // log-odds of one hit, of one miss
 
   // True if no voxel within the neighbourhood of v is occupied in `other`.
   bool clear_around(OccupancyReader& other, const Voxel& v) const {
@@ -117,16 +122,18 @@ struct Decider {
     float l_own;
     if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return 0;
     const double p_own = probability(l_own);
-    auto against = [&](OccupancyReader* other, double threshold, bool single_look) {
+    auto against = [&](OccupancyReader* other, double threshold, bool single_look, bool one_look) {
       float l_other;
       if (!other || !other->logodds(v, l_other)) return false;  // unobserved there: unknown, not change
-      if (p_own - probability(l_other) <= threshold) return false;
-      if (single_look && !seen_behind(*other, v, p, origin)) return false;
+      const bool looked_once = std::abs(l_own - hit_once) < 1e-4f && std::abs(l_other - miss_once) < 1e-4f;
+      if (p_own - probability(l_other) <= threshold && !(one_look && looked_once)) return false;
+      if ((single_look || one_look) && looked_once && !seen_behind(*other, v, p, origin)) return false;
       return clear_around(*other, v);
     };
-    const uint8_t bits =
-        uint8_t((against(previous, threshold_previous, single_look_previous) ? changed_against_previous : 0) |
-                (against(next, threshold_next, single_look_next) ? changed_against_next : 0));
+    const uint8_t bits = uint8_t(
+        (against(previous, threshold_previous, single_look_previous, one_look_previous) ? changed_against_previous
+                                                                                         : 0) |
+        (against(next, threshold_next, single_look_next, one_look_next) ? changed_against_next : 0));
     return bits && own.seen_free(v) ? uint8_t(bits | seen_free_in_own_mission) : bits;
   }
 };
@@ -140,17 +147,48 @@ PointBits no_bits(const Mission& mission) {
   return bits;
 }
 
+}  // namespace
+
+double one_look_share(const Mission& mission, const OccupancyMap& map, const VolumetricConfig& config) {
+  const double inv_res = 1.0 / config.resolution;
+  const float hit_once = logodds(config.prob_hit);
+  auto reader = map.reader();
+  size_t once = 0, all = 0;
+  for (size_t i = 0; i < mission.scans.size(); ++i) {
+    const PointSet& pts = *mission.scans[i].points;
+    const Eigen::Affine3d to_index = Eigen::Scaling(inv_res) * mission.sensor_to_common(i);
+    float l;
+    for (size_t j = 0; j < pts.size(); j += 16, ++all)
+      once += reader->logodds(voxel_of(to_index * pts.xyz[j].cast<double>()), l) && std::abs(l - hit_once) < 1e-4f;
+  }
+  return all ? double(once) / double(all) : 0.0;
+}
+
+namespace {
+
+// Both missions scanned from stations whose points mostly got one look, and
+// no change_threshold given: one hit against one miss is evidence.
+bool one_look_pair(const MissionSet& missions, const std::vector<double>& shares, const VolumetricConfig& config,
+                   size_t a, size_t b) {
+  return !config.change_threshold_given && shares[a] > kStationShare && shares[b] > kStationShare &&
+         geometry::scanned_from_stations(missions.missions[a]) && geometry::scanned_from_stations(missions.missions[b]);
+}
+
 // ORs into `bits` what mission m (map `own_map`) changed against
 // `previous_map` and / or `next_map` (either may be null).
 void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_map,
                   const OccupancyMap* previous_map, const OccupancyMap* next_map, const VolumetricConfig& config,
-                  const PairThresholds& thresholds, int threads, PointBits& bits) {
+                  const PairThresholds& thresholds, const std::vector<double>& shares, int threads, PointBits& bits) {
   const Mission& mission = missions.missions[m];
+  auto stations = [&](size_t a, size_t b) { return one_look_pair(missions, shares, config, a, b); };
   const Decider decide{config, logodds(config.occupied_threshold),
                        m > 0 ? thresholds.value[m - 1] : config.change_threshold,
                        m < thresholds.value.size() ? thresholds.value[m] : config.change_threshold,
                        m > 0 && thresholds.single_look[m - 1],
-                       m < thresholds.single_look.size() && thresholds.single_look[m]};
+                       m < thresholds.single_look.size() && thresholds.single_look[m],
+                       m > 0 && stations(m - 1, m),
+                       m + 1 < missions.missions.size() && stations(m, m + 1),
+                       logodds(config.prob_hit), logodds(config.prob_miss)};
   const double inv_res = 1.0 / config.resolution;
 #pragma omp parallel num_threads(std::max(1, threads))
   {
@@ -212,6 +250,27 @@ void add_mission(MissionPoints& out, ChangeStats* stats, size_t m, const Mission
   out.sets.push_back(std::move(set));
 }
 
+// The pairs taken as stations, in ChangeStats: the share of each mission,
+// and a note for each pair the one-look rule applies to (one-scan pairs
+// have pair_thresholds' note already).
+void note_stations(const MissionSet& missions, const std::vector<double>& shares, const VolumetricConfig& config,
+                   const PairThresholds& thresholds, ChangeStats* stats) {
+  if (!stats) return;
+  stats->one_look_share = shares;
+  if (config.change_threshold_given) return;
+  for (size_t m = 0; m + 1 < shares.size(); ++m) {
+    if (!one_look_pair(missions, shares, config, m, m + 1) || thresholds.single_look[m]) continue;
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "missions '%s' and '%s' were scanned from stations (%.0f %% and %.0f %% of their points lie in "
+                  "voxels one scan saw): a voxel one scan of each saw, occupied against free, is change where the "
+                  "free look went through the surface",
+                  missions.missions[m].name.c_str(), missions.missions[m + 1].name.c_str(), 100.0 * shares[m],
+                  100.0 * shares[m + 1]);
+    stats->notes.emplace_back(text);
+  }
+}
+
 }  // namespace
 
 MissionPoints detect_changes(const MissionSet& missions, const std::vector<const OccupancyMap*>& maps,
@@ -221,11 +280,14 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
   if (maps.size() != n) throw Error("detect_changes: one map per mission expected");
   MissionPoints out;
   if (stats) *stats = ChangeStats(n);
+  std::vector<double> shares(n);
+  for (size_t m = 0; m < n; ++m) shares[m] = one_look_share(missions.missions[m], *maps[m], config);
+  note_stations(missions, shares, config, thresholds, stats);
   for (size_t m = 0; m < n; ++m) {
     const Mission& mission = missions.missions[m];
     PointBits bits = no_bits(mission);
     mark_changes(missions, m, *maps[m], m > 0 ? maps[m - 1] : nullptr, m + 1 < n ? maps[m + 1] : nullptr, config,
-                 thresholds, threads, bits);
+                 thresholds, shares, threads, bits);
     uint64_t voxels = 0;
     PointSet set = collect_changes(mission, bits, config.resolution, voxels);
     add_mission(out, stats, m, mission, std::move(set), voxels);
@@ -245,13 +307,16 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   // next are decided apart, so one pair of consecutive maps at a time
   // suffices: map m+1 is built while only map m lives, then both missions
   // are marked against each other and map m goes.
+  std::vector<double> shares(n, 0.0);
   std::unique_ptr<OccupancyMap> earlier = build_map(0);
+  shares[0] = one_look_share(missions.missions[0], *earlier, config);
   PointBits earlier_bits = no_bits(missions.missions[0]);
   for (size_t m = 0; m + 1 < n; ++m) {
     std::unique_ptr<OccupancyMap> later = build_map(m + 1);
+    shares[m + 1] = one_look_share(missions.missions[m + 1], *later, config);
     PointBits later_bits = no_bits(missions.missions[m + 1]);
-    mark_changes(missions, m, *earlier, nullptr, later.get(), config, thresholds, threads, earlier_bits);
-    mark_changes(missions, m + 1, *later, earlier.get(), nullptr, config, thresholds, threads, later_bits);
+    mark_changes(missions, m, *earlier, nullptr, later.get(), config, thresholds, shares, threads, earlier_bits);
+    mark_changes(missions, m + 1, *later, earlier.get(), nullptr, config, thresholds, shares, threads, later_bits);
     earlier = std::move(later);  // map m goes
     uint64_t voxels = 0;
     PointSet set = collect_changes(missions.missions[m], earlier_bits, config.resolution, voxels);
@@ -261,6 +326,7 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   uint64_t voxels = 0;
   PointSet set = collect_changes(missions.missions[n - 1], earlier_bits, config.resolution, voxels);
   add_mission(out, stats, n - 1, missions.missions[n - 1], std::move(set), voxels);
+  note_stations(missions, shares, config, thresholds, stats);
   return out;
 }
 
@@ -280,6 +346,7 @@ void record_stats(Context& context, const MissionSet& missions, const std::vecto
       context.record(k + "changed_voxels", static_cast<double>(changes.changed_voxels[m]));
       context.record(k + "seen_free_points", static_cast<double>(changes.seen_free_points[m]));
     }
+    if (m < changes.one_look_share.size()) context.record(k + "one_look_share", changes.one_look_share[m]);
   }
 }
 

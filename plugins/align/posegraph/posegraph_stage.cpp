@@ -134,6 +134,7 @@ JointAlignmentOptions options_from(const PoseGraphConfig& c) {
   o.scan_edges.registration.inlier_distance = sn.inlier_distance;
   o.scan_edges.registration.min_coarse_overlap = 0.6 * cl.min_overlap;
   o.scan_edges.gates = scan_pair_gates(c.registration, cl.min_overlap, cl.max_rmse, sn.max_plane_rmse);
+  o.scan_edges.station_min_overlap = o.global.min_overlap;
   o.scan_edges.sigma_translation = sn.sigma_translation;
   o.scan_edges.sigma_rotation = sn.sigma_rotation * kDeg;
   o.check_scan_disagreement = sn.check_disagreement;
@@ -164,6 +165,7 @@ class PoseGraphStage : public Stage {
     ctx.record("scan_edges", static_cast<double>(report.scan_edges));
     ctx.record("scan_edges_left_out", static_cast<double>(report.scan_edges_left_out));
     ctx.record("scan_map_missions", static_cast<double>(report.scan_map_missions));
+    ctx.record("station_missions", static_cast<double>(report.station_missions));
     if (report.scan_edges > 0) {
       ctx.record("closure_residual_with_scan_edges_m", report.closure_residual_with_scan_edges);
       ctx.record("closure_residual_without_scan_edges_m", report.closure_residual_without_scan_edges);

@@ -54,6 +54,14 @@ std::vector<PoseGraphEdge> scan_edges_with_notes(const MissionSet& set, const st
   if (scan_report.tried > 0)
     ctx.info(std::to_string(scan_report.accepted) + " of " + std::to_string(scan_report.tried) +
              " scan-to-scan registrations accepted after " + clock.elapsed());
+  for (size_t m = 0; m < scan_report.stations.size(); ++m) {
+    if (!scan_report.stations[m]) continue;
+    ++report.station_missions;
+    ctx.info("mission '" + set.missions[m].name + "': its scans stand farther apart than their points reach " +
+             "(stop-and-go stations): a pair is judged on the overlap of whole maps (" +
+             std::to_string(int(std::lround(100.0 * o.scan_edges.station_min_overlap))) + " %), not " +
+             std::to_string(int(std::lround(100.0 * o.scan_edges.gates.min_overlap))) + " %");
+  }
   for (size_t m = 0; m < scan_report.scan_to_map.size(); ++m) {
     if (!scan_report.scan_to_map[m]) continue;
     ++report.scan_map_missions;

@@ -2,6 +2,7 @@
 
 #include <lista/parallel.hpp>
 #include <lista_alignkit/cloud_ops.hpp>
+#include <lista_geometry/stations.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -165,13 +166,21 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   report.scan_to_map.assign(missions, o.map_scans > 1 && o.map_use == MapUse::always);
   report.pairs_tried.assign(missions, 0);
   report.pairs_accepted.assign(missions, 0);
+  report.stations.assign(missions, false);
+  // Stations' pairs are judged as whole maps are (GlobalSearchOptions::
+  // min_overlap): the overlap of the smaller side, at the whole-map bar.
+  ScanEdgeOptions station_options = o;
+  station_options.gates.min_overlap = o.station_min_overlap;
+  station_options.registration.min_coarse_overlap = 0.6 * o.station_min_overlap;
   for (size_t m = 0; m < missions; ++m) {
     // Neighbours are the next scans that hold points: an empty scan (a
     // sensor dropout, a scan io.missions did not read) is stepped over.
     for (size_t s = 0; s < set.missions[m].scans.size(); ++s)
       if (set.missions[m].scans[s].points && !set.missions[m].scans[s].points->empty()) held[m].push_back(s);
     if (report.scan_to_map[m]) continue;
-    edges[m] = scan_to_scan_edges(set.missions[m].scans, held[m], offsets[m], o, threads, stop);
+    report.stations[m] = geometry::scanned_from_stations(set.missions[m]);
+    edges[m] = scan_to_scan_edges(set.missions[m].scans, held[m], offsets[m], report.stations[m] ? station_options : o,
+                                  threads, stop);
     if (stop() && on_cancel) on_cancel();
     report.pairs_tried[m] = edges[m].size();
     report.pairs_accepted[m] = accepted(edges[m]);

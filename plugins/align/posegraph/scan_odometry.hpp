@@ -42,6 +42,10 @@ struct ScanEdgeOptions {
   // RMSE point to point or along the target's planes (scan_pair_gates); a
   // result far from the odometry is a wrong minimum, not a correction.
   RegistrationGates gates;
+  // The overlap gate for a mission of stop-and-go stations (scans farther
+  // apart than their points reach), whose pairs overlap little however
+  // well they fit: the whole-map search's (GlobalSearchOptions::min_overlap).
+  double station_min_overlap = 0.3;
   // Edges constrain x, y and yaw only (PoseGraphEdge::planar): height and
   // level stay the odometry's, which sparse scans do not register better.
   double sigma_translation = 0.005;     // m, horizontal
@@ -57,6 +61,7 @@ struct ScanEdgeReport {
   size_t tried = 0, accepted = 0;  // the edges used: scan to scan, or scan to map where switched
   std::vector<size_t> tried_per_mission, accepted_per_mission;  // by mission index
   std::vector<bool> scan_to_map;                          // by mission: registered onto local maps
+  std::vector<bool> stations;                             // by mission: its pairs judged as stations'
   std::vector<size_t> pairs_tried, pairs_accepted;        // by mission: scan-to-scan, before any switch
 };
 

@@ -55,6 +55,21 @@ Outputs run_stage(const MissionSet& set, BasicContext& ctx, Params params = ligh
 // Two missions around the same hall: the second starts elsewhere on the loop,
 // walks 0.4 m to the side, in its own map frame (offset and turned) and with
 // odometry drift (0.1 deg/m of yaw, 1% scale).
+// A floor with `tries` random boxes for x in [-10, x_max], none on the
+// route (|y| < 2 m) a test drives along x.
+Scene boxes_beside_route(uint32_t seed, double x_max, int tries) {
+  Scene scene;
+  scene.boxes.push_back({{-60, -60, -0.1}, {60, 60, 0}});
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> x_of(-10, x_max), y_of(-12, 12), size(0.2, 1.0), height(0.5, 2.5);
+  for (int i = 0; i < tries; ++i) {
+    const double x = x_of(rng), y = y_of(rng), w = size(rng);
+    if (std::abs(y) < 2.0) continue;
+    scene.boxes.push_back({{x, y, 0}, {x + w, y + size(rng), height(rng)}});
+  }
+  return scene;
+}
+
 MissionSet drifted_pair() {
   const Scene hall = make_hall(kHallX, kHallY, 40, 7);
   const auto truth_a = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
@@ -862,15 +877,7 @@ TEST(ScanEdges, GroundLeftOutTheStepIsStillMeasured) {
 // placed by the odometry, each map would carry its 10 cm and 0.5 degree
 // errors a step into the steps.
 TEST(ScanEdges, ScanToMapMeasuresEveryStep) {
-  Scene scene;
-  scene.boxes.push_back({{-60, -60, -0.1}, {60, 60, 0}});
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> x_of(-10, 30), y_of(-12, 12), size(0.2, 1.0), height(0.5, 2.5);
-  for (int i = 0; i < 60; ++i) {
-    const double x = x_of(rng), y = y_of(rng), w = size(rng);
-    if (std::abs(y) < 2.0) continue;  // not on the route
-    scene.boxes.push_back({{x, y, 0}, {x + w, y + size(rng), height(rng)}});
-  }
+  const Scene scene = boxes_beside_route(11, 30.0, 60);
   std::vector<Eigen::Isometry3d> truth, odometry;
   for (int i = 0; i < 8; ++i) {
     truth.push_back(offset(2.5 * i, 0, 0.7, 0));
@@ -913,6 +920,35 @@ TEST(ScanEdges, ScanToMapMeasuresEveryStep) {
   EXPECT_FALSE(report.scan_to_map[0]);
   EXPECT_EQ(report.tried_per_mission[0], 11u);
   EXPECT_EQ(report.accepted_per_mission[0], report.pairs_accepted[0]);
+}
+
+// Stop-and-go stations (scans farther apart than their points reach) are
+// told from a driving mission by the data alone, and their pairs are
+// judged by the stations' overlap gate: here an unreachable scan-pair gate
+// and an open station gate, so only the stations' pairs pass.
+TEST(ScanEdges, StationsAreJudgedOnTheWholeMapOverlap) {
+  const Scene scene = boxes_beside_route(5, 40.0, 80);
+  std::vector<Eigen::Isometry3d> driving, stations;
+  for (int i = 0; i < 6; ++i) driving.push_back(offset(0.5 * i, 0, 0.7, 0));
+  for (int i = 0; i < 3; ++i) stations.push_back(offset(12.0 * i, 0, 0.7, 0));
+  MissionSet set;
+  set.missions.push_back(make_mission("driving", scene, driving, driving, 3));
+  set.missions.push_back(make_mission("stations", scene, stations, stations, 4));
+  ScanEdgeOptions o;
+  o.neighbours = 1;
+  o.map_use = MapUse::never;
+  o.registration.voxel = 0.1;
+  o.registration.coarse_distance = 1.0;
+  o.gates.min_overlap = 1.01;  // no pair reaches it
+  o.gates.max_rmse = 1.0;
+  o.station_min_overlap = 0.0;
+  o.registration.min_coarse_overlap = 0.0;
+  ScanEdgeReport report;
+  scan_registration_edges(set, {0, 6}, o, 1, report);
+  EXPECT_FALSE(report.stations[0]) << "0.5 m steps: a driving mission";
+  EXPECT_TRUE(report.stations[1]) << "12 m steps, points within about 10 m: stations";
+  EXPECT_EQ(report.accepted_per_mission[0], 0u);
+  EXPECT_GT(report.accepted_per_mission[1], 0u);
 }
 
 // An empty scan (a sensor dropout, a scan io.missions did not read) is
