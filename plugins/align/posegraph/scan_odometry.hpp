@@ -46,6 +46,7 @@ struct ScanEdgeOptions {
   // apart than their points reach), whose pairs overlap little however
   // well they fit: the whole-map search's (GlobalSearchOptions::min_overlap).
   double station_min_overlap = 0.3;
+  bool robust = true;  // under the graph's robust loss
   // Edges constrain x, y and yaw only (PoseGraphEdge::planar): height and
   // level stay the odometry's, which sparse scans do not register better.
   double sigma_translation = 0.005;     // m, horizontal

@@ -925,7 +925,8 @@ TEST(ScanEdges, ScanToMapMeasuresEveryStep) {
 // Stop-and-go stations (scans farther apart than their points reach) are
 // told from a driving mission by the data alone, and their pairs are
 // judged by the stations' overlap gate: here an unreachable scan-pair gate
-// and an open station gate, so only the stations' pairs pass.
+// and an open station gate, so only the stations' pairs pass. Their edges
+// are outside the robust loss (the odometry between stations starts far).
 TEST(ScanEdges, StationsAreJudgedOnTheWholeMapOverlap) {
   const Scene scene = boxes_beside_route(5, 40.0, 80);
   std::vector<Eigen::Isometry3d> driving, stations;
@@ -944,8 +945,9 @@ TEST(ScanEdges, StationsAreJudgedOnTheWholeMapOverlap) {
   o.station_min_overlap = 0.0;
   o.registration.min_coarse_overlap = 0.0;
   ScanEdgeReport report;
-  scan_registration_edges(set, {0, 6}, o, 1, report);
+  const auto edges = scan_registration_edges(set, {0, 6}, o, 1, report);
   EXPECT_FALSE(report.stations[0]) << "0.5 m steps: a driving mission";
+  for (const auto& e : edges) EXPECT_FALSE(e.robust) << "a station's edge is not discounted by the robust loss";
   EXPECT_TRUE(report.stations[1]) << "12 m steps, points within about 10 m: stations";
   EXPECT_EQ(report.accepted_per_mission[0], 0u);
   EXPECT_GT(report.accepted_per_mission[1], 0u);
