@@ -2,6 +2,7 @@
 #include "volumetric_octomap.hpp"
 
 #include <lista_testing/expect_volumetric_params.hpp>
+#include <lista_testing/memory_cap.hpp>
 
 #include <lista/basic_context.hpp>
 #include <lista_raycast/scene_checks.hpp>
@@ -10,11 +11,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <string>
-#include <sys/resource.h>
 
 using namespace lista;
 
@@ -45,22 +44,10 @@ Params defaults() { return Params::defaults(volumetric::volumetric_octomap_info(
 // 5 mm map of the scene; exits 3 with the stage's error on stderr, 0 if
 // there was none.
 [[noreturn]] void build_too_big_a_map() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  rlim_t used = 0;
-  while (std::getline(status, line))
-    if (line.rfind("VmSize:", 0) == 0) used = rlim_t(std::stoull(line.substr(7))) * 1024;
-  const rlimit cap{used + (rlim_t(1) << 30), used + (rlim_t(1) << 30)};
-  setrlimit(RLIMIT_AS, &cap);
+  test_support::cap_address_space(rlim_t(1) << 30);
   Params fine = defaults();
   fine.set("resolution", 0.005);
-  try {
-    run_stage(fine, scene(), 2);
-  } catch (const Error& e) {
-    std::cerr << e.what() << "\n";
-    std::_Exit(3);
-  }
-  std::_Exit(0);
+  test_support::exit_3_on_error([&] { run_stage(fine, scene(), 2); });
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include "volumetric_openvdb.hpp"
 
 #include <lista_testing/expect_volumetric_params.hpp>
+#include <lista_testing/memory_cap.hpp>
 
 #include <lista/basic_context.hpp>
 #include <lista_raycast/scene_checks.hpp>
@@ -15,9 +16,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
-#include <fstream>
 #include <functional>
-#include <sys/resource.h>
 
 using namespace lista;
 
@@ -359,13 +358,7 @@ namespace {
 // at the finest documented resolution with one beam 10 000 km long; exits
 // 3 with the stage's error on stderr, 0 if there was none.
 [[noreturn]] void build_too_big_a_map() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  rlim_t used = 0;
-  while (std::getline(status, line))
-    if (line.rfind("VmSize:", 0) == 0) used = rlim_t(std::stoull(line.substr(7))) * 1024;
-  const rlimit cap{used + (rlim_t(1) << 30), used + (rlim_t(1) << 30)};
-  setrlimit(RLIMIT_AS, &cap);
+  test_support::cap_address_space(rlim_t(1) << 30);
   Params fine = defaults();
   fine.set("resolution", 0.005);
   fine.set("max_range", 0.0);
@@ -376,13 +369,7 @@ namespace {
   pts->scan.push_back(0);
   pts->index.push_back(uint32_t(pts->index.size()));
   far.missions[0].scans[0].points = pts;
-  try {
-    run_stage(volumetric::make_volumetric_openvdb(fine), far, 2);
-  } catch (const Error& e) {
-    std::cerr << e.what() << "\n";
-    std::_Exit(3);
-  }
-  std::_Exit(0);
+  test_support::exit_3_on_error([&] { run_stage(volumetric::make_volumetric_openvdb(fine), far, 2); });
 }
 
 }  // namespace
