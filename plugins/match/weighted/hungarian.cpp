@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <limits>
 
-namespace lista::matching {
+namespace lista::match {
 
 std::vector<int> hungarian(const Eigen::MatrixXd& cost) {
   const int n = static_cast<int>(cost.rows()), m = static_cast<int>(cost.cols());
@@ -79,4 +79,4 @@ std::vector<int> assign_with_gate(const Eigen::MatrixXd& cost,
   return result;
 }
 
-}  // namespace lista::matching
+}  // namespace lista::match

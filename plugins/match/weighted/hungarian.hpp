@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace lista::matching {
+namespace lista::match {
 
 // Minimum-cost assignment of every row of `cost` (rows <= cols) to a distinct
 // column. Returns the column of each row. Costs must be finite.
@@ -20,4 +20,4 @@ std::vector<int> assign_with_gate(const Eigen::MatrixXd& cost,
                                   const Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>& allowed,
                                   double leave);
 
-}  // namespace lista::matching
+}  // namespace lista::match

@@ -13,7 +13,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace lista::matching {
+namespace lista::match {
 
 namespace {
 
@@ -268,6 +268,6 @@ void register_stages(Registrar& r) {
 
 }  // namespace
 
-}  // namespace lista::matching
+}  // namespace lista::match
 
-LISTA_PLUGIN(lista::matching::register_stages)
+LISTA_PLUGIN(lista::match::register_stages)

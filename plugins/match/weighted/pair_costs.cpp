@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-namespace lista::matching {
+namespace lista::match {
 namespace {
 
 // Scales the entries of `d` where `mask` holds, as configured: minmax over
@@ -119,4 +119,4 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
   return pc;
 }
 
-}  // namespace lista::matching
+}  // namespace lista::match

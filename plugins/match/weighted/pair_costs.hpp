@@ -9,7 +9,7 @@
 
 #include <vector>
 
-namespace lista::matching {
+namespace lista::match {
 
 using BoolMatrix = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
 
@@ -33,4 +33,4 @@ PairCosts pair_costs(const std::vector<const Object*>& a, const std::vector<cons
                      double desc_scale, const PairFit& fit, const std::vector<bool>& a_changed,
                      const std::vector<bool>& b_changed);
 
-}  // namespace lista::matching
+}  // namespace lista::match

@@ -6,7 +6,7 @@
 #include <numeric>
 #include <random>
 
-using namespace lista::matching;
+using namespace lista::match;
 
 namespace {
 double total(const Eigen::MatrixXd& c, const std::vector<int>& a) {

@@ -13,7 +13,7 @@
 #include <random>
 
 using namespace lista;
-using namespace lista::matching;
+using namespace lista::match;
 
 namespace {
 

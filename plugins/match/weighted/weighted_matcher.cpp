@@ -13,7 +13,7 @@
 #include <numeric>
 #include <unordered_set>
 
-namespace lista::matching {
+namespace lista::match {
 
 namespace {
 
@@ -283,4 +283,4 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
   return out;
 }
 
-}  // namespace lista::matching
+}  // namespace lista::match

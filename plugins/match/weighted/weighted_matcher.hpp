@@ -59,7 +59,7 @@
 #include <utility>
 #include <vector>
 
-namespace lista::matching {
+namespace lista::match {
 
 enum class Normalization { max, minmax };  // see "Normalisation" above
 enum class GroupMode { soft, hard, ignore };
@@ -108,4 +108,4 @@ Matches match_weighted(const ObjectSet& objects, const DescriptorSet& descriptor
                        const Groups* groups, const WeightedMatchConfig& cfg,
                        std::string* warning = nullptr, const PairFit& fit = {});
 
-}  // namespace lista::matching
+}  // namespace lista::match
