@@ -63,9 +63,10 @@ TEST(DescribeText, EveryPluginIsAShortSummaryPointingAtItsDocs) {
     ASSERT_TRUE(std::regex_search(doc, m, pointer)) << "no docs/ pointer in: " << doc;
     const fs::path page = e2e::source(m[1].str());
     ASSERT_TRUE(fs::is_regular_file(page)) << m[1].str() << " does not exist";
-    if (m[3].matched)
+    if (m[3].matched) {
       EXPECT_TRUE(has_heading_containing(e2e::read_file(page), m[3].str()))
           << m[1].str() << " has no heading \"" << m[3].str() << "\"";
+    }
     // Version history belongs in CHANGELOG.md, not in what --describe prints.
     EXPECT_FALSE(std::regex_search(doc, version)) << doc;
     for (const auto& p : info.value("params", nlohmann::json::array()))

@@ -225,9 +225,11 @@ TEST_F(Probes, CtrlCDuringEachStageCancelsCleanly) {
       EXPECT_EQ(status, 0);
       EXPECT_TRUE(fs::exists(out / "report.json"));
     }
-    if (fs::exists(out))
-      for (const auto& e : fs::directory_iterator(out))
+    if (fs::exists(out)) {
+      for (const auto& e : fs::directory_iterator(out)) {
         EXPECT_EQ(e.path().filename().string().find(".tmp."), std::string::npos) << e.path();
+      }
+    }
   }
   EXPECT_GE(cancelled + 2, stages.size()) << "all but the last stages' signals cancel the run";
 }

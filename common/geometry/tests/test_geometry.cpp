@@ -58,7 +58,7 @@ TEST(BoxGap, ZeroWhenTouchingElseTheDistanceBetweenBoxes) {
 }  // namespace
 
 TEST(VoxelKey, UnpacksToTheVoxelItWasPackedFromAndSortsByXThenYThenZ) {
-  for (const Eigen::Vector3i v : {Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(-3, 7, -1),
+  for (const Eigen::Vector3i& v : {Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(-3, 7, -1),
                                   Eigen::Vector3i(1000000, -1000000, 12)})
     EXPECT_EQ(lista::geometry::voxel_of_key(lista::geometry::voxel_key(v)), v);
   EXPECT_LT(lista::geometry::voxel_key({-1, 5, 5}), lista::geometry::voxel_key({0, -5, -5}));
