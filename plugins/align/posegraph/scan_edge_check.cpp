@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 namespace lista::align {
 
@@ -42,6 +43,35 @@ std::vector<char> missions_to_blame(double residual_with_all, const std::vector<
   return blame;
 }
 
+bool at_one_place(const Mission& mission) {
+  for (const Scan& s : mission.scans)
+    if ((s.pose.translation() - mission.scans.front().pose.translation()).norm() > 0.01) return false;
+  return true;
+}
+
+std::string unlinked_stations_warning(const Mission& mission, size_t offset, const std::vector<PoseGraphEdge>& edges) {
+  std::vector<size_t> held, group(mission.scans.size());
+  for (size_t s = 0; s < mission.scans.size(); ++s) {
+    group[s] = s;
+    if (mission.scans[s].points && !mission.scans[s].points->empty()) held.push_back(s);
+  }
+  auto root = [&](size_t s) {
+    while (group[s] != s) s = group[s] = group[group[s]];
+    return s;
+  };
+  for (const PoseGraphEdge& e : edges)
+    if (e.from >= offset && e.to >= offset && e.from - offset < group.size() && e.to - offset < group.size())
+      group[root(e.from - offset)] = root(e.to - offset);
+  std::set<size_t> parts;
+  for (size_t s : held) parts.insert(root(s));
+  if (parts.size() <= 1) return "";
+  return "mission '" + mission.name + "' (stop-and-go stations): its " + std::to_string(held.size()) +
+         " stations fall into " + std::to_string(parts.size()) +
+         " groups that no registration links, so they stand where poses.txt puts them; if poses.txt does not "
+         "place the stations (a terrestrial scanner's stations all at the origin), the changes will be wrong: "
+         "give registered station poses, or put each station in a mission of its own";
+}
+
 std::vector<PoseGraphEdge> scan_edges_with_notes(const MissionSet& set, const std::vector<size_t>& offsets,
                                                  const JointAlignmentOptions& o, Context& ctx,
                                                  JointAlignmentReport& report, ScanEdgeReport& scan_report,
@@ -55,6 +85,11 @@ std::vector<PoseGraphEdge> scan_edges_with_notes(const MissionSet& set, const st
     ctx.info(std::to_string(scan_report.accepted) + " of " + std::to_string(scan_report.tried) +
              " scan-to-scan registrations accepted after " + clock.elapsed());
   for (size_t m = 0; m < scan_report.stations.size(); ++m) {
+    // Scans all at one place (poses.txt all the same: a terrestrial
+    // scanner's stations often come so) are checked as stations are.
+    if ((scan_report.stations[m] || at_one_place(set.missions[m])) && set.missions[m].scans.size() > 1)
+      if (const std::string w = unlinked_stations_warning(set.missions[m], offsets[m], scan_edges); !w.empty())
+        ctx.warn(w);
     if (!scan_report.stations[m]) continue;
     ++report.station_missions;
     ctx.info("mission '" + set.missions[m].name + "': its scans stand farther apart than their points reach " +

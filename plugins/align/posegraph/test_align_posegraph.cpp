@@ -953,6 +953,29 @@ TEST(ScanEdges, StationsAreJudgedOnTheWholeMapOverlap) {
   EXPECT_GT(report.accepted_per_mission[1], 0u);
 }
 
+// Stations that no registration links stand where poses.txt puts them:
+// said, naming the mission, when the pairs leave them in several groups.
+TEST(ScanEdges, UnlinkedStationsAreSaid) {
+  Mission m;
+  m.name = "tls";
+  m.scans.resize(3);
+  auto one_point = std::make_shared<PointSet>();
+  one_point->xyz.emplace_back(1.f, 0.f, 0.f);
+  for (auto& s : m.scans) s.points = one_point;
+  EXPECT_TRUE(at_one_place(m)) << "no poses: every station at the origin";
+  PoseGraphEdge e;
+  e.from = 10;  // graph nodes of this mission start at 10
+  e.to = 11;
+  const std::string w = unlinked_stations_warning(m, 10, {e});
+  EXPECT_NE(w.find("mission 'tls' (stop-and-go stations): its 3 stations fall into 2 groups"), std::string::npos) << w;
+  PoseGraphEdge f = e;
+  f.from = 11;
+  f.to = 12;
+  EXPECT_EQ(unlinked_stations_warning(m, 10, {e, f}), "");
+  m.scans[1].pose.translation().x() = 12.0;
+  EXPECT_FALSE(at_one_place(m));
+}
+
 // An empty scan (a sensor dropout, a scan io.missions did not read) is
 // stepped over: its neighbours register onto each other, and nothing is
 // tried with it.
