@@ -26,6 +26,10 @@ struct JointAlignmentOptions {
   // the linked missions' maps (global_search.hpp) unless this is off.
   bool global_search = true;
   GlobalSearchOptions global;
+  // Per mission: a station cut from a mission without poses
+  // (unposed_stations.hpp). Between two such, a whole-map placement that
+  // replaces the closures' is routine, said in an info line, not a warning.
+  std::vector<char> unposed_station;
   PoseGraphOptions graph;
   ScanEdgeOptions scan_edges;
   double odometry_sigma_translation = 0.02;  // m per consecutive-scan edge

@@ -124,7 +124,11 @@ std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set,
                   list.size(), set.missions[pair.first].name.c_str(), set.missions[pair.second].name.c_str(),
                   rotation_angle(better->reference_T_query.linear().transpose() * incumbent.linear()) * 180.0 / M_PI,
                   100.0 * better->plan_score, 100.0 * better->incumbent_plan_score);
-    ctx.warn(text);
+    const auto& unposed = o.unposed_station;
+    if (pair.second < unposed.size() && unposed[pair.first] && unposed[pair.second])
+      ctx.info(text);
+    else
+      ctx.warn(text);
   }
   return replaced;
 }

@@ -3,6 +3,7 @@
 #include "posegraph_stage.hpp"
 
 #include "joint_alignment.hpp"
+#include "unposed_stations.hpp"
 
 #include <lista/lista.hpp>
 #include <lista/param_table.hpp>
@@ -151,7 +152,16 @@ class PoseGraphStage : public Stage {
     const auto& missions = in.get<MissionSet>("missions");
     if (const auto before = trajectory_error(missions)) ctx.record("ate_before_m", before->rmse);
     JointAlignmentReport report;
-    MissionSet aligned = align_missions(missions, options_, ctx, report);
+    // Stations without poses are placed one by one, then joined back.
+    const StationSplit split = split_unposed_stations(missions);
+    for (const std::string& name : split.split)
+      ctx.info("mission '" + name + "': poses.txt puts every scan at one place, so each is placed as a station of "
+               "its own and joined back");
+    JointAlignmentOptions options = options_;
+    for (const auto& [m, s] : split.from) options.unposed_station.push_back(s != kWholeMission);
+    MissionSet aligned =
+        split.split.empty() ? align_missions(missions, options, ctx, report)
+                            : join_stations(missions, split, align_missions(split.set, options, ctx, report));
     level_common_frame(aligned, level_max_tilt_, ctx);
     ctx.record("keyframes", static_cast<double>(report.keyframes));
     ctx.record("submap_distance_m", report.submap_distance);

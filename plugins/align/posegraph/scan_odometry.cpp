@@ -183,7 +183,7 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
     for (size_t s = 0; s < set.missions[m].scans.size(); ++s)
       if (set.missions[m].scans[s].points && !set.missions[m].scans[s].points->empty()) held[m].push_back(s);
     if (report.scan_to_map[m]) continue;
-    report.stations[m] = geometry::scanned_from_stations(set.missions[m]);
+    report.stations[m] = held[m].size() > 1 && geometry::scanned_from_stations(set.missions[m]);
     edges[m] = scan_to_scan_edges(set.missions[m].scans, held[m], offsets[m], report.stations[m] ? station_options : o,
                                   threads, stop);
     if (stop() && on_cancel) on_cancel();

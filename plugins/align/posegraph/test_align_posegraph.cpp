@@ -5,6 +5,7 @@
 #include "posegraph_stage.hpp"
 #include "scan_context.hpp"
 #include "scan_odometry.hpp"
+#include "unposed_stations.hpp"
 
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>
@@ -974,6 +975,38 @@ TEST(ScanEdges, UnlinkedStationsAreSaid) {
   EXPECT_EQ(unlinked_stations_warning(m, 10, {e, f}), "");
   m.scans[1].pose.translation().x() = 12.0;
   EXPECT_FALSE(at_one_place(m));
+}
+
+// A mission whose poses.txt puts every scan at one place is cut into one
+// station per mission for the alignment and joined back: its frame is its
+// first station's, its scan poses where the stations were placed.
+TEST(UnposedStations, AreCutIntoStationsAndJoinedBack) {
+  MissionSet set;
+  Mission unposed;
+  unposed.name = "tls";
+  unposed.scans.resize(3);
+  auto pts = std::make_shared<PointSet>();
+  pts->xyz.emplace_back(1.f, 0.f, 0.f);
+  for (auto& s : unposed.scans) s.points = pts;
+  Mission driving = unposed;
+  driving.name = "robot";
+  for (size_t i = 0; i < 3; ++i) driving.scans[i].pose = offset(0.5 * double(i), 0, 0, 0);
+  set.missions = {driving, unposed};
+  const StationSplit split = split_unposed_stations(set);
+  ASSERT_EQ(split.set.missions.size(), 4u);
+  EXPECT_EQ(split.split, std::vector<std::string>{"tls"});
+  EXPECT_EQ(split.set.missions[0].scans.size(), 3u) << "a mission with poses is kept whole";
+  EXPECT_EQ(split.set.missions[2].name, "tls/station 2");
+  MissionSet aligned = split.set;  // as the alignment would place them
+  aligned.missions[0].to_common = offset(1, 0, 0, 0);
+  for (size_t k = 0; k < 3; ++k) aligned.missions[1 + k].to_common = offset(10.0 * double(k), 5, 0, 30.0 * double(k));
+  const MissionSet joined = join_stations(set, split, aligned);
+  ASSERT_EQ(joined.missions.size(), 2u);
+  EXPECT_TRUE(joined.missions[0].to_common.isApprox(offset(1, 0, 0, 0)));
+  for (size_t k = 0; k < 3; ++k)
+    EXPECT_TRUE(joined.missions[1].sensor_to_common(k).isApprox(aligned.missions[1 + k].sensor_to_common(0), 1e-9))
+        << "station " << k;
+  EXPECT_TRUE(joined.missions[1].scans[0].pose.isApprox(Eigen::Isometry3d::Identity(), 1e-9));
 }
 
 // An empty scan (a sensor dropout, a scan io.missions did not read) is
