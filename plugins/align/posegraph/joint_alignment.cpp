@@ -105,6 +105,7 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   g.within.insert(g.within.end(), scan_edges.begin(), scan_edges.end());
   const std::vector<Closure> closures = solve_and_refine(set, found, o, ctx, report, clock, g);
   report.final_closures = closures.size();
+  report.linked = linked_to_first(set.missions.size(), found.keyframes, closures);
   if (o.check_scan_disagreement && !scan_edges.empty() && !closures.empty())
     vet_scan_edges(set, found.keyframes, closures, scan_edges, scan_report, odometry_only, o, ctx, report, g);
   return with_graph_poses(set, g);

@@ -73,7 +73,8 @@ std::vector<std::string> unpinned_placements(const MissionSet& set, const std::v
   return out;
 }
 
-// Missions linked to the first through inter-mission closures.
+}  // namespace
+
 std::vector<char> linked_to_first(size_t missions, const std::vector<Keyframe>& kf,
                                   const std::vector<Closure>& closures) {
   std::vector<std::vector<size_t>> links(missions);
@@ -85,6 +86,8 @@ std::vector<char> linked_to_first(size_t missions, const std::vector<Keyframe>& 
   }
   return reachable_from_first(links);
 }
+
+namespace {
 
 // Mission pairs linked by fewer than check_below closures are checked on
 // their whole maps: two or three closures can agree on a half-turned fit of

@@ -31,4 +31,8 @@ std::vector<Eigen::Isometry3d> initial_transforms(const MissionSet& set, const s
                                                   const std::vector<Closure>& closures,
                                                   const JointAlignmentReport& report);
 
+// Missions linked to the first through inter-mission closures.
+std::vector<char> linked_to_first(size_t missions, const std::vector<Keyframe>& kf,
+                                  const std::vector<Closure>& closures);
+
 }  // namespace lista::align

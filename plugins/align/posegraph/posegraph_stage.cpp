@@ -162,6 +162,7 @@ class PoseGraphStage : public Stage {
     MissionSet aligned =
         split.split.empty() ? align_missions(missions, options, ctx, report)
                             : join_stations(missions, split, align_missions(split.set, options, ctx, report));
+    for (const std::string& w : unplaced_stations_warnings(missions, split, report.linked)) ctx.warn(w);
     level_common_frame(aligned, level_max_tilt_, ctx);
     ctx.record("keyframes", static_cast<double>(report.keyframes));
     ctx.record("submap_distance_m", report.submap_distance);

@@ -1007,6 +1007,13 @@ TEST(UnposedStations, AreCutIntoStationsAndJoinedBack) {
     EXPECT_TRUE(joined.missions[1].sensor_to_common(k).isApprox(aligned.missions[1 + k].sensor_to_common(0), 1e-9))
         << "station " << k;
   EXPECT_TRUE(joined.missions[1].scans[0].pose.isApprox(Eigen::Isometry3d::Identity(), 1e-9));
+  // Stations the final closures leave unlinked to the first mission are said.
+  EXPECT_TRUE(unplaced_stations_warnings(set, split, {1, 1, 1, 1}).empty());
+  const auto w = unplaced_stations_warnings(set, split, {1, 1, 0, 1});
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("mission 'tls' (stations without poses): 1 of its 3 stations could not be placed"),
+            std::string::npos)
+      << w[0];
 }
 
 // An empty scan (a sensor dropout, a scan io.missions did not read) is

@@ -50,4 +50,23 @@ MissionSet join_stations(const MissionSet& original, const StationSplit& split, 
   return out;
 }
 
+std::vector<std::string> unplaced_stations_warnings(const MissionSet& original, const StationSplit& split,
+                                                    const std::vector<char>& linked) {
+  std::vector<size_t> unplaced(original.missions.size(), 0), stations(original.missions.size(), 0);
+  for (size_t k = 0; k < split.from.size(); ++k) {
+    const auto [m, s] = split.from[k];
+    if (s == kWholeMission) continue;
+    ++stations[m];
+    if (k >= linked.size() || !linked[k]) ++unplaced[m];
+  }
+  std::vector<std::string> out;
+  for (size_t m = 0; m < original.missions.size(); ++m)
+    if (unplaced[m] > 0)
+      out.push_back("mission '" + original.missions[m].name + "' (stations without poses): " +
+                    std::to_string(unplaced[m]) + " of its " + std::to_string(stations[m]) +
+                    " stations could not be placed by registering them with the others, so the mission's map and "
+                    "its changes are wrong; give registered station poses in poses.txt");
+  return out;
+}
+
 }  // namespace lista::align

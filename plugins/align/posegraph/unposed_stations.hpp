@@ -8,6 +8,7 @@
 #include <lista/missions.hpp>
 
 #include <cstddef>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -29,5 +30,11 @@ StationSplit split_unposed_stations(const MissionSet& missions);
 // mission's frame is its first station's, its scan poses the stations'
 // placements in it.
 MissionSet join_stations(const MissionSet& original, const StationSplit& split, const MissionSet& aligned);
+
+// One warning per cut mission some of whose stations the final closures
+// do not link to the first mission (`linked`, per mission of split.set):
+// those were placed by no registration and stand nowhere in particular.
+std::vector<std::string> unplaced_stations_warnings(const MissionSet& original, const StationSplit& split,
+                                                    const std::vector<char>& linked);
 
 }  // namespace lista::align
