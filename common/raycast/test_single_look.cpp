@@ -106,22 +106,27 @@ TEST(SingleLook, AtAFootTheSpaceLevelWithThePointIsAsked) {
   EXPECT_EQ(raycast::detect_changes(missions, {&a, &b}, config, 1).sets[0].size(), 1u);
 }
 
-// Many scans a mission: the default threshold needs more than one look,
-// and the rule does not apply (their results stay as they were).
+// Many scans a mission, not stations (every scan at the origin): the
+// default threshold needs more than one look and one hit against one miss
+// is no change. A threshold given under prob_hit - prob_miss lets one look
+// pass, and then the miss must have gone through the surface too.
 TEST(SingleLook, OnlyWhereOneHitAgainstOneMissPasses) {
-  raycast::VolumetricConfig c;
-  MissionSet many;
-  for (const char* name : {"A", "B"}) {
-    Mission m;
-    m.name = name;
-    m.scans.resize(5);
-    many.missions.push_back(m);
-  }
-  EXPECT_FALSE(raycast::pair_thresholds(many, c).single_look[0]);
-  EXPECT_TRUE(raycast::pair_thresholds(two_stations(), c).single_look[0]);
-  c.change_threshold = 0.24;
-  c.change_threshold_given = true;
-  EXPECT_TRUE(raycast::pair_thresholds(many, c).single_look[0]) << "a threshold one look passes makes every pair single-look";
+  raycast::VolumetricConfig config;
+  config.resolution = 1.0;
+  config.neighbourhood = 0;
+  MissionSet many = two_stations();
+  for (Mission& m : many.missions) m.scans.resize(5, m.scans[0]);
+  GivenMap a;
+  a.set(5, 0, 0, hit);
+  GivenMap b;
+  b.set(5, 0, 0, miss);
+  b.set(6, 0, 0, miss);
+  EXPECT_EQ(raycast::detect_changes(many, {&a, &b}, config, 1).sets[0].size(), 0u) << "one look among many scans";
+  config.change_threshold = 0.24;
+  config.change_threshold_given = true;
+  EXPECT_EQ(raycast::detect_changes(many, {&a, &b}, config, 1).sets[0].size(), 5u) << "every scan's point";
+  b.cells.erase({6, 0, 0});
+  EXPECT_EQ(raycast::detect_changes(many, {&a, &b}, config, 1).sets[0].size(), 0u) << "a skimming look";
 }
 
 // A mission of stations has most of its points in voxels one scan saw:

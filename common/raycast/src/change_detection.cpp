@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <omp.h>
 
@@ -32,7 +31,6 @@ PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfi
     const size_t na = a.scans.size(), nb = b.scans.size();
     const double best = std::max(most(na) - least(nb), most(nb) - least(na));
     out.value.push_back(c.change_threshold);
-    out.single_look.push_back(c.prob_hit - c.prob_miss > c.change_threshold);
     if (best > c.change_threshold) continue;
     char text[480];
     if (c.change_threshold_given) {
@@ -49,7 +47,6 @@ PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfi
     // saw the voxel occupied and every scan of the other saw it free (one
     // scan each: one hit against one miss, nothing else observed it).
     out.value.back() = best - kStrongestEvidenceSlack;
-    out.single_look.back() = true;
     std::snprintf(text, sizeof text,
                   "missions '%s' (%zu scan%s) and '%s' (%zu scan%s) are too few scans for change_threshold %.2f: "
                   "a voxel every scan of one saw occupied and every scan of the other saw free is change "
@@ -72,8 +69,7 @@ struct Decider {
   const VolumetricConfig& c;
   float occupied_logodds;
   double threshold_previous, threshold_next;  // change_threshold of each pair (pair_thresholds)
-  bool single_look_previous, single_look_next;  // PairThresholds::single_look of each pair
-  bool one_look_previous, one_look_next;  // both missions of the pair are stations (one_look_share)
+  bool one_look_previous, one_look_next;  // both missions of the pair are stations (one_look_pair)
   float hit_once, miss_once;              // log-odds of one hit, of one miss
 
   // True if no voxel within the neighbourhood of v is occupied in `other`.
@@ -122,18 +118,19 @@ struct Decider {
     float l_own;
     if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return 0;
     const double p_own = probability(l_own);
-    auto against = [&](OccupancyReader* other, double threshold, bool single_look, bool one_look) {
+    auto against = [&](OccupancyReader* other, double threshold, bool one_look) {
       float l_other;
       if (!other || !other->logodds(v, l_other)) return false;  // unobserved there: unknown, not change
       const bool looked_once = std::abs(l_own - hit_once) < 1e-4f && std::abs(l_other - miss_once) < 1e-4f;
       if (p_own - probability(l_other) <= threshold && !(one_look && looked_once)) return false;
-      if ((single_look || one_look) && looked_once && !seen_behind(*other, v, p, origin)) return false;
+      // One hit against one miss, however it passed: the miss must have
+      // gone through the surface.
+      if (looked_once && !seen_behind(*other, v, p, origin)) return false;
       return clear_around(*other, v);
     };
-    const uint8_t bits = uint8_t(
-        (against(previous, threshold_previous, single_look_previous, one_look_previous) ? changed_against_previous
-                                                                                         : 0) |
-        (against(next, threshold_next, single_look_next, one_look_next) ? changed_against_next : 0));
+    const uint8_t bits =
+        uint8_t((against(previous, threshold_previous, one_look_previous) ? changed_against_previous : 0) |
+                (against(next, threshold_next, one_look_next) ? changed_against_next : 0));
     return bits && own.seen_free(v) ? uint8_t(bits | seen_free_in_own_mission) : bits;
   }
 };
@@ -166,28 +163,39 @@ double one_look_share(const Mission& mission, const OccupancyMap& map, const Vol
 
 namespace {
 
+// Per mission: scanned from stations (lista_geometry/stations.hpp), once.
+std::vector<char> stations_of(const MissionSet& missions) {
+  std::vector<char> out;
+  for (const Mission& m : missions.missions) out.push_back(geometry::scanned_from_stations(m));
+  return out;
+}
+
+// How each mission was looked at: its one_look_share (filled as its map is
+// built) and whether it was scanned from stations.
+struct Looks {
+  std::vector<double> share;
+  std::vector<char> stations;
+  explicit Looks(const MissionSet& missions) : share(missions.missions.size(), 0.0), stations(stations_of(missions)) {}
+};
+
 // Both missions scanned from stations whose points mostly got one look, and
 // no change_threshold given: one hit against one miss is evidence.
-bool one_look_pair(const MissionSet& missions, const std::vector<double>& shares, const VolumetricConfig& config,
-                   size_t a, size_t b) {
-  return !config.change_threshold_given && shares[a] > kStationShare && shares[b] > kStationShare &&
-         geometry::scanned_from_stations(missions.missions[a]) && geometry::scanned_from_stations(missions.missions[b]);
+bool one_look_pair(const Looks& looks, const VolumetricConfig& config, size_t a, size_t b) {
+  return !config.change_threshold_given && looks.stations[a] && looks.stations[b] &&
+         looks.share[a] > kStationShare && looks.share[b] > kStationShare;
 }
 
 // ORs into `bits` what mission m (map `own_map`) changed against
 // `previous_map` and / or `next_map` (either may be null).
 void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_map,
                   const OccupancyMap* previous_map, const OccupancyMap* next_map, const VolumetricConfig& config,
-                  const PairThresholds& thresholds, const std::vector<double>& shares, int threads, PointBits& bits) {
+                  const PairThresholds& thresholds, const Looks& looks, int threads, PointBits& bits) {
   const Mission& mission = missions.missions[m];
-  auto stations = [&](size_t a, size_t b) { return one_look_pair(missions, shares, config, a, b); };
   const Decider decide{config, logodds(config.occupied_threshold),
                        m > 0 ? thresholds.value[m - 1] : config.change_threshold,
                        m < thresholds.value.size() ? thresholds.value[m] : config.change_threshold,
-                       m > 0 && thresholds.single_look[m - 1],
-                       m < thresholds.single_look.size() && thresholds.single_look[m],
-                       m > 0 && stations(m - 1, m),
-                       m + 1 < missions.missions.size() && stations(m, m + 1),
+                       m > 0 && one_look_pair(looks, config, m - 1, m),
+                       m + 1 < missions.missions.size() && one_look_pair(looks, config, m, m + 1),
                        logodds(config.prob_hit), logodds(config.prob_miss)};
   const double inv_res = 1.0 / config.resolution;
 #pragma omp parallel num_threads(std::max(1, threads))
@@ -253,13 +261,14 @@ void add_mission(MissionPoints& out, ChangeStats* stats, size_t m, const Mission
 // The pairs taken as stations, in ChangeStats: the share of each mission,
 // and a note for each pair the one-look rule applies to (one-scan pairs
 // have pair_thresholds' note already).
-void note_stations(const MissionSet& missions, const std::vector<double>& shares, const VolumetricConfig& config,
+void note_stations(const MissionSet& missions, const Looks& looks, const VolumetricConfig& config,
                    const PairThresholds& thresholds, ChangeStats* stats) {
   if (!stats) return;
-  stats->one_look_share = shares;
-  if (config.change_threshold_given) return;
+  stats->one_look_share = looks.share;
+  const auto& shares = looks.share;
   for (size_t m = 0; m + 1 < shares.size(); ++m) {
-    if (!one_look_pair(missions, shares, config, m, m + 1) || thresholds.single_look[m]) continue;
+    const bool lowered = thresholds.value[m] < config.change_threshold;  // pair_thresholds said so already
+    if (!one_look_pair(looks, config, m, m + 1) || lowered) continue;
     char text[400];
     std::snprintf(text, sizeof text,
                   "missions '%s' and '%s' were scanned from stations (%.0f %% and %.0f %% of their points lie in "
@@ -280,14 +289,14 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
   if (maps.size() != n) throw Error("detect_changes: one map per mission expected");
   MissionPoints out;
   if (stats) *stats = ChangeStats(n);
-  std::vector<double> shares(n);
-  for (size_t m = 0; m < n; ++m) shares[m] = one_look_share(missions.missions[m], *maps[m], config);
-  note_stations(missions, shares, config, thresholds, stats);
+  Looks looks(missions);
+  for (size_t m = 0; m < n; ++m) looks.share[m] = one_look_share(missions.missions[m], *maps[m], config);
+  note_stations(missions, looks, config, thresholds, stats);
   for (size_t m = 0; m < n; ++m) {
     const Mission& mission = missions.missions[m];
     PointBits bits = no_bits(mission);
     mark_changes(missions, m, *maps[m], m > 0 ? maps[m - 1] : nullptr, m + 1 < n ? maps[m + 1] : nullptr, config,
-                 thresholds, shares, threads, bits);
+                 thresholds, looks, threads, bits);
     uint64_t voxels = 0;
     PointSet set = collect_changes(mission, bits, config.resolution, voxels);
     add_mission(out, stats, m, mission, std::move(set), voxels);
@@ -307,16 +316,16 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   // next are decided apart, so one pair of consecutive maps at a time
   // suffices: map m+1 is built while only map m lives, then both missions
   // are marked against each other and map m goes.
-  std::vector<double> shares(n, 0.0);
+  Looks looks(missions);
   std::unique_ptr<OccupancyMap> earlier = build_map(0);
-  shares[0] = one_look_share(missions.missions[0], *earlier, config);
+  looks.share[0] = one_look_share(missions.missions[0], *earlier, config);
   PointBits earlier_bits = no_bits(missions.missions[0]);
   for (size_t m = 0; m + 1 < n; ++m) {
     std::unique_ptr<OccupancyMap> later = build_map(m + 1);
-    shares[m + 1] = one_look_share(missions.missions[m + 1], *later, config);
+    looks.share[m + 1] = one_look_share(missions.missions[m + 1], *later, config);
     PointBits later_bits = no_bits(missions.missions[m + 1]);
-    mark_changes(missions, m, *earlier, nullptr, later.get(), config, thresholds, shares, threads, earlier_bits);
-    mark_changes(missions, m + 1, *later, earlier.get(), nullptr, config, thresholds, shares, threads, later_bits);
+    mark_changes(missions, m, *earlier, nullptr, later.get(), config, thresholds, looks, threads, earlier_bits);
+    mark_changes(missions, m + 1, *later, earlier.get(), nullptr, config, thresholds, looks, threads, later_bits);
     earlier = std::move(later);  // map m goes
     uint64_t voxels = 0;
     PointSet set = collect_changes(missions.missions[m], earlier_bits, config.resolution, voxels);
@@ -326,7 +335,7 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   uint64_t voxels = 0;
   PointSet set = collect_changes(missions.missions[n - 1], earlier_bits, config.resolution, voxels);
   add_mission(out, stats, n - 1, missions.missions[n - 1], std::move(set), voxels);
-  note_stations(missions, shares, config, thresholds, stats);
+  note_stations(missions, looks, config, thresholds, stats);
   return out;
 }
 

@@ -76,14 +76,6 @@ void check_missions(const MissionSet& missions);
 // warning says the pair can show no change.
 struct PairThresholds {
   std::vector<double> value;
-  // single_look[m]: one hit against one miss passes the pair's threshold
-  // (one-scan missions, or a change_threshold given under prob_hit -
-  // prob_miss). Such a miss counts only where the other mission also saw
-  // free the space just behind the point (along its own beam): a beam that
-  // skimmed a surface it could not see into (a box's top from afar, a
-  // crate's side at a grazing angle) crosses the surface's voxel, never its
-  // inside.
-  std::vector<bool> single_look;
   std::vector<std::string> notes, warnings;
 };
 inline constexpr double kStrongestEvidenceSlack = 0.01;
