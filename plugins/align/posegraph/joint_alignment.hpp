@@ -77,12 +77,10 @@ bool scan_edges_disagree(double residual_with, double residual_without, double r
 // outdoors, on correct poses), and poses that do not belong to the scans.
 std::string scan_edges_warning(const std::string& mission, size_t accepted, size_t tried);
 
-// The warning for a mission of stations (or of scans that poses.txt puts
-// all at one place) whose registered pairs (`edges`, graph nodes from
-// `offset`) leave some stations unlinked to the rest ("" when all are
-// linked): those stand where poses.txt puts them.
+// The warning for a mission of stations whose registered pairs (`edges`,
+// graph nodes from `offset`) leave some stations unlinked to the rest (""
+// when all are linked): those stand where poses.txt puts them.
 std::string unlinked_stations_warning(const Mission& mission, size_t offset, const std::vector<PoseGraphEdge>& edges);
-bool at_one_place(const Mission& mission);
 
 // The missions whose scan-to-scan edges, left out for disagreeing with the
 // closures, are tried again onto local maps (ScanEdgeOptions::map_scans):

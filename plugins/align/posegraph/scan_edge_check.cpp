@@ -43,12 +43,6 @@ std::vector<char> missions_to_blame(double residual_with_all, const std::vector<
   return blame;
 }
 
-bool at_one_place(const Mission& mission) {
-  for (const Scan& s : mission.scans)
-    if ((s.pose.translation() - mission.scans.front().pose.translation()).norm() > 0.01) return false;
-  return true;
-}
-
 std::string unlinked_stations_warning(const Mission& mission, size_t offset, const std::vector<PoseGraphEdge>& edges) {
   std::vector<size_t> held, group(mission.scans.size());
   for (size_t s = 0; s < mission.scans.size(); ++s) {
@@ -67,9 +61,8 @@ std::string unlinked_stations_warning(const Mission& mission, size_t offset, con
   if (parts.size() <= 1) return "";
   return "mission '" + mission.name + "' (stop-and-go stations): its " + std::to_string(held.size()) +
          " stations fall into " + std::to_string(parts.size()) +
-         " groups that no registration links, so they stand where poses.txt puts them; if poses.txt does not "
-         "place the stations (a terrestrial scanner's stations all at the origin), the changes will be wrong: "
-         "give registered station poses, or put each station in a mission of its own";
+         " groups that no registration links, so they stand where poses.txt puts them; where poses.txt is only "
+         "roughly right, so are the changes";
 }
 
 std::vector<PoseGraphEdge> scan_edges_with_notes(const MissionSet& set, const std::vector<size_t>& offsets,
@@ -85,12 +78,9 @@ std::vector<PoseGraphEdge> scan_edges_with_notes(const MissionSet& set, const st
     ctx.info(std::to_string(scan_report.accepted) + " of " + std::to_string(scan_report.tried) +
              " scan-to-scan registrations accepted after " + clock.elapsed());
   for (size_t m = 0; m < scan_report.stations.size(); ++m) {
-    // Scans all at one place (poses.txt all the same: a terrestrial
-    // scanner's stations often come so) are checked as stations are.
-    if ((scan_report.stations[m] || at_one_place(set.missions[m])) && set.missions[m].scans.size() > 1)
-      if (const std::string w = unlinked_stations_warning(set.missions[m], offsets[m], scan_edges); !w.empty())
-        ctx.warn(w);
     if (!scan_report.stations[m]) continue;
+    if (const std::string w = unlinked_stations_warning(set.missions[m], offsets[m], scan_edges); !w.empty())
+      ctx.warn(w);
     ++report.station_missions;
     ctx.info("mission '" + set.missions[m].name + "': its scans stand farther apart than their points reach " +
              "(stop-and-go stations): a pair is judged on the overlap of whole maps (" +

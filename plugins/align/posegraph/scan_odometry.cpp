@@ -177,15 +177,15 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   // where a robust loss scaled in those sigmas would discount exactly the
   // correction (a hall's stations 22-30 m apart kept 0.35-0.85 deg of yaw).
   station_options.robust = false;
+  auto options_of = [&](size_t m) -> const ScanEdgeOptions& { return report.stations[m] ? station_options : o; };
   for (size_t m = 0; m < missions; ++m) {
     // Neighbours are the next scans that hold points: an empty scan (a
     // sensor dropout, a scan io.missions did not read) is stepped over.
     for (size_t s = 0; s < set.missions[m].scans.size(); ++s)
       if (set.missions[m].scans[s].points && !set.missions[m].scans[s].points->empty()) held[m].push_back(s);
-    if (report.scan_to_map[m]) continue;
     report.stations[m] = held[m].size() > 1 && geometry::scanned_from_stations(set.missions[m]);
-    edges[m] = scan_to_scan_edges(set.missions[m].scans, held[m], offsets[m], report.stations[m] ? station_options : o,
-                                  threads, stop);
+    if (report.scan_to_map[m]) continue;
+    edges[m] = scan_to_scan_edges(set.missions[m].scans, held[m], offsets[m], options_of(m), threads, stop);
     if (stop() && on_cancel) on_cancel();
     report.pairs_tried[m] = edges[m].size();
     report.pairs_accepted[m] = accepted(edges[m]);
@@ -198,7 +198,8 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   }
   // Scan-to-map is sequential within a mission: the missions side by side.
   parallel_for(missions, threads, [&](size_t m) {
-    if (report.scan_to_map[m]) edges[m] = scan_to_map_edges(set.missions[m].scans, held[m], offsets[m], o, stop);
+    if (report.scan_to_map[m])
+      edges[m] = scan_to_map_edges(set.missions[m].scans, held[m], offsets[m], options_of(m), stop);
   });
   if (stop() && on_cancel) on_cancel();
   std::vector<PoseGraphEdge> out;

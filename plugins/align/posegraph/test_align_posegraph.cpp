@@ -56,6 +56,18 @@ Outputs run_stage(const MissionSet& set, BasicContext& ctx, Params params = ligh
 // Two missions around the same hall: the second starts elsewhere on the loop,
 // walks 0.4 m to the side, in its own map frame (offset and turned) and with
 // odometry drift (0.1 deg/m of yaw, 1% scale).
+// Three scans of one point each, every pose the identity (stations
+// without poses).
+Mission stations_at_the_origin(const std::string& name) {
+  Mission m;
+  m.name = name;
+  m.scans.resize(3);
+  auto one_point = std::make_shared<PointSet>();
+  one_point->xyz.emplace_back(1.f, 0.f, 0.f);
+  for (auto& s : m.scans) s.points = one_point;
+  return m;
+}
+
 // A floor with `tries` random boxes for x in [-10, x_max], none on the
 // route (|y| < 2 m) a test drives along x.
 Scene boxes_beside_route(uint32_t seed, double x_max, int tries) {
@@ -957,12 +969,7 @@ TEST(ScanEdges, StationsAreJudgedOnTheWholeMapOverlap) {
 // Stations that no registration links stand where poses.txt puts them:
 // said, naming the mission, when the pairs leave them in several groups.
 TEST(ScanEdges, UnlinkedStationsAreSaid) {
-  Mission m;
-  m.name = "tls";
-  m.scans.resize(3);
-  auto one_point = std::make_shared<PointSet>();
-  one_point->xyz.emplace_back(1.f, 0.f, 0.f);
-  for (auto& s : m.scans) s.points = one_point;
+  Mission m = stations_at_the_origin("tls");
   EXPECT_TRUE(at_one_place(m)) << "no poses: every station at the origin";
   PoseGraphEdge e;
   e.from = 10;  // graph nodes of this mission start at 10
@@ -982,16 +989,12 @@ TEST(ScanEdges, UnlinkedStationsAreSaid) {
 // first station's, its scan poses where the stations were placed.
 TEST(UnposedStations, AreCutIntoStationsAndJoinedBack) {
   MissionSet set;
-  Mission unposed;
-  unposed.name = "tls";
-  unposed.scans.resize(3);
-  auto pts = std::make_shared<PointSet>();
-  pts->xyz.emplace_back(1.f, 0.f, 0.f);
-  for (auto& s : unposed.scans) s.points = pts;
+  const Mission unposed = stations_at_the_origin("tls");
   Mission driving = unposed;
   driving.name = "robot";
   for (size_t i = 0; i < 3; ++i) driving.scans[i].pose = offset(0.5 * double(i), 0, 0, 0);
   set.missions = {driving, unposed};
+  set.missions.back().scans.emplace_back();  // a dropout: no station of its own
   const StationSplit split = split_unposed_stations(set);
   ASSERT_EQ(split.set.missions.size(), 4u);
   EXPECT_EQ(split.split, std::vector<std::string>{"tls"});

@@ -1,10 +1,14 @@
 #include "unposed_stations.hpp"
 
-#include "joint_alignment.hpp"
-
 #include <string>
 
 namespace lista::align {
+
+bool at_one_place(const Mission& mission) {
+  for (const Scan& s : mission.scans)
+    if ((s.pose.translation() - mission.scans.front().pose.translation()).norm() > 0.01) return false;
+  return true;
+}
 
 StationSplit split_unposed_stations(const MissionSet& missions) {
   StationSplit out;
@@ -19,6 +23,8 @@ StationSplit split_unposed_stations(const MissionSet& missions) {
     }
     out.split.push_back(mission.name);
     for (size_t s = 0; s < mission.scans.size(); ++s) {
+      // An empty scan (a dropout) has nothing to place: it keeps its pose.
+      if (!mission.scans[s].points || mission.scans[s].points->empty()) continue;
       Mission station;
       station.name = mission.name + "/station " + std::to_string(s + 1);
       station.dir = mission.dir;

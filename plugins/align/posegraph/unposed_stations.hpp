@@ -24,6 +24,9 @@ struct StationSplit {
   std::vector<std::string> split;  // names of the missions cut into stations
 };
 
+// Every scan's pose within 1 cm of the first's.
+bool at_one_place(const Mission& mission);
+
 StationSplit split_unposed_stations(const MissionSet& missions);
 
 // The original missions, each placed as its parts were aligned: a cut

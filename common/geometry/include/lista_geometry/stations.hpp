@@ -1,10 +1,10 @@
 // Whether a mission was scanned from stop-and-go stations: its scans stand
 // farther apart (median step between consecutive scans) than their points
 // reach (median horizontal range, every 64th point), or it is one scan.
-// Each station then sees its own part of the site. Header only; align.posegraph judges such a
-// mission's scan pairs on the whole-map overlap gate, the volumetric stages
-// take one look each as evidence (docs/alignment.md and docs/volumetric.md,
-// "Stations"). Driving missions step 0.2-0.5 of their range.
+// Each station then sees its own part of the site. Header only;
+// align.posegraph judges such a mission's scan pairs on the whole-map
+// overlap gate, the volumetric stages take one look each as evidence
+// (docs/alignment.md and docs/volumetric.md, "Stations").
 #pragma once
 
 #include <lista/missions.hpp>
