@@ -34,11 +34,11 @@ struct Errors {
 
 Errors errors_of(const MissionSet& set) {
   Errors e;
-  if (const auto t = align::trajectory_error(set)) e.all = t->rmse;
+  if (const auto t = alignkit::trajectory_error(set)) e.all = t->rmse;
   for (const auto& m : set.missions) {
     MissionSet one;
     one.missions.push_back(m);
-    const auto t = align::trajectory_error(one);
+    const auto t = alignkit::trajectory_error(one);
     e.single.push_back(t ? t->rmse : -1.0);
   }
   return e;
@@ -82,7 +82,7 @@ void write_positions(const MissionSet& set, const std::string& path) {
 // rigid fit the ATE uses), residuals drawn `gain` times longer so that
 // centimetres show on a 100 m map. Written as SVG next to the positions file.
 void write_residual_plot(const MissionSet& set, const std::string& path, const std::string& title) {
-  const auto error = align::trajectory_error(set);
+  const auto error = alignkit::trajectory_error(set);
   if (!error) return;
   const double gain = 50.0;
   // Per scan: true position and the aligned one with its residual magnified.

@@ -33,7 +33,7 @@
 
 namespace {
 
-using namespace lista::align;
+using namespace lista::alignkit;
 using Clock = std::chrono::steady_clock;
 
 using Pair = lista::bench::ScanPair;

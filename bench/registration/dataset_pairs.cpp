@@ -34,16 +34,16 @@ std::vector<ScanPair> dataset_pairs(const std::string& dataset_dir, const Datase
 
   // Each scan read once and prepared as align.posegraph's scan-to-scan
   // edges prepare it (scan_odometry.cpp): near points, downsampled.
-  std::map<std::pair<size_t, size_t>, align::Cloud> clouds;
+  std::map<std::pair<size_t, size_t>, alignkit::Cloud> clouds;
   for (const Index& x : chosen) clouds[{x.mission, x.from}], clouds[{x.mission, x.to}];
-  std::vector<std::pair<const std::pair<size_t, size_t>, align::Cloud>*> todo;
+  std::vector<std::pair<const std::pair<size_t, size_t>, alignkit::Cloud>*> todo;
   for (auto& entry : clouds) todo.push_back(&entry);
   parallel_for(todo.size(), o.threads, [&](size_t k) {
     const auto [m, s] = todo[k]->first;
     const Mission& mission = set.missions[m];
     const io::ScanFile file =
         io::read_scan(mission.scans[s].file, uint32_t(s), io::is_viewpoint_layout(mission.dir));
-    todo[k]->second = align::voxel_downsample_at_most(align::within_range(file.points.xyz, o.max_range), o.voxel,
+    todo[k]->second = alignkit::voxel_downsample_at_most(alignkit::within_range(file.points.xyz, o.max_range), o.voxel,
                                                       o.max_points);
   });
 

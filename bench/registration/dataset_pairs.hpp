@@ -15,7 +15,7 @@
 namespace lista::bench {
 
 struct ScanPair {
-  align::Cloud source, target;
+  alignkit::Cloud source, target;
   Eigen::Isometry3d truth, guess;  // source -> target
 };
 

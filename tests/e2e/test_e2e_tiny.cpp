@@ -531,11 +531,14 @@ TEST_F(TinyScene, AFailedAlignmentIsWarnedAbout) {
   // The report keeps it where a reader looks: report.json and the page's top.
   const std::filesystem::path run_out = dir_->path() / "shifted-out";
   const json warnings = json::parse(e2e::read_file(run_out / "report.json")).at("warnings");
-  ASSERT_EQ(warnings.size(), 2u) << warnings.dump();
+  ASSERT_EQ(warnings.size(), 3u) << warnings.dump();
   // First, in run order: A's scans do not register where its shifted poses
-  // put them (its own mission named; B's are right).
+  // put them (its own mission named; B's are right); then the difference
+  // finds the two missions' surfaces apart, and says it did not count that.
   EXPECT_EQ(warnings[0].get<std::string>().rfind("align: mission 'A': only ", 0), 0u) << warnings.dump();
   EXPECT_NE(warnings[1].get<std::string>().find("align: the aligned poses are "), std::string::npos) << warnings.dump();
+  EXPECT_EQ(warnings[2].get<std::string>().rfind("diff: missions 'A' and 'B' hold the surfaces they share ", 0), 0u)
+      << warnings.dump();
   EXPECT_NE(e2e::read_file(run_out / "report.html").find("Warnings during the run"), std::string::npos);
   // The unchanged scene aligns: no such warning.
   EXPECT_EQ(run_.output.find("alignment has probably failed"), std::string::npos) << run_.output;
@@ -616,10 +619,12 @@ TEST(RobotBody, TheDefaultPipelineDropsTheBodyItsScansHold) {
   };
   const auto [objects_off, precision_off] = run_with("off", "--set body.max_range=0");
   const auto [objects_on, precision_on] = run_with("on", "");
-  // Measured 2026-12-02 (align.posegraph 1.8.0): 17 objects and point
-  // precision 0.82 with the body left in, 12 and 1.00 with it dropped.
-  EXPECT_GE(objects_off, objects_on + 4) << "the body left in makes objects";
-  EXPECT_LT(precision_off, precision_on - 0.1) << "the body left in is reported as change";
+  // Measured: 14 objects and point precision 0.95 with the body left in,
+  // 12 and 1.00 with it dropped. (Most of the trail a body left in leaves
+  // is also set apart as dynamics: the mission's other scans see through
+  // where each scan had it, docs/volumetric.md "Beams near the point".)
+  EXPECT_GE(objects_off, objects_on + 2) << "the body left in makes objects";
+  EXPECT_LT(precision_off, precision_on - 0.03) << "the body left in is reported as change";
   EXPECT_GT(precision_on, 0.9);
 }
 
@@ -726,7 +731,7 @@ TEST(ThreeMissions, AnObjectStandingStillAfterItsChangeIsReportedThereToo) {
 // turned 5 degrees off gravity, as a SLAM run started on a slope): the
 // alignment levels the common frame from the maps' floors and walls, and
 // the run finds what the level scene's run finds; left tilted
-// (level_max_tilt = 0), floors and heights are read askew. Without people:
+// (level.enabled = false), floors and heights are read askew. Without people:
 // where one walked differs between the two runs' scans (tilted maps see
 // them from other angles), which moves F1 by more than the levelling does.
 TEST(TiltedMaps, TheCommonFrameIsLevelledAndTheRunFindsWhatTheLevelOneFinds) {
@@ -758,7 +763,7 @@ TEST(TiltedMaps, TheCommonFrameIsLevelledAndTheRunFindsWhatTheLevelOneFinds) {
   EXPECT_NEAR(align.at("level_tilt_deg").get<double>(), 5.0, 0.3);
   EXPECT_GE(paired(tilted), paired(level) - 1);
   EXPECT_NEAR(f1(tilted), f1(level), 0.03);
-  const auto [off_report, off] = run_with("--preset tiny --seed 1 --people 0 --map-tilt 5", "tilted", "--set align.level_max_tilt=0");
+  const auto [off_report, off] = run_with("--preset tiny --seed 1 --people 0 --map-tilt 5", "tilted", "--set align.level.enabled=false");
   EXPECT_LT(paired(off), paired(tilted));
   EXPECT_LT(f1(off), f1(tilted));
 }

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <unordered_map>
 
-namespace lista::align {
+namespace lista::alignkit {
 
 Cloud voxel_downsample(const Cloud& points, double voxel) {
   if (voxel <= 0.0) throw Error("voxel size must be > 0");
@@ -74,4 +74,4 @@ double rotation_angle(const Eigen::Matrix3d& rotation) {
   return Eigen::AngleAxisd(Eigen::Quaterniond(rotation).normalized()).angle();
 }
 
-}  // namespace lista::align
+}  // namespace lista::alignkit

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <vector>
 
-namespace lista::align {
+namespace lista::alignkit {
 
 namespace {
 
@@ -120,8 +120,9 @@ Eigen::Isometry3d levelling_rotation(const Eigen::Vector3d& up) {
   return r;
 }
 
-void level_common_frame(MissionSet& missions, double max_tilt_deg, Context& ctx, const LevelOptions& o) {
-  if (max_tilt_deg <= 0.0 || missions.missions.empty()) return;
+void level_common_frame(MissionSet& missions, const LevelConfig& config, Context& ctx, const LevelOptions& o) {
+  if (!config.enabled || missions.missions.empty()) return;
+  const double max_tilt_deg = config.max_tilt;
   ctx.record("levelled", 0.0);
   if (!missions.origin.isZero()) {
     ctx.info("georeferenced missions: the common frame's z is taken as up, not levelled");
@@ -137,8 +138,8 @@ void level_common_frame(MissionSet& missions, double max_tilt_deg, Context& ctx,
   if (e.tilt_deg < kMinTilt) return;
   if (e.tilt_deg > max_tilt_deg) {
     std::snprintf(line, sizeof line,
-                  "the floors and walls say the common frame is tilted by %.1f deg, more than level_max_tilt "
-                  "(%.1f): left as it is; raise level_max_tilt to level it",
+                  "the floors and walls say the common frame is tilted by %.1f deg, more than level.max_tilt "
+                  "(%.1f): left as it is; raise level.max_tilt to level it",
                   e.tilt_deg, max_tilt_deg);
     ctx.warn(line);
     return;
@@ -152,13 +153,4 @@ void level_common_frame(MissionSet& missions, double max_tilt_deg, Context& ctx,
   ctx.info(line);
 }
 
-ParamSpec level_max_tilt_param() {
-  return ParamSpec::real("level_max_tilt", 20.0,
-                         "last step: the common frame turned so that its z is up, where its floors and walls say it "
-                         "is tilted by 0.5 deg up to this (a SLAM map started on a slope, a handheld scanner's); 0 = "
-                         "never")
-      .range(0.0, 90.0)
-      .unit("deg");
-}
-
-}  // namespace lista::align
+}  // namespace lista::alignkit

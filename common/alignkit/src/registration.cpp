@@ -15,7 +15,7 @@
 #include <cmath>
 #include <limits>
 
-namespace lista::align {
+namespace lista::alignkit {
 
 namespace {
 
@@ -361,4 +361,4 @@ RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
   return register_prepared(PreparedCloud(source, o), PreparedCloud(target, o), guess, o);
 }
 
-}  // namespace lista::align
+}  // namespace lista::alignkit

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-namespace lista::align::testing {
+namespace lista::alignkit::testing {
 
 namespace {
 
@@ -152,4 +152,4 @@ Mission make_mission(const std::string& name, const Scene& scene, const std::vec
   return m;
 }
 
-}  // namespace lista::align::testing
+}  // namespace lista::alignkit::testing

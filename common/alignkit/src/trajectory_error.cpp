@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace lista::align {
+namespace lista::alignkit {
 
 std::optional<TrajectoryError> trajectory_error(const MissionSet& set) {
   std::vector<Eigen::Vector3d> est, gt;
@@ -44,4 +44,4 @@ std::string failed_alignment_warning(const TrajectoryError& error) {
          " m (RMSE) from poses_gt.txt: the alignment has probably failed; changes found will be wrong";
 }
 
-}  // namespace lista::align
+}  // namespace lista::alignkit

@@ -6,7 +6,7 @@
 #include <array>
 #include <cmath>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 std::vector<Eigen::Isometry3d> centroid_starts(const PrincipalFrame& fs, const PrincipalFrame& ft,
                                                const IcpConfig& cfg) {
@@ -68,4 +68,4 @@ std::vector<Eigen::Isometry3d> corner_starts(const std::vector<Eigen::Vector3f>&
   return out;
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

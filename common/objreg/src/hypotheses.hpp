@@ -10,7 +10,7 @@
 
 #include <vector>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 // The SVD principal-frame guess (with its four proper axis flips when
 // cfg.svd_flips) and cfg.yaw_hypotheses turns about the vertical through the
@@ -27,4 +27,4 @@ std::vector<Eigen::Isometry3d> centroid_starts(const PrincipalFrame& source, con
 std::vector<Eigen::Isometry3d> corner_starts(const std::vector<Eigen::Vector3f>& source,
                                              const std::vector<Eigen::Vector3f>& target, double lift, double slack);
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

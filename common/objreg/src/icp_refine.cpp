@@ -15,7 +15,7 @@
 #include <cmath>
 #include <utility>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 namespace {
 
@@ -199,4 +199,4 @@ IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vect
   return r;
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

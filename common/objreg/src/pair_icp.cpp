@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace lista::registration {
+namespace lista::objreg {
 namespace {
 
 // Truncated mean squared nearest-neighbour distance of T*from to `to`, over
@@ -121,4 +121,4 @@ Candidate PairIcp::scored(const Eigen::Isometry3d& t) const {
   return c;
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -13,7 +13,7 @@
 
 #include <memory>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 
@@ -58,4 +58,4 @@ class PairIcp {
   std::shared_ptr<pcl_search::FastKdTree> gicp_target_, icp_target_;
 };
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 double turn_of(const Eigen::Isometry3d& t) { return Eigen::AngleAxisd(t.linear()).angle(); }
 
@@ -46,4 +46,4 @@ std::vector<Eigen::Isometry3d> distinct_ties(const std::vector<Candidate>& cs, s
   return kept;
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -6,7 +6,7 @@
 
 #include <vector>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 // The rotation angle of a pose (radians).
 double turn_of(const Eigen::Isometry3d& t);
@@ -31,4 +31,4 @@ bool distinct_poses(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, cons
 std::vector<Eigen::Isometry3d> distinct_ties(const std::vector<Candidate>& cs, size_t win, const Eigen::Vector3d& c,
                                              const IcpConfig& cfg);
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -7,7 +7,7 @@
 #include <map>
 #include <utility>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 Matches register_matches(const ObjectSet& objects, const Matches& matches, const PairRegistration& reg,
                          Context& ctx) {
@@ -48,4 +48,4 @@ Matches register_matches(const ObjectSet& objects, const Matches& matches, const
   return out;
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 namespace {
 
@@ -83,4 +83,4 @@ SurfaceShares surface_shares(const std::vector<Eigen::Vector3f>& source, const s
   return {one_way(*src, *dst, dst_tree, t, cfg), one_way(*dst, *src, src_tree, t.inverse(), cfg)};
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -5,7 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 PrincipalFrame principal_frame(const std::vector<Eigen::Vector3f>& points, double tolerance) {
   if (points.empty()) throw Error("cannot register an object with no points");
@@ -61,4 +61,4 @@ std::array<Eigen::Matrix3d, 4> axis_flips() {
           Eigen::Vector3d(1, -1, -1).asDiagonal().toDenseMatrix()};
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 bool stays_on_floor(const Object& a, const Object& b, const Eigen::Isometry3d& t, double max_lift,
                     double max_tilt_deg) {
@@ -22,4 +22,4 @@ double floor_lift(const Object& a, const Object& b) {
   return double(b.floor_z) - double(a.floor_z);
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -2,7 +2,7 @@
 
 #include <pcl/filters/voxel_grid.h>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 pcl::PointCloud<pcl::PointXYZ>::Ptr voxel_cloud(const std::vector<Eigen::Vector3f>& pts, double voxel) {
   using Cloud = pcl::PointCloud<pcl::PointXYZ>;
@@ -18,4 +18,4 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr voxel_cloud(const std::vector<Eigen::Vector3
   return d->size() >= 3 ? d : c;
 }
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -8,10 +8,10 @@
 #include <Eigen/Core>
 #include <vector>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 // `pts` averaged per `voxel` (0 = all points as they are); the points
 // themselves when fewer than 3 voxels remain (too few to register).
 pcl::PointCloud<pcl::PointXYZ>::Ptr voxel_cloud(const std::vector<Eigen::Vector3f>& pts, double voxel);
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

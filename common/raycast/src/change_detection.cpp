@@ -1,6 +1,8 @@
 #include <lista_raycast/change_detection.hpp>
 
 #include <lista_geometry/stations.hpp>
+#include <lista_raycast/misfit.hpp>
+#include <lista_raycast/seen_through.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -71,10 +73,10 @@ struct Decider {
   double threshold_previous, threshold_next;  // change_threshold of each pair (pair_thresholds)
   bool one_look_previous, one_look_next;  // both missions of the pair are stations (one_look_pair)
   float hit_once, miss_once;              // log-odds of one hit, of one miss
+  int reach_previous, reach_next;         // neighbourhood of each pair (pair_neighbourhood)
 
-  // True if no voxel within the neighbourhood of v is occupied in `other`.
-  bool clear_around(OccupancyReader& other, const Voxel& v) const {
-    const int r = c.neighbourhood;
+  // True if no voxel within r of v is occupied in `other`.
+  bool clear_around(OccupancyReader& other, const Voxel& v, int r) const {
     float l;
     for (int dz = -r; dz <= r; ++dz)
       for (int dy = -r; dy <= r; ++dy)
@@ -118,7 +120,7 @@ struct Decider {
     float l_own;
     if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return 0;
     const double p_own = probability(l_own);
-    auto against = [&](OccupancyReader* other, double threshold, bool one_look) {
+    auto against = [&](OccupancyReader* other, double threshold, bool one_look, int reach) {
       float l_other;
       if (!other || !other->logodds(v, l_other)) return false;  // unobserved there: unknown, not change
       const bool looked_once = std::abs(l_own - hit_once) < 1e-4f && std::abs(l_other - miss_once) < 1e-4f;
@@ -126,11 +128,11 @@ struct Decider {
       // One hit against one miss, however it passed: the miss must have
       // gone through the surface.
       if (looked_once && !seen_behind(*other, v, p, origin)) return false;
-      return clear_around(*other, v);
+      return clear_around(*other, v, reach);
     };
     const uint8_t bits =
-        uint8_t((against(previous, threshold_previous, one_look_previous) ? changed_against_previous : 0) |
-                (against(next, threshold_next, one_look_next) ? changed_against_next : 0));
+        uint8_t((against(previous, threshold_previous, one_look_previous, reach_previous) ? changed_against_previous : 0) |
+                (against(next, threshold_next, one_look_next, reach_next) ? changed_against_next : 0));
     return bits && own.seen_free(v) ? uint8_t(bits | seen_free_in_own_mission) : bits;
   }
 };
@@ -189,14 +191,17 @@ bool one_look_pair(const Looks& looks, const VolumetricConfig& config, size_t a,
 // `previous_map` and / or `next_map` (either may be null).
 void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_map,
                   const OccupancyMap* previous_map, const OccupancyMap* next_map, const VolumetricConfig& config,
-                  const PairThresholds& thresholds, const Looks& looks, int threads, PointBits& bits) {
+                  const PairThresholds& thresholds, const Looks& looks, const std::vector<int>& reach, int threads,
+                  PointBits& bits) {
   const Mission& mission = missions.missions[m];
   const Decider decide{config, logodds(config.occupied_threshold),
                        m > 0 ? thresholds.value[m - 1] : config.change_threshold,
                        m < thresholds.value.size() ? thresholds.value[m] : config.change_threshold,
                        m > 0 && one_look_pair(looks, config, m - 1, m),
                        m + 1 < missions.missions.size() && one_look_pair(looks, config, m, m + 1),
-                       logodds(config.prob_hit), logodds(config.prob_miss)};
+                       logodds(config.prob_hit), logodds(config.prob_miss),
+                       m > 0 ? reach[m - 1] : config.neighbourhood,
+                       m < reach.size() ? reach[m] : config.neighbourhood};
   const double inv_res = 1.0 / config.resolution;
 #pragma omp parallel num_threads(std::max(1, threads))
   {
@@ -247,8 +252,14 @@ PointSet collect_changes(const Mission& mission, const PointBits& bits, double r
   return set;
 }
 
-void add_mission(MissionPoints& out, ChangeStats* stats, size_t m, const Mission& mission, PointSet set,
-                 uint64_t voxels) {
+// Mission m's changed points (`bits`), its dynamics from the beams near
+// them marked, added to `out` and counted in `stats`.
+void add_mission(MissionPoints& out, ChangeStats* stats, const MissionSet& missions, size_t m, const PointBits& bits,
+                 const VolumetricConfig& config, int threads) {
+  const Mission& mission = missions.missions[m];
+  uint64_t voxels = 0;
+  PointSet set = collect_changes(mission, bits, config.resolution, voxels);
+  mark_seen_through(mission, set, config, threads);
   if (stats) {
     stats->changed_points[m] = set.size();
     stats->changed_voxels[m] = voxels;
@@ -280,6 +291,29 @@ void note_stations(const MissionSet& missions, const Looks& looks, const Volumet
   }
 }
 
+// The misfit of missions m and m+1 (the larger way round, in stats in
+// metres) and the neighbourhood they are judged with; a warning where it
+// had to widen.
+int fit_pair(const MissionSet& missions, size_t m, const OccupancyMap& map_m, const OccupancyMap& map_next,
+             const VolumetricConfig& config, ChangeStats* stats) {
+  const Mission &a = missions.missions[m], &b = missions.missions[m + 1];
+  const double misfit = std::max(surface_misfit(a, map_next, config), surface_misfit(b, map_m, config));
+  const int reach = pair_neighbourhood(misfit, config.neighbourhood);
+  if (!stats) return reach;
+  stats->misfit[m] = misfit * config.resolution;
+  if (reach > config.neighbourhood) {
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "missions '%s' and '%s' hold the surfaces they share %.0f mm apart (median, along the surfaces' "
+                  "normals; 8-17 mm on aligned test scenes): their alignment is off by about that much, so change within "
+                  "%.2f m of what the other holds is not counted (neighbourhood %d voxels, not %d); check the "
+                  "alignment", a.name.c_str(), b.name.c_str(), 1000.0 * misfit * config.resolution,
+                  reach * config.resolution, reach, config.neighbourhood);
+    stats->warnings.emplace_back(text);
+  }
+  return reach;
+}
+
 }  // namespace
 
 MissionPoints detect_changes(const MissionSet& missions, const std::vector<const OccupancyMap*>& maps,
@@ -292,14 +326,14 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
   Looks looks(missions);
   for (size_t m = 0; m < n; ++m) looks.share[m] = one_look_share(missions.missions[m], *maps[m], config);
   note_stations(missions, looks, config, thresholds, stats);
+  std::vector<int> reach;
+  for (size_t m = 0; m + 1 < n; ++m) reach.push_back(fit_pair(missions, m, *maps[m], *maps[m + 1], config, stats));
   for (size_t m = 0; m < n; ++m) {
     const Mission& mission = missions.missions[m];
     PointBits bits = no_bits(mission);
     mark_changes(missions, m, *maps[m], m > 0 ? maps[m - 1] : nullptr, m + 1 < n ? maps[m + 1] : nullptr, config,
-                 thresholds, looks, threads, bits);
-    uint64_t voxels = 0;
-    PointSet set = collect_changes(mission, bits, config.resolution, voxels);
-    add_mission(out, stats, m, mission, std::move(set), voxels);
+                 thresholds, looks, reach, threads, bits);
+    add_mission(out, stats, missions, m, bits, config, threads);
   }
   return out;
 }
@@ -320,21 +354,20 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   std::unique_ptr<OccupancyMap> earlier = build_map(0);
   looks.share[0] = one_look_share(missions.missions[0], *earlier, config);
   PointBits earlier_bits = no_bits(missions.missions[0]);
+  std::vector<int> reach;  // per pair, filled as both of its maps live
   for (size_t m = 0; m + 1 < n; ++m) {
     std::unique_ptr<OccupancyMap> later = build_map(m + 1);
     looks.share[m + 1] = one_look_share(missions.missions[m + 1], *later, config);
     PointBits later_bits = no_bits(missions.missions[m + 1]);
-    mark_changes(missions, m, *earlier, nullptr, later.get(), config, thresholds, looks, threads, earlier_bits);
-    mark_changes(missions, m + 1, *later, earlier.get(), nullptr, config, thresholds, looks, threads, later_bits);
+    reach.push_back(fit_pair(missions, m, *earlier, *later, config, stats));
+    mark_changes(missions, m, *earlier, nullptr, later.get(), config, thresholds, looks, reach, threads, earlier_bits);
+    mark_changes(missions, m + 1, *later, earlier.get(), nullptr, config, thresholds, looks, reach, threads,
+                 later_bits);
     earlier = std::move(later);  // map m goes
-    uint64_t voxels = 0;
-    PointSet set = collect_changes(missions.missions[m], earlier_bits, config.resolution, voxels);
-    add_mission(out, stats, m, missions.missions[m], std::move(set), voxels);
+    add_mission(out, stats, missions, m, earlier_bits, config, threads);
     earlier_bits = std::move(later_bits);
   }
-  uint64_t voxels = 0;
-  PointSet set = collect_changes(missions.missions[n - 1], earlier_bits, config.resolution, voxels);
-  add_mission(out, stats, n - 1, missions.missions[n - 1], std::move(set), voxels);
+  add_mission(out, stats, missions, n - 1, earlier_bits, config, threads);
   note_stations(missions, looks, config, thresholds, stats);
   return out;
 }
@@ -356,7 +389,10 @@ void record_stats(Context& context, const MissionSet& missions, const std::vecto
       context.record(k + "seen_free_points", static_cast<double>(changes.seen_free_points[m]));
     }
     if (m < changes.one_look_share.size()) context.record(k + "one_look_share", changes.one_look_share[m]);
+    if (m < changes.misfit.size()) context.record(k + "misfit", changes.misfit[m]);
   }
+  for (const std::string& note : changes.notes) context.info(note);
+  for (const std::string& warning : changes.warnings) context.warn(warning);
 }
 
 }  // namespace lista::raycast

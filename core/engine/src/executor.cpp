@@ -227,6 +227,7 @@ RunInfo execute(const Plan& plan, const RunOptions& options) {
       const auto key = std::make_pair(index_of.at(in.from_stage), in.from_port);
       if (--readers[key] == 0) values.erase(key);
     }
+    return_free_memory();
     state[i] = StageState::done;
     --running;
     ++done;

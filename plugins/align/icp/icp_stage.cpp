@@ -14,6 +14,8 @@
 
 namespace lista::align {
 
+using namespace alignkit;  // common/alignkit: clouds, registration, levelling
+
 namespace {
 
 Cloud mission_map(const Mission& m, double voxel, double max_range) {
@@ -46,7 +48,7 @@ struct IcpAlignConfig {
   double fine_distance = 0.5;    // m
   int iterations = 60;
   double min_overlap = 0.3;
-  double level_max_tilt = std::get<double>(level_max_tilt_param().default_value);  // deg
+  LevelConfig level;
 };
 
 const ParamTable<IcpAlignConfig>& param_table();
@@ -59,7 +61,7 @@ class IcpStage : public Stage {
         max_range_(c.max_range),
         initial_(c.initial),
         min_overlap_(c.min_overlap),
-        level_max_tilt_(c.level_max_tilt) {
+        level_(c.level) {
     reg_.method = c.registration;
     reg_.voxel = voxel_;
     reg_.coarse_distance = c.coarse_distance;
@@ -97,7 +99,7 @@ class IcpStage : public Stage {
                     "); the maps must overlap and start roughly aligned");
       out.missions[m].to_common = reference * r.transform;
     }
-    level_common_frame(out, level_max_tilt_, ctx);
+    level_common_frame(out, level_, ctx);
     if (const auto after = trajectory_error(out)) {
       ctx.record("ate_after_m", after->rmse);
       // One ICP per mission finds the nearest fit: maps that start turned
@@ -114,7 +116,7 @@ class IcpStage : public Stage {
   double voxel_, max_range_;
   std::string initial_;
   double min_overlap_;
-  double level_max_tilt_;
+  LevelConfig level_;
   RegistrationOptions reg_;
 };
 
@@ -123,7 +125,7 @@ class IcpStage : public Stage {
 StageInfo icp_stage_info() {
   StageInfo s;
   s.name = "align.icp";
-  s.version = "1.1.0";
+  s.version = "1.2.0";
   s.summary = "Baseline: one ICP/GICP per mission between whole mission maps";
   s.doc =
       "Registers each mission's whole map onto the first mission's with coarse-to-fine GICP (or ICP) and sets "
@@ -133,6 +135,7 @@ StageInfo icp_stage_info() {
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with to_common set"}};
   s.params = param_table().specs();
+  s.renamed = param_table().renames();
   return s;
 }
 
@@ -153,7 +156,7 @@ const ParamTable<IcpAlignConfig>& param_table() {
     t.bind("iterations", &C::iterations, "iterations per stage").range(1, 10000);
     t.bind("min_overlap", &C::min_overlap, "share of a map's points with a partner after registration").range(0, 1);
     // Declared once for every align.* stage that levels (lista_alignkit/level.hpp).
-    t.bind("level_max_tilt", &C::level_max_tilt, "") = level_max_tilt_param();
+    bind_level(t, &C::level);
     return t;
   }();
   return table;

@@ -11,7 +11,8 @@
 
 using namespace lista;
 using namespace lista::align;
-using namespace lista::align::testing;
+using namespace lista::alignkit;
+using namespace lista::alignkit::testing;
 
 namespace {
 

@@ -15,6 +15,8 @@
 
 namespace lista::align {
 
+using namespace alignkit;  // common/alignkit: clouds, registration, levelling
+
 struct KeyframeOptions {
   double keyframe_distance = 1.0;  // m travelled between keyframes
   double keyframe_angle = 0.5;     // rad turned between keyframes

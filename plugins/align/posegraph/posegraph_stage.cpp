@@ -15,6 +15,8 @@
 
 namespace lista::align {
 
+using namespace alignkit;  // common/alignkit: clouds, registration, levelling
+
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
@@ -69,7 +71,7 @@ struct PoseGraphConfig {
     int refine_rounds = 1;
     double refine_radius = 3.0;
   } graph;
-  double level_max_tilt = std::get<double>(level_max_tilt_param().default_value);  // deg
+  LevelConfig level;
 };
 
 const ParamTable<PoseGraphConfig>& param_table();
@@ -146,7 +148,7 @@ JointAlignmentOptions options_from(const PoseGraphConfig& c) {
 class PoseGraphStage : public Stage {
  public:
   explicit PoseGraphStage(const Params& p) : PoseGraphStage(param_table().read(p)) {}
-  explicit PoseGraphStage(const PoseGraphConfig& c) : options_(options_from(c)), level_max_tilt_(c.level_max_tilt) {}
+  explicit PoseGraphStage(const PoseGraphConfig& c) : options_(options_from(c)), level_(c.level) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& missions = in.get<MissionSet>("missions");
@@ -163,7 +165,7 @@ class PoseGraphStage : public Stage {
         split.split.empty() ? align_missions(missions, options, ctx, report)
                             : join_stations(missions, split, align_missions(split.set, options, ctx, report));
     for (const std::string& w : unplaced_stations_warnings(missions, split, report.linked)) ctx.warn(w);
-    level_common_frame(aligned, level_max_tilt_, ctx);
+    level_common_frame(aligned, level_, ctx);
     ctx.record("keyframes", static_cast<double>(report.keyframes));
     ctx.record("submap_distance_m", report.submap_distance);
     ctx.record("candidates", static_cast<double>(report.candidates));
@@ -198,7 +200,7 @@ class PoseGraphStage : public Stage {
 
  private:
   JointAlignmentOptions options_;
-  double level_max_tilt_;
+  LevelConfig level_;
 };
 
 }  // namespace
@@ -206,7 +208,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.9.0";
+  s.version = "1.10.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Aligns the missions into the first one's frame and corrects every scan's pose: Scan Context loop closures "
@@ -321,7 +323,7 @@ const ParamTable<PoseGraphConfig>& param_table() {
     graph.bind("refine_rounds", &G::refine_rounds, "rounds of proximity closures after the first solve").range(0, 10);
     graph.bind("refine_radius", &G::refine_radius, "keyframes this close in the common frame are tried").range(0.1, 100).unit("m");
     // Declared once for every align.* stage that levels (lista_alignkit/level.hpp).
-    t.bind("level_max_tilt", &C::level_max_tilt, "") = level_max_tilt_param();
+    bind_level(t, &C::level);
     using E = C::Scans;
     auto scans = t.group("scans", &C::scans);
     scans.bind("neighbours", &E::neighbours,

@@ -11,6 +11,8 @@
 
 namespace lista::align {
 
+using namespace alignkit;  // common/alignkit: clouds, registration, levelling
+
 // The edges constrain x, y and yaw only, which the ground cannot tell; in an
 // outdoor scan it holds most of the points (the scan_points budget, the
 // overlap and RMSE gates) and a sparse sensor's ground rings, concentric

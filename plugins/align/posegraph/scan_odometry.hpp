@@ -15,6 +15,8 @@
 
 namespace lista::align {
 
+using namespace alignkit;  // common/alignkit: clouds, registration, levelling
+
 enum class MapUse { never, when_pairs_fail, always };
 
 struct ScanEdgeOptions {

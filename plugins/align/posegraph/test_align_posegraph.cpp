@@ -23,7 +23,8 @@
 
 using namespace lista;
 using namespace lista::align;
-using namespace lista::align::testing;
+using namespace lista::alignkit;
+using namespace lista::alignkit::testing;
 
 namespace {
 
@@ -463,17 +464,17 @@ TEST(AlignPosegraph, ATiltedFirstMissionGivesALevelCommonFrame) {
   EXPECT_LT(after->rmse, 0.05);
 
   Params off = light();
-  off.set("level_max_tilt", 0.0);
+  off.set("level.enabled", false);
   BasicContext ctx_off("align", 2, 0);
   EXPECT_GT(up_error(run_stage(set, ctx_off, off).at("missions").as<MissionSet>()), 3.0);
-  // A tilt above level_max_tilt is said and left.
+  // A tilt above level.max_tilt is said and left.
   Params low = light();
-  low.set("level_max_tilt", 2.0);
+  low.set("level.max_tilt", 2.0);
   BasicContext ctx_low("align", 2, 0);
   EXPECT_GT(up_error(run_stage(set, ctx_low, low).at("missions").as<MissionSet>()), 3.0);
   EXPECT_EQ(ctx_low.info.metrics["align"].at("levelled"), 0.0);
   bool warned = false;
-  for (const auto& m : ctx_low.messages) warned |= m.find("level_max_tilt") != std::string::npos;
+  for (const auto& m : ctx_low.messages) warned |= m.find("level.max_tilt") != std::string::npos;
   EXPECT_TRUE(warned);
 }
 

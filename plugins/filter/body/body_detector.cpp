@@ -1,6 +1,5 @@
 #include "body_detector.hpp"
 
-#include "range_image.hpp"
 #include "surface_patch.hpp"
 
 #include <algorithm>
@@ -8,9 +7,12 @@
 #include <memory>
 
 #include <lista/parallel.hpp>
+#include <lista_geometry/range_image.hpp>
 #include <lista_geometry/voxel_key.hpp>
 
 namespace lista::filter {
+
+using geometry::RangeImage;
 
 namespace {
 

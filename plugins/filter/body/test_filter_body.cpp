@@ -10,8 +10,8 @@
 
 namespace {
 
-using lista::align::testing::Box;
-using lista::align::testing::Scene;
+using lista::alignkit::testing::Box;
+using lista::alignkit::testing::Scene;
 
 // Adds `n` points on a legged robot's back under the sensor to every scan (a
 // 1.1 x 0.5 m box top 0.15 m below it, sides down to 0.45 m), numbered after
@@ -46,8 +46,8 @@ lista::MissionSet one_mission(lista::Mission m) {
 }
 
 lista::Mission hall_mission(const std::vector<Eigen::Isometry3d>& route) {
-  const Scene hall = lista::align::testing::make_hall(20, 14, 12, 3);
-  return lista::align::testing::make_mission("A", hall, route, route, 5);
+  const Scene hall = lista::alignkit::testing::make_hall(20, 14, 12, 3);
+  return lista::alignkit::testing::make_mission("A", hall, route, route, 5);
 }
 
 // The body's points of each scan are those numbered from `first[s]` on.
@@ -84,7 +84,7 @@ const lista::Mission& only(const lista::Outputs& out) {
 }  // namespace
 
 TEST(FilterBody, DropsTheBodyOfAWalkingRobotAndKeepsTheHall) {
-  lista::Mission m = hall_mission(lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0));
+  lista::Mission m = hall_mission(lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0));
   const std::vector<uint32_t> first = scene_point_counts(m);
   const size_t body = add_body(m, 300, 1);
   const lista::Mission before = m;
@@ -105,7 +105,7 @@ TEST(FilterBody, DropsTheBodyOfAWalkingRobotAndKeepsTheHall) {
 // With scans left unread (io.missions scan_spacing) or empty, only the
 // scans holding points count and witness.
 TEST(FilterBody, EmptyScansNeitherCountNorWitness) {
-  lista::Mission m = hall_mission(lista::align::testing::loop_route(20, 14, 4, 0.75, 0.0));
+  lista::Mission m = hall_mission(lista::alignkit::testing::loop_route(20, 14, 4, 0.75, 0.0));
   const std::vector<uint32_t> first = scene_point_counts(m);
   add_body(m, 300, 6);
   size_t body = 0;
@@ -125,8 +125,8 @@ TEST(FilterBody, EmptyScansNeitherCountNorWitness) {
 TEST(FilterBody, DropsARayCastBodySeenByAFewRings) {
   // The body as a 16-ring sensor sees it: a box in the scene that moves with
   // the sensor and hides what lies behind it, hit by a few rings in arcs.
-  const Scene hall = lista::align::testing::make_hall(20, 14, 12, 3);
-  const std::vector<Eigen::Isometry3d> route = lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0);
+  const Scene hall = lista::alignkit::testing::make_hall(20, 14, 12, 3);
+  const std::vector<Eigen::Isometry3d> route = lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0);
   lista::Mission m;
   m.name = "A";
   std::mt19937 rng(4);
@@ -140,7 +140,7 @@ TEST(FilterBody, DropsARayCastBodySeenByAFewRings) {
     scene.boxes.push_back({a.cwiseMin(b), a.cwiseMax(b)});
     lista::Scan scan;
     scan.pose = route[i];
-    auto points = std::make_shared<lista::PointSet>(lista::align::testing::cast_scan(scene, route[i], uint32_t(i), rng));
+    auto points = std::make_shared<lista::PointSet>(lista::alignkit::testing::cast_scan(scene, route[i], uint32_t(i), rng));
     is_body.emplace_back();
     for (const auto& p : points->xyz) {
       const bool on = (p.cast<double>() - Eigen::Vector3d(-0.35, 0, -0.3)).cwiseAbs().maxCoeff() < 0.6 &&
@@ -179,7 +179,7 @@ TEST(FilterBody, KeepsTheWallsAndFloorOfACorridorThatStayBesideTheSensor) {
     pose.translation() = Eigen::Vector3d(1.0 + 1.2 * i, 0.0, 0.35);
     route.push_back(pose);
   }
-  lista::Mission m = lista::align::testing::make_mission("A", corridor, route, route, 2);
+  lista::Mission m = lista::alignkit::testing::make_mission("A", corridor, route, route, 2);
   const lista::Mission before = m;
   const lista::MissionSet in = one_mission(std::move(m));
   const lista::filter::BodyCells cells = lista::filter::find_body_cells(in.missions[0], {});
@@ -192,7 +192,7 @@ TEST(FilterBody, KeepsTheWallsAndFloorOfACorridorThatStayBesideTheSensor) {
 
 TEST(FilterBody, LeavesARobotStandingStillAlone) {
   // Without a scan taken elsewhere nothing can see through the body.
-  std::vector<Eigen::Isometry3d> route(12, lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0)[0]);
+  std::vector<Eigen::Isometry3d> route(12, lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0)[0]);
   lista::Mission m = hall_mission(route);
   add_body(m, 300, 2);
   const size_t n = m.point_count();
@@ -206,11 +206,11 @@ TEST(FilterBody, LeavesARobotStandingStillAlone) {
 // then walks: the wall stays put in the sensor frame for half the scans,
 // but the scans taken while walking see it where it is.
 TEST(FilterBody, KeepsAWallBesideARobotThatStoodStillHalfTheMission) {
-  const Scene hall = lista::align::testing::make_hall(20, 14, 12, 3);
+  const Scene hall = lista::alignkit::testing::make_hall(20, 14, 12, 3);
   std::vector<Eigen::Isometry3d> route(30, Eigen::Isometry3d::Identity());
   for (auto& pose : route) pose.translation() = Eigen::Vector3d(1.0, 7.0, 1.0);  // 1 m from the wall at x = 0
-  for (const auto& walk : lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0)) route.push_back(walk);
-  lista::Mission m = lista::align::testing::make_mission("A", hall, route, route, 8);
+  for (const auto& walk : lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0)) route.push_back(walk);
+  lista::Mission m = lista::alignkit::testing::make_mission("A", hall, route, route, 8);
   const size_t n = m.point_count();
   const lista::MissionSet in = one_mission(std::move(m));
   const lista::filter::BodyCells cells = lista::filter::find_body_cells(in.missions[0], {});
@@ -221,7 +221,7 @@ TEST(FilterBody, KeepsAWallBesideARobotThatStoodStillHalfTheMission) {
 }
 
 TEST(FilterBody, MaxRangeZeroTurnsItOff) {
-  lista::Mission m = hall_mission(lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0));
+  lista::Mission m = hall_mission(lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0));
   add_body(m, 300, 3);
   const size_t n = m.point_count();
   const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(one_mission(std::move(m))),
@@ -230,7 +230,7 @@ TEST(FilterBody, MaxRangeZeroTurnsItOff) {
 }
 
 TEST(FilterBody, RejectsSettingsThatCannotWork) {
-  const lista::MissionSet set = one_mission(hall_mission(lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0)));
+  const lista::MissionSet set = one_mission(hall_mission(lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0)));
   EXPECT_THROW(test_support::run_stage("filter.body", "missions", lista::Data::make(set),
                                        {{"witness_min", 5.0}, {"witness_max", 3.0}}),
                lista::Error);
@@ -246,12 +246,12 @@ namespace {
 // the hall's loop, each scan with the platform under its sensor when
 // `platform`.
 lista::MissionSet two_stations(size_t a, size_t b, bool platform) {
-  const Scene hall = lista::align::testing::make_hall(20, 14, 12, 3);
-  const auto loop = lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0);
+  const Scene hall = lista::alignkit::testing::make_hall(20, 14, 12, 3);
+  const auto loop = lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0);
   lista::MissionSet set;
   for (const size_t station : {a, b}) {
     const std::vector<Eigen::Isometry3d> route{loop[station]};
-    lista::Mission m = lista::align::testing::make_mission(set.missions.empty() ? "A" : "B", hall, route, route,
+    lista::Mission m = lista::alignkit::testing::make_mission(set.missions.empty() ? "A" : "B", hall, route, route,
                                                            uint32_t(11 + station));
     if (platform) add_body(m, 300, uint32_t(station));
     set.missions.push_back(std::move(m));
@@ -287,7 +287,7 @@ TEST(FilterBody, KeepsEverythingOfOneScanStationsWithoutAPlatform) {
 // A single station has nothing to be compared with: it is left alone.
 TEST(FilterBody, LeavesALoneStationAlone) {
   lista::MissionSet in = two_stations(2, 9, true);
-  in.missions[1] = hall_mission(lista::align::testing::loop_route(20, 14, 4, 1.5, 0.0));
+  in.missions[1] = hall_mission(lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0));
   in.missions[1].name = "B";
   const size_t station_points = in.missions[0].point_count();
   const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));

@@ -46,7 +46,7 @@ class WeightedMatchStage : public Stage {
     max_lift_ = c.floor_gate.check_lift ? c.floor_gate.max_lift : 0.0;
     max_tilt_ = c.floor_gate.check_tilt ? c.floor_gate.max_tilt : 180.0;
     upright_poses_ = c.floor_gate.upright_poses;
-    shape_ = registration::shape_check_config(c.shape.voxel, c.shape.distance);
+    shape_ = objreg::shape_check_config(c.shape.voxel, c.shape.distance);
     shape_.corner_hypotheses = c.shape.corner_hypotheses;
     surfaces_ = c.shape.surfaces;
     surface_.voxel = shape_.voxel;
@@ -66,7 +66,7 @@ class WeightedMatchStage : public Stage {
       if (ctx.cancelled()) return;
       const auto& a = pairs[k].first->points.xyz;
       const auto& b = pairs[k].second->points.xyz;
-      registration::IcpConfig cfg = shape_;
+      objreg::IcpConfig cfg = shape_;
       const Object &oa = *pairs[k].first, &ob = *pairs[k].second;
       // Objects moved on the floor stay upright: the best upright pose is
       // the one judged, not a better-scoring one lying on its side.
@@ -74,25 +74,25 @@ class WeightedMatchStage : public Stage {
       // view missing its top has its centroid low).
       if (upright_poses_) {
         cfg.admissible = [&](const Eigen::Isometry3d& t) {
-          return registration::stays_on_floor(oa, ob, t, max_lift_, max_tilt_);
+          return objreg::stays_on_floor(oa, ob, t, max_lift_, max_tilt_);
         };
-        if (max_lift_ > 0.0) cfg.floor_lift = registration::floor_lift(oa, ob);
+        if (max_lift_ > 0.0) cfg.floor_lift = objreg::floor_lift(oa, ob);
       }
-      registration::IcpResult r = registration::icp_refine(a, b, cfg);
+      objreg::IcpResult r = objreg::icp_refine(a, b, cfg);
       // Judged again on the surfaces, not the points: a sparse scanner's
-      // views interleave their rings (registration::surface_share).
+      // views interleave their rings (objreg::surface_share).
       if (surfaces_) {
-        const registration::SurfaceShares on = registration::surface_shares(a, b, r.transform, surface_);
+        const objreg::SurfaceShares on = objreg::surface_shares(a, b, r.transform, surface_);
         r.source_inliers = on.source;
         r.target_inliers = on.target;
       }
-      fit[k] = registration::shape_fit(r.source_inliers, r.target_inliers);
+      fit[k] = objreg::shape_fit(r.source_inliers, r.target_inliers);
       shares[k] = {r.source_inliers, r.target_inliers};
       upright_decided[k] = r.inadmissible_preferred;
       // A registration that lifts a floor-standing object (a desk's top onto a
       // cabinet's) or tips it over fits two things, not one object moved.
       // -1: never a candidate, whatever the shape gate (the cost clamps it to a misfit of 1).
-      if (!registration::stays_on_floor(oa, ob, r.transform, max_lift_, max_tilt_)) fit[k] = -1.0;
+      if (!objreg::stays_on_floor(oa, ob, r.transform, max_lift_, max_tilt_)) fit[k] = -1.0;
       ctx.progress().advance();
     });
     ctx.progress().end();
@@ -136,8 +136,8 @@ class WeightedMatchStage : public Stage {
 
  private:
   WeightedMatchConfig cfg_;
-  registration::IcpConfig shape_;
-  registration::SurfaceShareConfig surface_;
+  objreg::IcpConfig shape_;
+  objreg::SurfaceShareConfig surface_;
   double max_lift_ = 0.0, max_tilt_ = 180.0;
   bool upright_poses_ = true, surfaces_ = true;
 };

@@ -477,21 +477,21 @@ TEST(MatchWeighted, FloorGateMeasuresLiftFromTheFloorsAndTilt) {
   b.floor_z = 0.2f;  // B's floor 20 cm higher (a ramp, or drift): a move keeps that
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = Eigen::Vector3d(3, 0, 0.2);
-  EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.15, 20.0));
+  EXPECT_TRUE(objreg::stays_on_floor(a, b, t, 0.15, 20.0));
   t.translation().z() = 0.5;  // lifted 30 cm off B's floor
-  EXPECT_FALSE(registration::stays_on_floor(a, b, t, 0.15, 20.0));
-  EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.0, 20.0)) << "max_lift 0: no lift check";
+  EXPECT_FALSE(objreg::stays_on_floor(a, b, t, 0.15, 20.0));
+  EXPECT_TRUE(objreg::stays_on_floor(a, b, t, 0.0, 20.0)) << "max_lift 0: no lift check";
   t.translation().z() = 0.2;
   t.linear() = Eigen::AngleAxisd(30.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  EXPECT_FALSE(registration::stays_on_floor(a, b, t, 0.0, 20.0)) << "tipped by 30 degrees";
-  EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.0, 180.0));
+  EXPECT_FALSE(objreg::stays_on_floor(a, b, t, 0.0, 20.0)) << "tipped by 30 degrees";
+  EXPECT_TRUE(objreg::stays_on_floor(a, b, t, 0.0, 180.0));
   t.linear() = Eigen::AngleAxisd(2.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();  // any yaw
-  EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.15, 20.0));
-  EXPECT_NEAR(registration::floor_lift(a, b), 0.2, 1e-6);  // where ICP starts a standing pair
+  EXPECT_TRUE(objreg::stays_on_floor(a, b, t, 0.15, 20.0));
+  EXPECT_NEAR(objreg::floor_lift(a, b), 0.2, 1e-6);  // where ICP starts a standing pair
   b.floor_z = std::nanf("");
-  EXPECT_TRUE(std::isnan(registration::floor_lift(a, b)));
+  EXPECT_TRUE(std::isnan(objreg::floor_lift(a, b)));
   t.translation().z() = 5.0;
-  EXPECT_TRUE(registration::stays_on_floor(a, b, t, 0.15, 20.0)) << "a floor unknown: no gate";
+  EXPECT_TRUE(objreg::stays_on_floor(a, b, t, 0.15, 20.0)) << "a floor unknown: no gate";
 }
 
 // Confidence scales with the surface an object shows: a removed object of

@@ -1,11 +1,11 @@
-// registration::surface_shares, the shape check's measure of how much of one
+// objreg::surface_shares, the shape check's measure of how much of one
 // view lies on the other's surface (lista_objreg).
 #include <lista_objreg/surface_share.hpp>
 
 #include <gtest/gtest.h>
 
-using lista::registration::surface_shares;
-using lista::registration::SurfaceShareConfig;
+using lista::objreg::surface_shares;
+using lista::objreg::SurfaceShareConfig;
 
 namespace {
 

@@ -16,6 +16,8 @@ namespace lista::registration {
 
 namespace {
 
+using namespace objreg;  // what common/objreg shares with match.weighted and segment.complete
+
 // The registration's settings and the stage's own: the floor gate.
 struct IcpStageConfig : IcpConfig {
   double max_lift = 0.15;  // m

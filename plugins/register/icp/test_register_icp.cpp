@@ -14,7 +14,7 @@
 #include <string>
 
 using namespace lista;
-using namespace lista::registration;
+using namespace lista::objreg;
 
 namespace {
 

@@ -12,6 +12,8 @@ namespace lista::registration {
 
 namespace {
 
+using namespace objreg;  // what common/objreg shares with match.weighted and segment.complete
+
 struct SvdConfig {
   double ambiguity_tolerance = 0.05;
 };

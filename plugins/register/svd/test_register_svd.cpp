@@ -7,7 +7,7 @@
 #include <random>
 
 using namespace lista;
-using namespace lista::registration;
+using namespace lista::objreg;
 
 namespace {
 

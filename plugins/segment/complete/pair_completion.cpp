@@ -52,18 +52,18 @@ struct RegisteredFit {
 };
 
 RegisteredFit registered_fit(const std::vector<Eigen::Vector3f>& a, const std::vector<Eigen::Vector3f>& b) {
-  const registration::IcpConfig rc = registration::shape_check_config(0.04, 0.05);  // match.weighted's defaults
-  const registration::IcpResult r = registration::icp_refine(a, b, rc);
+  const objreg::IcpConfig rc = objreg::shape_check_config(0.04, 0.05);  // match.weighted's defaults
+  const objreg::IcpResult r = objreg::icp_refine(a, b, rc);
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const auto& p : a) c += p.cast<double>();
   c /= double(std::max<size_t>(a.size(), 1));
-  registration::SurfaceShareConfig shares;  // on the surfaces, as match.weighted judges its pairs
+  objreg::SurfaceShareConfig shares;  // on the surfaces, as match.weighted judges its pairs
   shares.voxel = rc.voxel;
   shares.inlier = rc.inlier_distance;
   shares.max_points = rc.max_score_points;
   auto fit_at = [&](const Eigen::Isometry3d& pose) {
-    const registration::SurfaceShares on = registration::surface_shares(a, b, pose, shares);
-    return registration::shape_fit(on.source, on.target);
+    const objreg::SurfaceShares on = objreg::surface_shares(a, b, pose, shares);
+    return objreg::shape_fit(on.source, on.target);
   };
   RegisteredFit f;
   f.checked = true;

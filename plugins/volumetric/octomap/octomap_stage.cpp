@@ -94,7 +94,6 @@ class OctomapStage : public Stage {
       ctx.progress().end();
     }
     raycast::record_stats(ctx, missions, stats, changes);
-    for (const std::string& note : changes.notes) ctx.info(note);
     ctx.info("changed points: " + std::to_string(out.total()));
     Outputs o;
     o.put("changes", std::move(out));

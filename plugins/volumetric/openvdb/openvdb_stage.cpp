@@ -53,7 +53,6 @@ class OpenVdbStage : public Stage {
         config_, ctx.threads(), &changes);
     ctx.progress().end();
     raycast::record_stats(ctx, missions, stats, changes);
-    for (const std::string& note : changes.notes) ctx.info(note);
     ctx.info("changed points: " + std::to_string(out.total()));
     Outputs o;
     o.put("changes", std::move(out));

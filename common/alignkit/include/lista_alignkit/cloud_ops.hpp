@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-namespace lista::align {
+namespace lista::alignkit {
 
 using Cloud = std::vector<Eigen::Vector3f>;
 
@@ -29,4 +29,4 @@ Eigen::Isometry3d levelled_frame(const Eigen::Isometry3d& pose);
 // Angle of a rotation matrix, in [0, pi] rad.
 double rotation_angle(const Eigen::Matrix3d& rotation);
 
-}  // namespace lista::align
+}  // namespace lista::alignkit

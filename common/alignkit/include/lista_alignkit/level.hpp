@@ -16,6 +16,7 @@
 
 #include <lista/context.hpp>
 #include <lista/missions.hpp>
+#include <lista/param_table.hpp>
 #include <lista/params.hpp>
 
 #include <Eigen/Geometry>
@@ -23,7 +24,7 @@
 #include <cstdint>
 #include <unordered_map>
 
-namespace lista::align {
+namespace lista::alignkit {
 
 struct LevelOptions {
   double voxel = 0.5;         // m: patch size
@@ -65,16 +66,34 @@ LevelEstimate estimate_common_up(const MissionSet& missions, const LevelOptions&
 // The smallest rotation taking `up` to +z (about the origin).
 Eigen::Isometry3d levelling_rotation(const Eigen::Vector3d& up);
 
+// The `level` parameters of every align.* stage that levels: switched by
+// `enabled`, tilts from 0.5 deg up to `max_tilt` levelled.
+struct LevelConfig {
+  bool enabled = true;
+  double max_tilt = 20.0;  // deg
+};
+
 // align.* stages' last step: the common frame turned so that its z is up,
-// when the maps say it is tilted by 0.5 to max_tilt_deg degrees (every
+// when the maps say it is tilted by 0.5 to max_tilt degrees (every
 // mission's to_common, so every output follows). Smaller tilts are left
 // (a level frame stays as it is, byte for byte); larger ones are warned of
 // and left; so is a georeferenced set (origin set: its z is up already).
-// max_tilt_deg = 0 turns it off. Records level_tilt_deg and levelled (0/1).
-void level_common_frame(MissionSet& missions, double max_tilt_deg, Context& ctx, const LevelOptions& o = {});
+// Records level_tilt_deg and levelled (0/1).
+void level_common_frame(MissionSet& missions, const LevelConfig& config, Context& ctx, const LevelOptions& o = {});
 
-// The `level_max_tilt` parameter (deg) of every align.* stage that levels:
-// one declaration, so its default, range and doc cannot drift apart.
-ParamSpec level_max_tilt_param();
+// Declares the group `level` (level.enabled, level.max_tilt) bound to
+// `member`, once for every align.* stage, so that its defaults, ranges and
+// docs cannot drift apart; the old `level_max_tilt` (0 = never) still reads.
+template <class Config>
+void bind_level(ParamTable<Config>& table, LevelConfig Config::*member) {
+  auto level = table.group("level", member);
+  level.bind("enabled", &LevelConfig::enabled,
+             "last step: the common frame turned so that its z is up, where its floors and walls say it is tilted "
+             "(a SLAM map started on a slope, a handheld scanner's)");
+  level.bind("max_tilt", &LevelConfig::max_tilt, "tilts from 0.5 deg up to this are levelled, larger ones left with a warning")
+      .range(0.5, 90.0)
+      .unit("deg");
+  table.renamed("level_max_tilt", "level.max_tilt", "level.enabled", 0.0);
+}
 
-}  // namespace lista::align
+}  // namespace lista::alignkit

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-namespace lista::align {
+namespace lista::alignkit {
 
 // gicp: PCL's Generalized ICP (BFGS); gicp_gn: ours, the GICP cost solved
 // by Gauss-Newton, with covariances that give a one-ring strip no plane
@@ -111,4 +111,4 @@ RegistrationResult register_prepared(const PreparedCloud& source, const Prepared
 RegistrationResult register_clouds(const Cloud& source, const Cloud& target,
                                    const Eigen::Isometry3d& guess, const RegistrationOptions& options);
 
-}  // namespace lista::align
+}  // namespace lista::alignkit

@@ -9,7 +9,7 @@
 #include <random>
 #include <vector>
 
-namespace lista::align::testing {
+namespace lista::alignkit::testing {
 
 struct Box {
   Eigen::Vector3d min, max;
@@ -45,4 +45,4 @@ std::vector<Eigen::Isometry3d> drifted(const std::vector<Eigen::Isometry3d>& tru
 Mission make_mission(const std::string& name, const Scene& scene, const std::vector<Eigen::Isometry3d>& truth,
                      const std::vector<Eigen::Isometry3d>& poses, uint32_t seed);
 
-}  // namespace lista::align::testing
+}  // namespace lista::alignkit::testing

@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-namespace lista::align {
+namespace lista::alignkit {
 
 struct TrajectoryError {
   double rmse = 0.0;  // m
@@ -31,4 +31,4 @@ constexpr double kFailedAlignmentRmse = 0.5;  // m
 // The warning an align stage logs for `error` above kFailedAlignmentRmse, else "".
 std::string failed_alignment_warning(const TrajectoryError& error);
 
-}  // namespace lista::align
+}  // namespace lista::alignkit

@@ -48,7 +48,7 @@
 #include <string>
 #include <vector>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 struct IcpConfig {
   std::string method = "gicp";        // "gicp" or "icp"
@@ -76,7 +76,7 @@ struct IcpConfig {
   // is returned as without it. Empty: every pose.
   std::function<bool(const Eigen::Isometry3d&)> admissible;
   // Height (m) a pose keeping both objects on their floors lifts the source
-  // by: the target's floor minus the source's (registration::floor_lift).
+  // by: the target's floor minus the source's (objreg::floor_lift).
   // When finite, the yaw hypotheses start at this height instead of at the
   // centroids': a view missing its top (a container's upper metre the other
   // mission never saw free) has its centroid lower than the whole object's,
@@ -111,4 +111,4 @@ IcpConfig shape_check_config(double voxel, double inlier_distance);
 IcpResult icp_refine(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                      const IcpConfig& cfg);
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

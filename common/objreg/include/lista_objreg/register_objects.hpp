@@ -11,7 +11,7 @@
 #include <functional>
 #include <vector>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 // What a pairwise registration found: p_t = transform * p_s, and the other
 // poses that fit about as well (empty: unambiguous).
@@ -29,4 +29,4 @@ using PairRegistration = std::function<PairPose(const Object& source, const Obje
 Matches register_matches(const ObjectSet& objects, const Matches& matches, const PairRegistration& reg,
                          Context& context);
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

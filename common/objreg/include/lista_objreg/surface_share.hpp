@@ -17,7 +17,7 @@
 #include <algorithm>
 #include <vector>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 struct SurfaceShareConfig {
   double voxel = 0.04;    // m: both views downsampled first (0 = none)
@@ -44,4 +44,4 @@ inline double shape_fit(double source_share, double target_share) {
 SurfaceShares surface_shares(const std::vector<Eigen::Vector3f>& source, const std::vector<Eigen::Vector3f>& target,
                              const Eigen::Isometry3d& t, const SurfaceShareConfig& cfg);
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -22,7 +22,7 @@
 #include <array>
 #include <vector>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 struct PrincipalFrame {
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();  // maps frame coords to world
@@ -42,4 +42,4 @@ Eigen::Isometry3d svd_transform(const PrincipalFrame& source, const PrincipalFra
 // hypotheses when the skew signs cannot be trusted.
 std::array<Eigen::Matrix3d, 4> axis_flips();
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

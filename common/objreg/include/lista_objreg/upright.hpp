@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-namespace lista::registration {
+namespace lista::objreg {
 
 // True when `t` (mapping a's points onto b's) lifts a's centroid, relative
 // to the two floors (Object::floor_z), by at most `max_lift` (0 = no lift
@@ -20,4 +20,4 @@ bool stays_on_floor(const Object& a, const Object& b, const Eigen::Isometry3d& t
 // b.floor_z - a.floor_z; NaN when either floor is unknown.
 double floor_lift(const Object& a, const Object& b);
 
-}  // namespace lista::registration
+}  // namespace lista::objreg

@@ -45,11 +45,16 @@ struct MapStats {
 
 struct ChangeStats {
   explicit ChangeStats(size_t missions = 0)
-      : changed_points(missions, 0), changed_voxels(missions, 0), seen_free_points(missions, 0) {}
+      : changed_points(missions, 0),
+        changed_voxels(missions, 0),
+        seen_free_points(missions, 0),
+        misfit(missions > 1 ? missions - 1 : 0, 0.0) {}
   std::vector<uint64_t> changed_points, changed_voxels;  // per mission
   std::vector<uint64_t> seen_free_points;                // of the changed points, per mission
   std::vector<double> one_look_share;                    // per mission (one_look_share)
+  std::vector<double> misfit;                            // per pair m, m+1: surface_misfit, m
   std::vector<std::string> notes;                        // pairs taken as stations
+  std::vector<std::string> warnings;                     // pairs judged wider for their misfit
 };
 
 // Share of a mission's points (every 16th) whose voxel one scan of it hit
@@ -105,7 +110,9 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
                                       const VolumetricConfig& config, int threads,
                                       ChangeStats* stats = nullptr);
 
-// Context::record of the per-mission numbers, keys "<mission>.<what>".
+// Context::record of the per-mission numbers, keys "<mission>.<what>"
+// (`<m>.misfit`: between m and the next mission), and the notes and
+// warnings said.
 void record_stats(Context& context, const MissionSet& missions, const std::vector<MapStats>& maps,
                   const ChangeStats& changes);
 
