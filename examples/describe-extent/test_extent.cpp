@@ -292,7 +292,7 @@ TEST(ExampleExtentPlugin, TheExamplePipelineValidates) {
   if (std::string(LISTA_BIN_DIR).empty()) GTEST_SKIP() << "built outside the LiSTA tree: no lista-run to validate with";
   const std::string lista_run = std::string(LISTA_BIN_DIR) + "/lista-run";
   if (::access(lista_run.c_str(), X_OK) != 0) GTEST_SKIP() << lista_run << " is not built";
-  const std::string pipeline = (std::filesystem::path(__FILE__).parent_path() / "pipeline.toml").string();
+  const std::string pipeline = (std::filesystem::path(EXAMPLE_DIR) / "pipeline.toml").string();
   const std::string command = "'" + lista_run + "' '" + pipeline + "' --validate 2>&1";
   std::string output;
   FILE* pipe = ::popen(command.c_str(), "r");
