@@ -119,7 +119,7 @@ void CompletionPass::drop_floor_objects() {
   std::vector<Object> kept;
   for (auto& o : out_.objects) {
     Floor f;
-    if (!o.points.empty() && local_floor(clouds_[o.mission].points, own_floor_region(o), c_.floor_percentile,
+    if (!o.points.empty() && local_floor(clouds_[o.mission], own_floor_region(o), c_.floor_percentile,
                                          c_.floor_clearance, f)) {
       const float top = std::min(f.clear_z, f.z + kFloorObjectHeight);
       size_t low = 0;
@@ -223,7 +223,7 @@ void CompletionPass::self_complete() {
     if (o.points.empty()) continue;
     const LocalCloud& cloud = clouds_[o.mission];
     Floor f;
-    if (!local_floor(cloud.points, own_floor_region(o), c_.floor_percentile, c_.floor_clearance, f)) continue;
+    if (!local_floor(cloud, own_floor_region(o), c_.floor_percentile, c_.floor_clearance, f)) continue;
     Box r = Box{o.bbox_min, o.bbox_max}.grown(margin_, margin_, margin_);
     const bool on_floor = o.bbox_min.z() - f.z <= kOnFloorGap;
     if (on_floor) r.lo.z() = f.clear_z;
@@ -297,7 +297,7 @@ void CompletionPass::set_floors(const FloorsCameWith& came_with) {
       continue;
     }
     Floor f;
-    if (!local_floor(clouds_[o.mission].points, own_floor_region(o), c_.floor_percentile, c_.floor_clearance, f))
+    if (!local_floor(clouds_[o.mission], own_floor_region(o), c_.floor_percentile, c_.floor_clearance, f))
       continue;
     if (o.bbox_min.z() - f.z > kOnFloorGap) continue;
     o.floor_z = f.z;

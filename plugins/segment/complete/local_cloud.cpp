@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <thread>
 #include <tuple>
 #include <unordered_set>
@@ -42,6 +43,9 @@ LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float
   for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
   work();
   for (auto& t : pool) t.join();
+  size_t total = 0;
+  for (const auto& s : per_scan) total += s.size();
+  cloud.points.reserve(total);
   for (auto& s : per_scan) cloud.points.append(s);
   cloud.index();
   return cloud;
@@ -50,20 +54,37 @@ LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float
 LocalCloud restrict_to(const LocalCloud& cloud, const std::vector<Box>& regions) {
   LocalCloud out;
   out.inv_voxel = cloud.inv_voxel;
-  for (size_t i = 0; i < cloud.points.size(); ++i)
+  Box all;
+  for (const auto& r : regions) all.extend(r);
+  constexpr uint32_t kDropped = std::numeric_limits<uint32_t>::max();
+  std::vector<uint32_t> renumbered(cloud.points.size(), kDropped);
+  std::vector<uint32_t> kept;
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    if (!all.contains(cloud.points.xyz[i])) continue;
     for (const auto& r : regions)
       if (r.contains(cloud.points.xyz[i])) {
-        out.points.push_back_from(cloud.points, i);
+        renumbered[i] = uint32_t(kept.size());
+        kept.push_back(uint32_t(i));
         break;
       }
-  out.index();
+  }
+  out.points.reserve(kept.size());
+  for (uint32_t i : kept) out.points.push_back_from(cloud.points, i);
+  // The kept points keep their order, so the old index filtered is sorted
+  // as index() would sort it.
+  out.grid.reserve(out.points.size());
+  for (const auto& [key, i] : cloud.grid)
+    if (renumbered[i] != kDropped) out.grid.emplace_back(key, renumbered[i]);
   return out;
 }
 
-bool local_floor(const PointSet& pts, const Box& region, double percentile, double min_clearance, Floor& floor) {
+bool local_floor(const LocalCloud& cloud, const Box& region, double percentile, double min_clearance, Floor& floor) {
+  // Sorted whole below: the order the points come in does not matter.
   std::vector<std::tuple<int, int, float>> cells;
-  for (const auto& p : pts.xyz)
-    if (region.contains(p)) cells.emplace_back(int(std::floor(p.x() * 5.f)), int(std::floor(p.y() * 5.f)), p.z());
+  cloud.for_each_in(region, [&](uint32_t i) {
+    const Eigen::Vector3f& p = cloud.points.xyz[i];
+    cells.emplace_back(int(std::floor(p.x() * 5.f)), int(std::floor(p.y() * 5.f)), p.z());
+  });
   if (cells.empty()) return false;
   std::sort(cells.begin(), cells.end());
   std::vector<float> lowest;
@@ -150,7 +171,7 @@ HeldElsewhere::HeldElsewhere(const Box& floor_region, const std::vector<size_t>&
   if (neighbours.empty()) return;
   for (size_t n : neighbours) {
     Floor f;
-    if (!local_floor(clouds[n].points, floor_region, c.floor_percentile, c.floor_clearance, f)) return;
+    if (!local_floor(clouds[n], floor_region, c.floor_percentile, c.floor_clearance, f)) return;
     others.emplace_back(&clouds[n], f.clear_z);
   }
   valid = true;

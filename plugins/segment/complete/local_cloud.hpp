@@ -60,6 +60,29 @@ struct LocalCloud {
     for (size_t i = 0; i < points.size(); ++i) grid[i] = {voxel_key(voxel_of(points.xyz[i])), uint32_t(i)};
     std::sort(grid.begin(), grid.end());
   }
+  // Calls f(i) for each point inside `b`. Keys sort by x, then y, then z,
+  // so the voxels of one (x, y) column of the box are one range of `grid`:
+  // a box over a few columns is read column by column, a box over more
+  // columns than a scan of every point would cost, point by point.
+  template <class F>
+  void for_each_in(const Box& b, F&& f) const {
+    if (points.empty() || !(b.lo.array() <= b.hi.array()).all()) return;
+    const Eigen::Vector3i lo = voxel_of(b.lo), hi = voxel_of(b.hi);
+    constexpr double kSearchCost = 32.0;  // points scanned for the price of one column's binary search
+    if (double(hi.x() - lo.x() + 1) * double(hi.y() - lo.y() + 1) * kSearchCost > double(points.size())) {
+      for (size_t i = 0; i < points.size(); ++i)
+        if (b.contains(points.xyz[i])) f(uint32_t(i));
+      return;
+    }
+    for (int x = lo.x(); x <= hi.x(); ++x)
+      for (int y = lo.y(); y <= hi.y(); ++y) {
+        const uint64_t last = voxel_key(Eigen::Vector3i(x, y, hi.z()));
+        auto it = std::lower_bound(grid.begin(), grid.end(),
+                                   std::make_pair(voxel_key(Eigen::Vector3i(x, y, lo.z())), uint32_t(0)));
+        for (; it != grid.end() && it->first <= last; ++it)
+          if (b.contains(points.xyz[it->second])) f(it->second);
+      }
+  }
   // Points in voxel v: a range of `grid`.
   std::pair<size_t, size_t> in_voxel(const Eigen::Vector3i& v) const {
     const uint64_t k = voxel_key(v);
@@ -87,7 +110,7 @@ struct Floor {
   float clear_z = 0.f;    // lowest z an object point may have
 };
 
-bool local_floor(const PointSet& pts, const Box& region, double percentile, double min_clearance, Floor& floor);
+bool local_floor(const LocalCloud& cloud, const Box& region, double percentile, double min_clearance, Floor& floor);
 
 // Breadth-first growth of `seed` through occupied voxels of `cloud` inside
 // `region`, over points above `min_z` that nobody owns. Returns the new points.

@@ -92,7 +92,7 @@ size_t join_connected(ObjectSet& set, const std::vector<std::tuple<float, size_t
     own.extend(Box{b.bbox_min, b.bbox_max});
     const Box floor_region = own.grown(margin + 0.75f, 1.5f, margin);
     Floor f;
-    if (!local_floor(cloud.points, floor_region, c.floor_percentile, c.floor_clearance, f)) continue;
+    if (!local_floor(cloud, floor_region, c.floor_percentile, c.floor_clearance, f)) continue;
     // No leak check: what connects two fragments (a table's top) reaches
     // past their boxes; what connects two unrelated objects (a wall, the
     // bench they stood on) is held elsewhere, which the test below sees.

@@ -166,8 +166,8 @@ void CompletionPass::complete_pair(const Pair& p, std::vector<char>& completed, 
     if (t.fit.still()) return "the grown objects fit best where they stand (" + t.fit.note() + ")";
     return shapes + " differ" + t.kept_to + " (" + shape_note(t.sa) + " / " + shape_note(t.sb) + ")";
   };
-  if (!local_floor(ca.points, p.floor_region, c_.floor_percentile, c_.floor_clearance, fa) ||
-      !local_floor(cb.points, p.floor_region, c_.floor_percentile, c_.floor_clearance, fb)) {
+  if (!local_floor(ca, p.floor_region, c_.floor_percentile, c_.floor_clearance, fa) ||
+      !local_floor(cb, p.floor_region, c_.floor_percentile, c_.floor_clearance, fb)) {
     ++st_.rejected;
     st_.pair_notes.push_back(which + "not completed, no floor found around them");
     return;
