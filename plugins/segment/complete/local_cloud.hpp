@@ -97,8 +97,9 @@ struct LocalCloud {
 // `regions`, in scan then file order whatever the thread count.
 LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float voxel, int threads);
 
-// The points of `cloud` inside any of `regions`, in the same order: what
-// gather(regions) would have returned, without reading the mission again.
+// The points of `cloud` (indexed, as gather returns it) inside any of
+// `regions`, in the same order, with its index: what gather(regions) would
+// have returned, without reading the mission again.
 LocalCloud restrict_to(const LocalCloud& cloud, const std::vector<Box>& regions);
 
 // The local floor under `region`: the `percentile` of the lowest z per 0.2 m
