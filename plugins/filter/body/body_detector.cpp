@@ -237,19 +237,11 @@ BodyCells find_station_body_cells(const std::vector<const PointSet*>& stations, 
   out.scans = held.size();
   if (held.size() < 2 || c.max_range <= 0) return out;
   out.checked = true;
+  // Core cells only (see the header): an object's dropped points leave its
+  // space seen free by other beams, which is change.
   const Candidates cs = candidate_cells(occupancy(held, c, threads), held.size(), c, out, 2);
-  const auto is_core = [&](uint64_t key) {
-    const auto it = std::lower_bound(cs.cells.begin(), cs.cells.end(), key);
-    return it != cs.cells.end() && *it == key && cs.core[size_t(it - cs.cells.begin())];
-  };
-  for (size_t ci = 0; ci < cs.cells.size(); ++ci) {
-    bool take = cs.core[ci];
-    const Eigen::Vector3i at = geometry::voxel_of_key(cs.cells[ci]);
-    for (int dx = -1; dx <= 1 && !take; ++dx)
-      for (int dy = -1; dy <= 1 && !take; ++dy)
-        for (int dz = -1; dz <= 1 && !take; ++dz) take = is_core(geometry::voxel_key(at + Eigen::Vector3i(dx, dy, dz)));
-    if (take) out.drop.push_back(cs.cells[ci]);
-  }
+  for (size_t ci = 0; ci < cs.cells.size(); ++ci)
+    if (cs.core[ci]) out.drop.push_back(cs.cells[ci]);
   out.confirmed = out.candidates;
   return out;  // cs.cells is sorted, so is drop
 }

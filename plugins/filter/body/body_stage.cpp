@@ -108,7 +108,7 @@ class BodyStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "filter.body";
-  s.version = "1.1.0";
+  s.version = "1.2.0";
   s.summary = "drops the robot's own body from the scans: points that move with the sensor and are seen through";
   s.doc =
       "Drops the robot's own body (or a handheld scanner's operator) from every scan: what stays put near the "

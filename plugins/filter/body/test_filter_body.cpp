@@ -244,7 +244,9 @@ namespace {
 
 // Two stop-and-go missions of one scan each, from stations `a` and `b` of
 // the hall's loop, each scan with the platform under its sensor when
-// `platform`.
+// `platform` (seen densely, as a scanner sees what carries it at 1 m).
+constexpr int kPlatformPoints = 3000;
+
 lista::MissionSet two_stations(size_t a, size_t b, bool platform) {
   const Scene hall = lista::alignkit::testing::make_hall(20, 14, 12, 3);
   const auto loop = lista::alignkit::testing::loop_route(20, 14, 4, 1.5, 0.0);
@@ -253,7 +255,7 @@ lista::MissionSet two_stations(size_t a, size_t b, bool platform) {
     const std::vector<Eigen::Isometry3d> route{loop[station]};
     lista::Mission m = lista::alignkit::testing::make_mission(set.missions.empty() ? "A" : "B", hall, route, route,
                                                            uint32_t(11 + station));
-    if (platform) add_body(m, 300, uint32_t(station));
+    if (platform) add_body(m, kPlatformPoints, uint32_t(station));
     set.missions.push_back(std::move(m));
   }
   return set;
@@ -269,8 +271,9 @@ TEST(FilterBody, DropsThePlatformOfOneScanStations) {
   const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));
   const auto& after = out.at("missions").as<lista::MissionSet>();
   for (size_t m = 0; m < 2; ++m) {
-    const Dropped d = count_dropped(in.missions[m], after.missions[m], {in.missions[m].scans[0].points_in_file - 300});
-    EXPECT_GE(d.body, 285u) << in.missions[m].name;
+    const Dropped d = count_dropped(in.missions[m], after.missions[m],
+                                    {in.missions[m].scans[0].points_in_file - uint32_t(kPlatformPoints)});
+    EXPECT_GE(double(d.body), 0.97 * kPlatformPoints) << in.missions[m].name;
     EXPECT_EQ(d.scene, 0u) << in.missions[m].name;
   }
   // One thread drops the same points.
@@ -282,6 +285,58 @@ TEST(FilterBody, KeepsEverythingOfOneScanStationsWithoutAPlatform) {
   const lista::MissionSet in = two_stations(2, 9, false);
   const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));
   EXPECT_EQ(points_of(out.at("missions").as<lista::MissionSet>()), points_of(in));
+}
+
+namespace {
+
+// Appends `points` (sensor frame) to the first scan of `m`, numbered after
+// its points; returns the first new index.
+uint32_t append_points(lista::Mission& m, const std::vector<Eigen::Vector3f>& points) {
+  lista::Scan& scan = m.scans.at(0);
+  auto set = std::make_shared<lista::PointSet>(*scan.points);
+  const uint32_t first = scan.points_in_file;
+  for (size_t k = 0; k < points.size(); ++k) {
+    set->xyz.push_back(points[k]);
+    set->scan.push_back(0);
+    set->index.push_back(first + uint32_t(k));
+  }
+  scan.points_in_file += uint32_t(points.size());
+  scan.points = std::move(set);
+  return first;
+}
+
+}  // namespace
+
+// The floor under a scanner kept at one height is at one place at every
+// station, like the platform; a crate on it beside one station is not, and
+// keeps its points (all but those in the floor's own cells).
+TEST(FilterBody, KeepsAnObjectOnTheFloorBesideOneStation) {
+  lista::MissionSet in = two_stations(2, 9, true);
+  constexpr float floor_z = -0.55f;
+  std::vector<Eigen::Vector3f> floor, crate;
+  for (float x = -1.4f; x <= 1.4f; x += 0.05f)
+    for (float y = -1.4f; y <= 1.4f; y += 0.05f)
+      if (x * x + y * y < 1.4f * 1.4f) floor.emplace_back(x, y, floor_z);
+  for (float a = 0.f; a <= 0.3f; a += 0.02f)
+    for (float z = floor_z; z <= -0.2f; z += 0.02f) {
+      crate.emplace_back(0.8f, a - 0.15f, z);  // the face toward the sensor
+      crate.emplace_back(0.8f + a, -0.15f, z);
+      crate.emplace_back(0.8f + a, 0.15f, z);
+    }
+  for (auto& m : in.missions) append_points(m, floor);
+  const uint32_t first_crate = append_points(in.missions[1], crate);
+  const auto out = test_support::run_stage("filter.body", "missions", lista::Data::make(in));
+  const lista::PointSet& kept = *out.at("missions").as<lista::MissionSet>().missions[1].scans[0].points;
+  const std::set<uint32_t> kept_index(kept.index.begin(), kept.index.end());
+  size_t above_floor_cells = 0, kept_crate = 0;
+  for (size_t k = 0; k < crate.size(); ++k) {
+    if (crate[k].z() < -0.5f) continue;  // the floor's cells: taken with it
+    ++above_floor_cells;
+    kept_crate += kept_index.count(first_crate + uint32_t(k));
+  }
+  EXPECT_GT(above_floor_cells, 300u);
+  EXPECT_EQ(kept_crate, above_floor_cells);
+  EXPECT_LT(kept.size(), in.missions[1].scans[0].points->size() - floor.size() / 2);  // the floor went
 }
 
 // A single station has nothing to be compared with: it is left alone.
