@@ -237,8 +237,6 @@ BodyCells find_station_body_cells(const std::vector<const PointSet*>& stations, 
   out.scans = held.size();
   if (held.size() < 2 || c.max_range <= 0) return out;
   out.checked = true;
-  // Core cells only (see the header): an object's dropped points leave its
-  // space seen free by other beams, which is change.
   const Candidates cs = candidate_cells(occupancy(held, c, threads), held.size(), c, out, 2);
   for (size_t ci = 0; ci < cs.cells.size(); ++ci)
     if (cs.core[ci]) out.drop.push_back(cs.cells[ci]);

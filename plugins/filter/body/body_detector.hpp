@@ -51,10 +51,9 @@ BodyCells find_body_cells(const Mission& mission, const BodyConfig& config, int 
 // the sensor (a tripod, a robot's deck) stands at the same place in the
 // sensor frame at every station, while the scene around a station differs
 // from one to the next: a cell occupied in at least min_share of the station
-// scans, and in at least two, is the platform. Cells beside it are not
-// taken: the floor also stands at one place under a scanner kept at one
-// height, and an object on it beside one station would lose its points to
-// the platform. Fewer than two station scans: nothing (`checked` false).
+// scans, and in at least two, is the platform; the cells beside it are not
+// (why: docs/formats.md, "Stations"). Fewer than two station scans:
+// nothing (`checked` false).
 BodyCells find_station_body_cells(const std::vector<const PointSet*>& stations, const BodyConfig& config,
                                   int threads = 1);
 
