@@ -7,10 +7,12 @@
 #include "mission_graph.hpp"
 #include "mission_links.hpp"
 #include "scan_edge_check.hpp"
+#include "station_links.hpp"
 #include "stopwatch.hpp"
 
 #include <lista/error.hpp>
 
+#include <algorithm>
 #include <set>
 
 namespace lista::align {
@@ -80,6 +82,36 @@ std::vector<Closure> solve_and_refine(const MissionSet& set, const MissionClosur
   return closures;
 }
 
+// Stations of different missions registered whole (station_links.hpp) on
+// the solved graph. Where they link a pair of missions they replace its
+// closures, which measure the same thing from coarser submaps; `g` and
+// `base` (the odometry-only graph the scan edges are vetted on) keep them.
+void link_stations(const MissionSet& set, const std::vector<Keyframe>& kf, const JointAlignmentOptions& o,
+                   Context& ctx, JointAlignmentReport& report, const Stopwatch& clock, std::vector<Closure>& closures,
+                   Graph& base, Graph& g) {
+  const std::vector<char> stations = station_missions(set);
+  if (std::count(stations.begin(), stations.end(), 1) < 2) return;
+  PoseGraphEdge closure_like;
+  closure_like.sigma_translation = o.closure_sigma_translation;
+  closure_like.sigma_rotation = o.closure_sigma_rotation;
+  const StationLinks links = station_link_edges(set, g, stations, o.scan_edges, closure_like, ctx.threads(),
+                                                [&] { return ctx.cancelled(); });
+  ctx.throw_if_cancelled();
+  report.station_links_tried = links.tried;
+  report.station_links = links.edges.size();
+  ctx.info(std::to_string(links.edges.size()) + " of " + std::to_string(links.tried) +
+           " whole-scan registrations between stations of different missions accepted after " + clock.elapsed());
+  if (links.edges.empty()) return;
+  closures.erase(std::remove_if(closures.begin(), closures.end(),
+                                [&](const Closure& c) {
+                                  const size_t a = kf[c.reference].mission, b = kf[c.query].mission;
+                                  return links.pairs.count({std::min(a, b), std::max(a, b)}) > 0;
+                                }),
+                 closures.end());
+  for (Graph* h : {&base, &g}) h->within.insert(h->within.end(), links.edges.begin(), links.edges.end());
+  report.final_cost = solve(g, closure_edges(set, g, kf, closures, o), o.graph).final_cost;
+}
+
 }  // namespace
 
 MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o, Context& ctx,
@@ -98,14 +130,15 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   const Stopwatch clock;
   const MissionClosures found = find_mission_closures(set, o, ctx, report, clock);
   Graph g = odometry_graph(set, initial_transforms(set, found.keyframes, found.closures, report), o);
-  const Graph odometry_only = g;  // before scan edges and solves
+  Graph odometry_only = g;  // before scan edges and solves
   ScanEdgeReport scan_report;
   const std::vector<PoseGraphEdge> scan_edges =
       scan_edges_with_notes(set, g.offset, o, ctx, report, scan_report, clock);
   g.within.insert(g.within.end(), scan_edges.begin(), scan_edges.end());
-  const std::vector<Closure> closures = solve_and_refine(set, found, o, ctx, report, clock, g);
-  report.final_closures = closures.size();
+  std::vector<Closure> closures = solve_and_refine(set, found, o, ctx, report, clock, g);
   report.linked = linked_to_first(set.missions.size(), found.keyframes, closures);
+  link_stations(set, found.keyframes, o, ctx, report, clock, closures, odometry_only, g);
+  report.final_closures = closures.size();
   if (o.check_scan_disagreement && !scan_edges.empty() && !closures.empty())
     vet_scan_edges(set, found.keyframes, closures, scan_edges, scan_report, odometry_only, o, ctx, report, g);
   return with_graph_poses(set, g);

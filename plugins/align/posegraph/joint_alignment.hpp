@@ -54,8 +54,9 @@ struct JointAlignmentReport {
   size_t global_replaced = 0;  // weakly linked mission pairs whose closures the whole maps overruled
   size_t scan_edges_tried = 0, scan_edges = 0;  // scan-to-scan registrations tried / accepted
   size_t scan_map_missions = 0;  // missions registered scan to local map (ScanEdgeOptions::map_use)
-  size_t station_missions = 0;
-  std::vector<char> linked;  // per mission: linked to the first by the final closures   // missions whose pairs were judged as stations' (ScanEdgeReport::stations)
+  size_t station_missions = 0;  // missions whose pairs were judged as stations' (ScanEdgeReport::stations)
+  size_t station_links_tried = 0, station_links = 0;  // whole-scan registrations between missions' stations
+  std::vector<char> linked;  // per mission: linked to the first by the final closures
   std::vector<size_t> closures_per_mission;  // consistent closures to other missions
   double initial_cost = 0.0, final_cost = 0.0;
   // RMS translation residual of the final closures (m), solved with and

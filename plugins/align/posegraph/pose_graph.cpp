@@ -13,8 +13,10 @@ namespace {
 struct RelativePoseError {
   explicit RelativePoseError(const PoseGraphEdge& e) : t_meas(e.measurement.translation()), q_meas(e.measurement.linear()) {
     const double along = 1.0 / e.sigma_translation, turn = 1.0 / e.sigma_rotation;
-    w_t = Eigen::Vector3d(along, along, e.planar ? 0.0 : along);
-    w_r = Eigen::Vector3d(e.planar ? 0.0 : turn, e.planar ? 0.0 : turn, turn);
+    const double up = e.planar ? 0.0 : 1.0 / (e.sigma_height > 0.0 ? e.sigma_height : e.sigma_translation);
+    const double tilt = e.planar ? 0.0 : 1.0 / (e.sigma_tilt > 0.0 ? e.sigma_tilt : e.sigma_rotation);
+    w_t = Eigen::Vector3d(along, along, up);
+    w_r = Eigen::Vector3d(tilt, tilt, turn);
   }
 
   template <class T>

@@ -19,6 +19,10 @@ struct PoseGraphEdge {
   // height and level (scan-to-scan registration of sparse scans, whose small
   // roll/pitch errors would tilt the map by tenths of a degree).
   bool planar = false;
+  // Height (z) and level (roll, pitch) at sigmas of their own, for a
+  // measurement weaker there than in x, y and yaw; 0: sigma_translation /
+  // sigma_rotation.
+  double sigma_height = 0.0, sigma_tilt = 0.0;
   bool robust = false;              // under the robust loss (loop closures)
 };
 

@@ -179,6 +179,7 @@ class PoseGraphStage : public Stage {
     ctx.record("scan_edges_left_out", static_cast<double>(report.scan_edges_left_out));
     ctx.record("scan_map_missions", static_cast<double>(report.scan_map_missions));
     ctx.record("station_missions", static_cast<double>(report.station_missions));
+    ctx.record("station_links", static_cast<double>(report.station_links));
     if (report.scan_edges > 0) {
       ctx.record("closure_residual_with_scan_edges_m", report.closure_residual_with_scan_edges);
       ctx.record("closure_residual_without_scan_edges_m", report.closure_residual_without_scan_edges);
@@ -208,7 +209,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.10.0";
+  s.version = "1.11.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Aligns the missions into the first one's frame and corrects every scan's pose: Scan Context loop closures "

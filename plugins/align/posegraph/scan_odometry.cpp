@@ -44,7 +44,23 @@ Cloud downsampled(const Cloud& near, const ScanEdgeOptions& o, size_t max_points
   return voxel_downsample_at_most(near, o.registration.voxel, max_points);
 }
 
+}  // namespace
+
 Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) { return downsampled(near_points(scan, o), o, o.max_points); }
+
+ScanEdgeOptions station_edge_options(const ScanEdgeOptions& o) {
+  ScanEdgeOptions s = o;
+  s.gates.min_overlap = o.station_min_overlap;
+  s.registration.min_coarse_overlap = 0.6 * o.station_min_overlap;
+  // Nor under the robust loss: a robot walks metres between stations, so
+  // the odometry starts tens of the edges' sigmas from what they measure,
+  // where a robust loss scaled in those sigmas would discount exactly the
+  // correction (a hall's stations 22-30 m apart kept 0.35-0.85 deg of yaw).
+  s.robust = false;
+  return s;
+}
+
+namespace {
 
 // The registration, if it passes the gates; `both_ways`: the target's
 // overlap with the source counts too (not for a local map, which reaches
@@ -171,14 +187,7 @@ std::vector<PoseGraphEdge> scan_registration_edges(const MissionSet& set, const 
   report.stations.assign(missions, false);
   // Stations' pairs are judged as whole maps are (GlobalSearchOptions::
   // min_overlap): the overlap of the smaller side, at the whole-map bar.
-  ScanEdgeOptions station_options = o;
-  station_options.gates.min_overlap = o.station_min_overlap;
-  station_options.registration.min_coarse_overlap = 0.6 * o.station_min_overlap;
-  // Nor under the robust loss: a robot walks metres between stations, so
-  // the odometry starts tens of the edges' sigmas from what they measure,
-  // where a robust loss scaled in those sigmas would discount exactly the
-  // correction (a hall's stations 22-30 m apart kept 0.35-0.85 deg of yaw).
-  station_options.robust = false;
+  const ScanEdgeOptions station_options = station_edge_options(o);
   auto options_of = [&](size_t m) -> const ScanEdgeOptions& { return report.stations[m] ? station_options : o; };
   for (size_t m = 0; m < missions; ++m) {
     // Neighbours are the next scans that hold points: an empty scan (a

@@ -60,6 +60,14 @@ struct ScanEdgeOptions {
 // Returned whole if clearance is 0 or fewer than 100 points would remain.
 Cloud above_ground(const Cloud& scan, const Eigen::Isometry3d& pose, double clearance);
 
+// A scan's points as its registrations use them: within max_range, the
+// ground left out if asked, downsampled to about max_points.
+Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& options);
+
+// The options a mission of stop-and-go stations registers its pairs with:
+// the overlap gate of whole maps (station_min_overlap), no robust loss.
+ScanEdgeOptions station_edge_options(const ScanEdgeOptions& options);
+
 struct ScanEdgeReport {
   size_t tried = 0, accepted = 0;  // the edges used: scan to scan, or scan to map where switched
   std::vector<size_t> tried_per_mission, accepted_per_mission;  // by mission index

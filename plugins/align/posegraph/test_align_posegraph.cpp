@@ -5,6 +5,7 @@
 #include "posegraph_stage.hpp"
 #include "scan_context.hpp"
 #include "scan_odometry.hpp"
+#include "station_links.hpp"
 #include "unposed_stations.hpp"
 
 #include <lista/basic_context.hpp>
@@ -159,6 +160,26 @@ TEST(PoseGraph, PullsDriftedChainOntoClosure) {
   EXPECT_NEAR(nodes[10].translation().x(), 9.5, 0.01);
   EXPECT_NEAR(nodes[5].translation().x(), 4.75, 0.02);
   EXPECT_NEAR(nodes[0].translation().x(), 0.0, 1e-12);
+}
+
+// An edge's height and level may carry sigmas of their own: one that is
+// sure of x and y but loose in height yields there to one sure of both.
+TEST(PoseGraph, HeightAndLevelWeighOnTheirOwnSigmas) {
+  std::vector<Eigen::Isometry3d> nodes(2, Eigen::Isometry3d::Identity());
+  PoseGraphEdge loose_height, sure;
+  loose_height.measurement.translation() = Eigen::Vector3d(1.0, 0.0, 0.0);
+  loose_height.measurement.linear() = Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  loose_height.sigma_translation = sure.sigma_translation = 0.01;
+  loose_height.sigma_rotation = sure.sigma_rotation = 0.001;
+  loose_height.sigma_height = 1.0;
+  loose_height.sigma_tilt = 1.0;
+  sure.from = loose_height.from = 0;
+  sure.to = loose_height.to = 1;
+  sure.measurement.translation() = Eigen::Vector3d(1.0, 0.0, 0.5);
+  optimise_pose_graph(nodes, {true, false}, {loose_height, sure}, PoseGraphOptions{});
+  EXPECT_NEAR(nodes[1].translation().z(), 0.5, 0.001) << "the height is the sure edge's";
+  EXPECT_NEAR(nodes[1].translation().x(), 1.0, 0.001);
+  EXPECT_LT(rotation_angle(nodes[1].linear()), 0.001) << "and so is the level";
 }
 
 TEST(AlignPosegraph, BringsDriftedMissionBack) {
@@ -965,6 +986,51 @@ TEST(ScanEdges, StationsAreJudgedOnTheWholeMapOverlap) {
   EXPECT_TRUE(report.stations[1]) << "12 m steps, points within about 10 m: stations";
   EXPECT_EQ(report.accepted_per_mission[0], 0u);
   EXPECT_GT(report.accepted_per_mission[1], 0u);
+}
+
+// Stations of two missions, placed by the graph 0.15 m and 1.5 deg off (as
+// closures between downsampled submaps leave them), are registered whole
+// onto each other's nearest stations: each edge measures the true relative
+// pose to the scans' accuracy, in height and level too.
+TEST(StationLinks, WholeScansMeasureWhatTheClosuresLeftOff) {
+  const Scene hall = make_hall(kHallX, kHallY, 40, 7);
+  const auto loop = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
+  std::vector<Eigen::Isometry3d> truth_a = {loop[0], loop[20], loop[40]}, truth_b;
+  for (const auto& t : truth_a) truth_b.push_back(t * offset(2.0, 0.5, 0.0, 35));
+  MissionSet set;
+  set.missions.push_back(make_mission("a", hall, truth_a, truth_a, 1));
+  set.missions.push_back(make_mission("b", hall, truth_b, truth_b, 2));
+  Graph g;
+  g.offset = {0, 3};
+  g.nodes = truth_a;
+  const Eigen::Isometry3d closures_error = offset(0.15, -0.1, 0.05, 1.5);
+  for (const auto& t : truth_b) g.nodes.push_back(closures_error * t);
+  ScanEdgeOptions o;
+  o.neighbours = 2;
+  o.registration.method = RegistrationMethod::gicp_gn;
+  o.registration.voxel = 0.1;
+  o.registration.coarse_distance = 1.0;
+  o.gates = scan_pair_gates(RegistrationMethod::gicp_gn, 0.5, 0.15, 0.06);
+  o.station_min_overlap = 0.3;
+  PoseGraphEdge closure_like;
+  closure_like.sigma_translation = 0.05;
+  closure_like.sigma_rotation = 0.5 * M_PI / 180;
+  const StationLinks links = station_link_edges(set, g, {1, 1}, o, closure_like, 2);
+  EXPECT_EQ(links.tried, 6u) << "each of b's stations onto a's two nearest";
+  ASSERT_GE(links.edges.size(), 2u);
+  EXPECT_EQ(links.pairs, (std::set<std::pair<size_t, size_t>>{{0, 1}}));
+  for (const auto& e : links.edges) {
+    ASSERT_LT(e.from, 3u);
+    ASSERT_GE(e.to, 3u);
+    const Eigen::Isometry3d truth = truth_a[e.from].inverse() * truth_b[e.to - 3];
+    const Eigen::Isometry3d err = truth.inverse() * e.measurement;
+    EXPECT_LT(err.translation().norm(), 0.01) << e.from << " -> " << e.to;
+    EXPECT_LT(rotation_angle(err.linear()) * 180 / M_PI, 0.1) << e.from << " -> " << e.to;
+    EXPECT_FALSE(e.planar) << "nothing else ties the missions in height and level";
+    EXPECT_EQ(e.sigma_height, 0.05) << "height and level at the closures' sigmas";
+    EXPECT_LT(e.sigma_translation, 0.01);
+  }
+  EXPECT_TRUE(station_link_edges(set, g, {1, 0}, o, closure_like, 2).edges.empty()) << "b drives: no station links";
 }
 
 // Stations that no registration links stand where poses.txt puts them:
