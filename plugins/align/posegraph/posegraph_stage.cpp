@@ -214,7 +214,8 @@ StageInfo posegraph_stage_info() {
   s.doc =
       "Aligns the missions into the first one's frame and corrects every scan's pose: Scan Context loop closures "
       "between keyframe submaps verified by GICP, a whole-map search for weakly linked missions, and one Ceres "
-      "pose graph of odometry, scan-to-scan edges and closures; then the common frame is levelled. "
+      "pose graph of odometry, scan-to-scan edges and closures (between missions of stations: whole-scan "
+      "registrations instead); then the common frame is levelled. "
       "Details: docs/alignment.md, \"align.posegraph\".";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with corrected poses and to_common"}};
