@@ -85,7 +85,7 @@ std::vector<Closure> solve_and_refine(const MissionSet& set, const MissionClosur
 // Stations of different missions registered whole (station_links.hpp) on
 // the solved graph. Where they link a pair of missions they replace its
 // closures, which measure the same thing from coarser submaps; `g` and
-// `base` (the odometry-only graph the scan edges are vetted on) keep them.
+// `base` (the graph the scan edges are vetted on) keep them.
 void link_stations(const MissionSet& set, const std::vector<Keyframe>& kf, const JointAlignmentOptions& o,
                    Context& ctx, JointAlignmentReport& report, const Stopwatch& clock, std::vector<Closure>& closures,
                    Graph& base, Graph& g) {
@@ -130,17 +130,17 @@ MissionSet align_missions(const MissionSet& set, const JointAlignmentOptions& o,
   const Stopwatch clock;
   const MissionClosures found = find_mission_closures(set, o, ctx, report, clock);
   Graph g = odometry_graph(set, initial_transforms(set, found.keyframes, found.closures, report), o);
-  Graph odometry_only = g;  // before scan edges and solves
+  Graph vetting_base = g;  // the odometry (and below, station links): what scan edges are vetted on
   ScanEdgeReport scan_report;
   const std::vector<PoseGraphEdge> scan_edges =
       scan_edges_with_notes(set, g.offset, o, ctx, report, scan_report, clock);
   g.within.insert(g.within.end(), scan_edges.begin(), scan_edges.end());
   std::vector<Closure> closures = solve_and_refine(set, found, o, ctx, report, clock, g);
   report.linked = linked_to_first(set.missions.size(), found.keyframes, closures);
-  link_stations(set, found.keyframes, o, ctx, report, clock, closures, odometry_only, g);
+  link_stations(set, found.keyframes, o, ctx, report, clock, closures, vetting_base, g);
   report.final_closures = closures.size();
   if (o.check_scan_disagreement && !scan_edges.empty() && !closures.empty())
-    vet_scan_edges(set, found.keyframes, closures, scan_edges, scan_report, odometry_only, o, ctx, report, g);
+    vet_scan_edges(set, found.keyframes, closures, scan_edges, scan_report, vetting_base, o, ctx, report, g);
   return with_graph_poses(set, g);
 }
 
