@@ -4,11 +4,13 @@
 #include <lista/error.hpp>
 #include <lista_bag/ros1.hpp>
 
+#include <bzlib.h>
 #include <console_bridge/console.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
+#include <roslz4/lz4s.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
@@ -63,7 +65,9 @@ Cloud from_ros(const sensor_msgs::PointCloud2& m, bool headers_only) {
 // rosbag trusts every length a file states (a record header of 2 GB is
 // allocated before it is found missing): the record structure is walked
 // first, its lengths checked against the file, and a chunk's stated
-// uncompressed size against what compression can give.
+// uncompressed size against what compression can give. A compressed chunk
+// is decompressed and its records walked too: rosbag parses their headers
+// without checking them against the chunk.
 class RecordWalk {
  public:
   explicit RecordWalk(const std::string& file) : file_(file), in_(file, std::ios::binary) {
@@ -74,14 +78,11 @@ class RecordWalk {
 
   void check() {
     static const char magic[] = "#ROSBAG V2.0\n";
-    std::string head(13, '\0');
-    in_.seekg(0);
-    in_.read(head.data(), 13);
-    if (!in_ || head != magic)
+    if (size_ < 13 || bytes(0, 13) != magic)
       throw Error(file_ + ": not a ROS 1 bag (version 2.0); a ROS 2 bag is a folder with metadata.yaml");
     for (uint64_t at = 13; at < size_;) {
       starts_.insert(at);
-      at = record(at, size_);
+      at = record(at, size_, true);
     }
     // rosbag jumps to the index the bag header names, and to each chunk a
     // chunk info names: both must be where a record begins.
@@ -94,19 +95,51 @@ class RecordWalk {
   }
 
  private:
-  uint32_t u32(uint64_t at) {
-    uint8_t b[4];
+  // Bytes [at, at + n) of the file, or of the decompressed chunk being walked.
+  std::string bytes(uint64_t at, uint64_t n) {
+    std::string out(size_t(n), '\0');
+    if (chunk_) {
+      if (at + n > chunk_->size()) throw truncated(at);
+      std::memcpy(out.data(), chunk_->data() + at, size_t(n));
+      return out;
+    }
     in_.seekg(std::streamoff(at));
-    in_.read(reinterpret_cast<char*>(b), 4);
+    in_.read(out.data(), std::streamsize(n));
     if (!in_) throw truncated(at);
-    return uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
+    return out;
+  }
+  uint32_t u32(uint64_t at) {
+    const std::string b = bytes(at, 4);
+    return uint32_t(uint8_t(b[0])) | uint32_t(uint8_t(b[1])) << 8 | uint32_t(uint8_t(b[2])) << 16 |
+           uint32_t(uint8_t(b[3])) << 24;
   }
   Error truncated(uint64_t at) const {
+    if (chunk_)
+      return Error(file_ + ": a record at byte " + std::to_string(at) + " of the compressed chunk at byte " +
+                   std::to_string(chunk_at_) + " runs past the chunk's end: a corrupt bag");
     return Error(file_ + ": a record at byte " + std::to_string(at) + " runs past the end of the file (" +
                  std::to_string(size_) + " bytes): a truncated or corrupt bag; try `rosbag reindex` on a copy");
   }
-  // Walks the record at `at` (within [at, end)); returns where the next begins.
-  uint64_t record(uint64_t at, uint64_t end) {
+  // The chunk's data decompressed to its stated size.
+  std::vector<char> decompressed(uint64_t at, uint64_t data_at, uint64_t data_len, uint64_t size,
+                                 const std::string& compression) {
+    std::string packed = bytes(data_at, data_len);
+    std::vector<char> out(size_t(size) + 1);  // one spare byte: a chunk that holds more than it states fails
+    unsigned int got = unsigned(out.size());
+    const bool ok = compression == "lz4"
+                        ? roslz4_buffToBuffDecompress(packed.data(), unsigned(packed.size()), out.data(), &got) ==
+                              ROSLZ4_OK
+                        : BZ2_bzBuffToBuffDecompress(out.data(), &got, packed.data(), unsigned(packed.size()), 0, 0) ==
+                              BZ_OK;
+    if (!ok || got != size)
+      throw Error(file_ + ": the " + compression + " chunk at byte " + std::to_string(at) + " does not decompress to the " +
+                  std::to_string(size) + " bytes it states: a corrupt bag");
+    out.resize(size_t(size));
+    return out;
+  }
+  // Walks the record at `at` (within [at, end)); returns where the next
+  // begins. `top`: a record of the file, not one inside a chunk.
+  uint64_t record(uint64_t at, uint64_t end, bool top) {
     if (at + 4 > end) throw truncated(at);
     const uint64_t header_len = u32(at);
     if (at + 4 + header_len + 4 > end) throw truncated(at);
@@ -116,8 +149,7 @@ class RecordWalk {
     for (uint64_t f = at + 4; f < at + 4 + header_len;) {
       const uint64_t field_len = u32(f);
       if (f + 4 + field_len > at + 4 + header_len) throw truncated(f);
-      std::string field(size_t(field_len), '\0');
-      in_.read(field.data(), std::streamsize(field_len));
+      const std::string field = bytes(f + 4, field_len);
       const size_t eq = field.find('=');
       const std::string name = field.substr(0, eq), value = eq == std::string::npos ? "" : field.substr(eq + 1);
       if (name == "op" && value.size() == 1) op = uint8_t(value[0]);
@@ -132,8 +164,8 @@ class RecordWalk {
         for (int k = 7; k >= 0; --k) position = position << 8 | uint8_t(value[size_t(k)]);
       f += 4 + field_len;
     }
-    if (op == 0x03 && end == size_) index_pos_ = position;  // the bag header
-    if (op == 0x06 && end == size_) chunk_positions_.push_back(position);  // a chunk info
+    if (op == 0x03 && top) index_pos_ = position;  // the bag header
+    if (op == 0x06 && top) chunk_positions_.push_back(position);  // a chunk info
     const uint64_t data_at = at + 4 + header_len + 4, data_len = u32(at + 4 + header_len);
     if (data_at + data_len > end) throw truncated(at);
     if (op == 0x07)  // a connection: its data is a header of fields too
@@ -142,7 +174,7 @@ class RecordWalk {
         if (f + 4 + field_len > data_at + data_len) throw truncated(f);
         f += 4 + field_len;
       }
-    if (op == 0x05) {  // a chunk
+    if (op == 0x05 && top) {  // a chunk
       if (compression == "none" && chunk_size != data_len)
         throw Error(file_ + ": the chunk at byte " + std::to_string(at) + " states " + std::to_string(chunk_size) +
                     " bytes but holds " + std::to_string(data_len) + ": a corrupt bag");
@@ -151,18 +183,35 @@ class RecordWalk {
                     " bytes uncompressed from " + std::to_string(data_len) + ": a corrupt bag");
       chunk_size_ = chunk_size;
       chunk_starts_.clear();
-      chunk_walked_ = compression == "none";
-      if (chunk_walked_)
+      if (compression == "none") {
         for (uint64_t inner = data_at; inner < data_at + data_len;) {
           chunk_starts_.insert(inner - data_at);
-          inner = record(inner, data_at + data_len);
+          inner = record(inner, data_at + data_len, false);
         }
+      } else if (compression == "lz4" || compression == "bz2") {
+        const std::vector<char> plain = decompressed(at, data_at, data_len, chunk_size, compression);
+        chunk_ = &plain;
+        chunk_at_ = at;
+        try {
+          for (uint64_t inner = 0; inner < plain.size();) {
+            chunk_starts_.insert(inner);
+            inner = record(inner, plain.size(), false);
+          }
+        } catch (...) {
+          chunk_ = nullptr;
+          throw;
+        }
+        chunk_ = nullptr;
+      } else {
+        throw Error(file_ + ": the chunk at byte " + std::to_string(at) + " is compressed with '" + compression +
+                    "', which ROS 1 bags do not use (none, lz4 or bz2): a corrupt bag");
+      }
     }
-    if (op == 0x04 && end == size_) {  // a chunk's index: (time, offset) of each message in it
+    if (op == 0x04 && top) {  // a chunk's index: (time, offset) of each message in it
       if (data_len != 12 * count) throw Error(file_ + ": the index at byte " + std::to_string(at) + " is corrupt");
       for (uint64_t e = 0; e < count; ++e) {
         const uint64_t offset = u32(data_at + 12 * e + 8);
-        if (offset + 8 > chunk_size_ || (chunk_walked_ && !chunk_starts_.count(offset)))
+        if (offset + 8 > chunk_size_ || !chunk_starts_.count(offset))
           throw Error(file_ + ": the index at byte " + std::to_string(at) + " points outside its chunk's records: a corrupt bag");
       }
     }
@@ -173,10 +222,11 @@ class RecordWalk {
   std::ifstream in_;
   uint64_t size_ = 0, index_pos_ = 0;
   std::set<uint64_t> starts_;              // where top-level records begin
-  uint64_t chunk_size_ = 0;                // the last chunk's uncompressed size,
-  bool chunk_walked_ = false;              // and, when stored plain, where its
-  std::set<uint64_t> chunk_starts_;        // records begin (offsets in it)
+  uint64_t chunk_size_ = 0;                // the last chunk's uncompressed size and
+  std::set<uint64_t> chunk_starts_;        // where its records begin (offsets in it)
   std::vector<uint64_t> chunk_positions_;  // named by chunk infos
+  const std::vector<char>* chunk_ = nullptr;  // the decompressed chunk being walked, if any
+  uint64_t chunk_at_ = 0;
 };
 
 // ros::serialization sizes a vector by the count it reads before reading

@@ -286,6 +286,17 @@ TEST(BagMission, SeveralBagFilesAreReadAsOneRecording) {
   EXPECT_FLOAT_EQ(m.scans[3].points->xyz[0].x(), 1.5f);
 }
 
+// An index entry pointing inside an LZ4 chunk but not at one of its
+// records (found by fuzz_ros1bag: rosbag parsed what it found there as a
+// record header and read past the chunk's buffer, an ASan heap overflow)
+// is an error naming the index: compressed chunks are decompressed and
+// walked like plain ones before rosbag reads.
+TEST(BagMission, AnIndexIntoAnLz4ChunkBetweenItsRecordsIsAnError) {
+  const auto dir = fresh_dir("corrupt_lz4_index");
+  fs::copy_file(fs::path(LISTA_ROS1BAG_CORPUS) / "lz4-index-offset.bag", dir / "a.bag");
+  expect_error([&] { read(dir); }, "a.bag: the index at byte 7770 points outside its chunk's records: a corrupt bag");
+}
+
 // A record length past the file's end (found by fuzz_ros1bag: rosbag
 // allocated the 2 GB it stated before finding it missing) is an error
 // naming the byte, before rosbag reads anything.
