@@ -48,20 +48,6 @@ Cloud downsampled(const Cloud& near, const ScanEdgeOptions& o, size_t max_points
 
 Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& o) { return downsampled(near_points(scan, o), o, o.max_points); }
 
-ScanEdgeOptions station_edge_options(const ScanEdgeOptions& o) {
-  ScanEdgeOptions s = o;
-  s.gates.min_overlap = o.station_min_overlap;
-  s.registration.min_coarse_overlap = 0.6 * o.station_min_overlap;
-  // Nor under the robust loss: a robot walks metres between stations, so
-  // the odometry starts tens of the edges' sigmas from what they measure,
-  // where a robust loss scaled in those sigmas would discount exactly the
-  // correction (a hall's stations 22-30 m apart kept 0.35-0.85 deg of yaw).
-  s.robust = false;
-  return s;
-}
-
-namespace {
-
 // The registration, if it passes the gates; `both_ways`: the target's
 // overlap with the source counts too (not for a local map, which reaches
 // beyond what one scan sees).
@@ -84,6 +70,20 @@ PoseGraphEdge scan_edge(size_t from, size_t to, const Eigen::Isometry3d& measure
   e.robust = o.robust;
   return e;
 }
+
+ScanEdgeOptions station_edge_options(const ScanEdgeOptions& o) {
+  ScanEdgeOptions s = o;
+  s.gates.min_overlap = o.station_min_overlap;
+  s.registration.min_coarse_overlap = 0.6 * o.station_min_overlap;
+  // Nor under the robust loss: a robot walks metres between stations, so
+  // the odometry starts tens of the edges' sigmas from what they measure,
+  // where a robust loss scaled in those sigmas would discount exactly the
+  // correction (a hall's stations 22-30 m apart kept 0.35-0.85 deg of yaw).
+  s.robust = false;
+  return s;
+}
+
+namespace {
 
 // Scan-to-map (o.map_scans > 1): the mission's scans in order, each
 // registered onto a local map of the map_scans scans before it, placed where

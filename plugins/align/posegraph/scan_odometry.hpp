@@ -10,6 +10,7 @@
 #include <lista_alignkit/registration.hpp>
 
 #include <functional>
+#include <optional>
 
 #include <vector>
 
@@ -67,6 +68,15 @@ Cloud scan_cloud(const Scan& scan, const ScanEdgeOptions& options);
 // The options a mission of stop-and-go stations registers its pairs with:
 // the overlap gate of whole maps (station_min_overlap), no robust loss.
 ScanEdgeOptions station_edge_options(const ScanEdgeOptions& options);
+
+// The registration of `source` onto `target` from `guess`, if it passes
+// o.gates; `both_ways`: the target's overlap with the source counts too.
+std::optional<Eigen::Isometry3d> gated_registration(const PreparedCloud& source, const PreparedCloud& target,
+                                                    const Eigen::Isometry3d& guess, const ScanEdgeOptions& o,
+                                                    bool both_ways);
+
+// A scan edge between graph nodes: planar, at o's sigmas, robust as o says.
+PoseGraphEdge scan_edge(size_t from, size_t to, const Eigen::Isometry3d& measurement, const ScanEdgeOptions& o);
 
 struct ScanEdgeReport {
   size_t tried = 0, accepted = 0;  // the edges used: scan to scan, or scan to map where switched

@@ -71,21 +71,16 @@ StationLinks station_link_edges(const MissionSet& set, const Graph& g, const std
     if (cancelled && cancelled()) return;
     const auto [na, nb] = pairs[i];
     const Eigen::Isometry3d guess = g.nodes[na].inverse() * g.nodes[nb];
-    const RegistrationResult r = register_prepared(cloud_of(nb), cloud_of(na), guess, o.registration);
-    if (!o.gates.accept(r, guess, true)) return;
-    PoseGraphEdge e;
-    e.from = na;
-    e.to = nb;
-    e.measurement = r.transform;
+    const auto measured = gated_registration(cloud_of(nb), cloud_of(na), guess, o, true);
+    if (!measured) return;
+    PoseGraphEdge e = scan_edge(na, nb, *measured, o);
     // Height and level at the closures' sigmas: a sparse scanner's pair
     // registers them less well than x, y and yaw (why scan edges within a
     // mission leave them out), and nothing else ties the two missions in
     // them once these replace the closures.
-    e.sigma_translation = o.sigma_translation;
-    e.sigma_rotation = o.sigma_rotation;
+    e.planar = false;
     e.sigma_height = vertical.sigma_translation;
     e.sigma_tilt = vertical.sigma_rotation;
-    e.robust = o.robust;
     found[i] = e;
   });
   for (const auto& e : found)
