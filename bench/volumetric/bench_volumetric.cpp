@@ -8,7 +8,7 @@
 #include "octomap/volumetric_octomap.hpp"
 #include "openvdb/volumetric_openvdb.hpp"
 #include "stock_octomap.hpp"
-#include "truth_score.hpp"
+#include <lista_bench/truth_score.hpp>
 
 #include <lista/basic_context.hpp>
 #include <lista_io/dataset.hpp>
