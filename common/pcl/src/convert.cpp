@@ -35,28 +35,6 @@ pcl::PointCloud<pcl::PointXYZ>::Ptr to_xyz(const PointSet& points, const std::ve
   return cloud;
 }
 
-PointSet from_xyz(const pcl::PointCloud<pcl::PointXYZ>& cloud) {
-  PointSet out;
-  out.xyz.reserve(cloud.size());
-  for (const auto& p : cloud) out.xyz.push_back(p.getVector3fMap());
-  out.scan.assign(cloud.size(), 0u);
-  out.index.assign(cloud.size(), 0u);
-  return out;
-}
-
-PointSet from_xyzi(const pcl::PointCloud<pcl::PointXYZI>& cloud) {
-  PointSet out = PointSet{};
-  out.xyz.reserve(cloud.size());
-  out.intensity.reserve(cloud.size());
-  for (const auto& p : cloud) {
-    out.xyz.push_back(p.getVector3fMap());
-    out.intensity.push_back(p.intensity);
-  }
-  out.scan.assign(cloud.size(), 0u);
-  out.index.assign(cloud.size(), 0u);
-  return out;
-}
-
 std::vector<uint32_t> to_indices(const pcl::Indices& indices) {
   return std::vector<uint32_t>(indices.begin(), indices.end());
 }

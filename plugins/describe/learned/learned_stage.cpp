@@ -110,8 +110,6 @@ class LearnedStage : public Stage {
     return [&] { Outputs o; o.put("descriptors", std::move(out)); return o; }();
   }
 
-  const std::string& weights_path() const { return weights_path_; }
-
  private:
   const LearnedConfig c_;
   std::string weights_path_, weights_sha256_;

@@ -20,10 +20,6 @@ pcl::PointCloud<pcl::PointXYZI>::Ptr to_xyzi(const PointSet& points);
 // Subset by indices (into `points`).
 pcl::PointCloud<pcl::PointXYZ>::Ptr to_xyz(const PointSet& points, const std::vector<uint32_t>& indices);
 
-// A PointSet from a PCL cloud with no provenance (scan = index = 0).
-PointSet from_xyz(const pcl::PointCloud<pcl::PointXYZ>& cloud);
-PointSet from_xyzi(const pcl::PointCloud<pcl::PointXYZI>& cloud);
-
 // PCL index lists (e.g. from clustering) to uint32 indices.
 std::vector<uint32_t> to_indices(const pcl::Indices& indices);
 
