@@ -377,6 +377,12 @@ class Ros1Reader : public Reader {
       throw Error(file + ": a message that does not decode (" + std::string(e.what()) + "); a truncated bag?");
     } catch (const std::bad_alloc&) {
       throw Error(file + ": a message too large to hold in memory (a corrupt length?)");
+    } catch (const Error&) {
+      throw;
+    } catch (const std::exception& e) {
+      // ros::Time throws std::runtime_error for a stamp past 2^32 s (an
+      // index entry's nanoseconds carried into its seconds).
+      throw Error(file + ": not a readable ROS 1 bag (" + std::string(e.what()) + ")");
     }
   }
 

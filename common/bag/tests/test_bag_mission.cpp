@@ -297,6 +297,15 @@ TEST(BagMission, AnIndexIntoAnLz4ChunkBetweenItsRecordsIsAnError) {
   expect_error([&] { read(dir); }, "a.bag: the index at byte 7770 points outside its chunk's records: a corrupt bag");
 }
 
+// An index entry whose nanoseconds carry its time past 2^32 s (found by
+// fuzz_ros1bag: ros::Time threw std::runtime_error through rosbag, which
+// nothing turned into an error naming the file).
+TEST(BagMission, AnIndexTimePastWhatRosCanHoldIsAnError) {
+  const auto dir = fresh_dir("corrupt_index_time");
+  fs::copy_file(fs::path(LISTA_ROS1BAG_CORPUS) / "index-time-overflow.bag", dir / "a.bag");
+  expect_error([&] { read(dir); }, "a.bag: not a readable ROS 1 bag (Time is out of dual 32-bit range)");
+}
+
 // A record length past the file's end (found by fuzz_ros1bag: rosbag
 // allocated the 2 GB it stated before finding it missing) is an error
 // naming the byte, before rosbag reads anything.
