@@ -23,8 +23,9 @@ StageInfo octomap_info() {
   info.summary = "Volumetric change by ray-cast occupancy grids (OctoMap), differenced between consecutive missions";
   info.doc =
       "Volumetric change by ray-cast occupancy maps, one OctoMap OcTree per mission (the paper's backend): a "
-      "point is changed when its voxel is occupied in its mission and observed free in a neighbouring one. Same "
-      "decision and parameters as volumetric.openvdb. "
+      "point is changed when its voxel is occupied in its mission and observed free in a neighbouring one, and "
+      "dynamic when its own mission saw it free too. The same decision, dynamics and parameters as "
+      "volumetric.openvdb. "
       "Details: docs/volumetric.md, \"Backends\".";
   info.inputs = {{"missions", "missions", "aligned missions (scans, poses, to_common)", false}};
   info.outputs = {{"changes", "points", "changed original points per mission, common frame", false}};

@@ -18,8 +18,7 @@ StageInfo openvdb_info() {
   info.summary = "Volumetric change by ray-cast occupancy grids (OpenVDB), differenced between consecutive missions";
   info.doc =
       "Volumetric change by ray-cast occupancy maps, hit and miss counters in one OpenVDB grid per mission (for "
-      "throughput): same decision and parameters as volumetric.octomap; it also marks the changed points their "
-      "own mission saw free (dynamics). "
+      "throughput): the same decision, dynamics and parameters as volumetric.octomap. "
       "Details: docs/volumetric.md, \"Backends\".";
   info.inputs = {{"missions", "missions", "aligned missions (scans, poses, to_common)", false}};
   info.outputs = {{"changes", "points", "changed original points per mission, common frame", false}};
