@@ -89,9 +89,6 @@ std::vector<MissionObservability> observability(const lista::MissionSet& mission
       });
       for (size_t j = 0; j < p->size(); ++j) {
         if (!changed[j]) continue;
-        ++row.changed;
-        row.seen_empty += seen[j] == Seen::empty;
-        row.seen_present += seen[j] == Seen::present;
         ObjectObservability& object = per_object[p->label[j]];
         object.id = p->label[j];
         ++object.changed;
@@ -100,6 +97,9 @@ std::vector<MissionObservability> observability(const lista::MissionSet& mission
       }
     }
     for (const auto& [label, object] : per_object) {
+      row.changed += object.changed;
+      row.seen_empty += object.seen_empty;
+      row.seen_present += object.seen_present;
       if (object.seen_empty >= uint64_t(o.min_evidence)) row.in_visible_objects += object.changed;
       row.objects.push_back(object);
     }
