@@ -4,6 +4,7 @@
 // lista-train, so the plugin sees exactly what the network was trained on.
 #include "model_path.hpp"
 
+#include <lista/parallel.hpp>
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
 #include <lista_objfeat/canonical.hpp>
@@ -11,7 +12,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <thread>
 
 namespace lista::describe {
 namespace {
@@ -77,18 +77,12 @@ class LearnedStage : public Stage {
     // Object i's selections are clouds[i * S .. i * S + S - 1].
     const size_t S = size_t(c_.samples);
     std::vector<objfeat::CanonicalCloud> clouds(n * S);
-    const int threads = std::max(1, std::min<int>(ctx.threads(), int(n)));
-    std::vector<std::thread> pool;
-    for (int t = 0; t < threads; ++t)
-      pool.emplace_back([&, t] {
-        for (size_t i = size_t(t); i < n; i += size_t(threads)) {
-          const Object& o = objects.objects[i];
-          auto samples = objfeat::make_canonical_samples(o.points.xyz, objfeat::canonical_config(cfg, kSelectionSeed),
-                                                         c_.samples, o.floor_z);
-          std::move(samples.begin(), samples.end(), clouds.begin() + ptrdiff_t(i * S));
-        }
-      });
-    for (auto& th : pool) th.join();
+    parallel_for(n, ctx.threads(), [&](size_t i) {
+      const Object& o = objects.objects[i];
+      auto samples = objfeat::make_canonical_samples(o.points.xyz, objfeat::canonical_config(cfg, kSelectionSeed),
+                                                     c_.samples, o.floor_z);
+      std::move(samples.begin(), samples.end(), clouds.begin() + ptrdiff_t(i * S));
+    });
 
     DescriptorSet out;
     out.method = "describe.learned";

@@ -1,6 +1,7 @@
 #include "ground_removal.hpp"
 
 #include <lista/error.hpp>
+#include <lista/parallel.hpp>
 #include <lista_pcl/convert.hpp>
 
 #include <pcl/ModelCoefficients.h>
@@ -10,11 +11,9 @@
 #include <pcl/segmentation/sac_segmentation.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <map>
 #include <set>
-#include <thread>
 
 namespace lista::filter {
 namespace {
@@ -145,14 +144,7 @@ std::vector<uint32_t> find_ground(const PointSet& points, const GroundConfig& c,
 
   auto cloud = pcl_convert::to_xyz(points);
   std::vector<std::vector<uint32_t>> found(list.size());
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t t; (t = next++) < list.size();) found[t] = ground_in_tile(cloud, points, *list[t], c);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::min<int>(threads, int(list.size())); ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+  parallel_for(list.size(), threads, [&](size_t t) { found[t] = ground_in_tile(cloud, points, *list[t], c); });
 
   std::vector<uint32_t> ground;
   for (auto& f : found) ground.insert(ground.end(), f.begin(), f.end());

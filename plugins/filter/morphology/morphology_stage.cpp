@@ -3,12 +3,9 @@
 #include "morphology.hpp"
 
 #include <lista/data.hpp>
+#include <lista/parallel.hpp>
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
-
-#include <atomic>
-#include <exception>
-#include <thread>
 
 namespace lista::filter {
 namespace {
@@ -54,21 +51,8 @@ class MorphologyFilterStage : public Stage {
     MissionPoints out;
     out.missions = changes.missions;
     out.sets.resize(m);
-    std::vector<std::exception_ptr> errors(m);
-    std::atomic<size_t> next{0};
-    auto work = [&] {
-      for (size_t i; (i = next++) < m;) try {
-          out.sets[i] = changes.sets[i].select(morphology_keep(changes.sets[i], c_));
-        } catch (...) {
-          errors[i] = std::current_exception();
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < std::min<int>(context.threads(), int(m)); ++t) pool.emplace_back(work);
-    work();
-    for (auto& t : pool) t.join();
-    for (auto& e : errors)
-      if (e) std::rethrow_exception(e);
+    parallel_for(m, context.threads(),
+                 [&](size_t i) { out.sets[i] = changes.sets[i].select(morphology_keep(changes.sets[i], c_)); });
     context.record("removed_points", double(changes.total() - out.total()));
     Outputs o;
     o.put("changes", std::move(out));

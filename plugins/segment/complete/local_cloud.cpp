@@ -1,11 +1,11 @@
 #include "local_cloud.hpp"
 
+#include <lista/parallel.hpp>
+
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <thread>
 #include <tuple>
 #include <unordered_set>
 
@@ -19,30 +19,23 @@ LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float
   for (const auto& r : regions) all.extend(r);
   const size_t n = mission.scans.size();
   std::vector<PointSet> per_scan(n);
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t s; (s = next++) < n;) {
-      const Scan& scan = mission.scans[s];
-      if (!scan.points) continue;
-      const Eigen::Affine3f T = mission.sensor_to_common(s).cast<float>();
-      const PointSet& src = *scan.points;
-      PointSet& out = per_scan[s];
-      for (size_t i = 0; i < src.size(); ++i) {
-        const Eigen::Vector3f p = T * src.xyz[i];
-        if (!all.contains(p)) continue;
-        bool in = false;
-        for (const auto& r : regions)
-          if ((in = r.contains(p))) break;
-        if (!in) continue;
-        out.push_back_from(src, i);
-        out.xyz.back() = p;
-      }
+  parallel_for(n, threads, [&](size_t s) {
+    const Scan& scan = mission.scans[s];
+    if (!scan.points) return;
+    const Eigen::Affine3f T = mission.sensor_to_common(s).cast<float>();
+    const PointSet& src = *scan.points;
+    PointSet& out = per_scan[s];
+    for (size_t i = 0; i < src.size(); ++i) {
+      const Eigen::Vector3f p = T * src.xyz[i];
+      if (!all.contains(p)) continue;
+      bool in = false;
+      for (const auto& r : regions)
+        if ((in = r.contains(p))) break;
+      if (!in) continue;
+      out.push_back_from(src, i);
+      out.xyz.back() = p;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+  });
   size_t total = 0;
   for (const auto& s : per_scan) total += s.size();
   cloud.points.reserve(total);

@@ -11,12 +11,10 @@
 #include <lista/context.hpp>
 #include <lista/missions.hpp>
 #include <lista/objects.hpp>
+#include <lista/parallel.hpp>
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
 #include <functional>
-#include <thread>
 #include <vector>
 
 namespace lista::segmentation {
@@ -27,26 +25,11 @@ inline ObjectSet objects_from_missions(const MissionPoints& points, Context& con
                                        const std::function<Clusters(const PointSet&, int threads)>& cluster) {
   const size_t m = points.sets.size();
   std::vector<Clusters> per_mission(m);
-  const int workers = std::max(1, std::min<int>(context.threads(), int(m)));
   // Threads left over after one per mission go to the clustering itself.
   const int inner = std::max(1, context.threads() / std::max<int>(1, int(m)));
-  std::atomic<size_t> next{0};
-  std::vector<std::exception_ptr> errors(m);
-  auto work = [&] {
-    for (size_t i; (i = next++) < m;) {
-      try {
-        if (!context.cancelled()) per_mission[i] = cluster(points.sets[i], inner);
-      } catch (...) {
-        errors[i] = std::current_exception();
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < workers; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  for (auto& e : errors)
-    if (e) std::rethrow_exception(e);
+  parallel_for(m, context.threads(), [&](size_t i) {
+    if (!context.cancelled()) per_mission[i] = cluster(points.sets[i], inner);
+  });
   context.throw_if_cancelled();
 
   ObjectSet out;
