@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <vector>
 
 namespace lista::align {
@@ -21,6 +22,9 @@ struct Graph {
 };
 
 inline size_t node_of(const Graph& g, const Keyframe& k) { return g.offset[k.mission] + k.scan; }
+inline size_t mission_of(const Graph& g, size_t node) {
+  return size_t(std::upper_bound(g.offset.begin(), g.offset.end(), node) - g.offset.begin()) - 1;
+}
 
 // Every mission's scans at `to_common[m]` times their poses, chained by
 // odometry edges; the reference mission fixed (or its first pose).

@@ -134,9 +134,7 @@ void vet_scan_edges(const MissionSet& set, const std::vector<Keyframe>& kf, cons
     // Whose? A mission whose edges, taken out alone, bring the residual
     // down as far (the others' then agree with the closures).
     std::vector<std::vector<PoseGraphEdge>> by_mission(n);
-    for (const auto& e : scan_edges)
-      by_mission[size_t(std::upper_bound(g.offset.begin(), g.offset.end(), e.from) - g.offset.begin()) - 1]
-          .push_back(e);
+    for (const auto& e : scan_edges) by_mission[mission_of(g, e.from)].push_back(e);
     auto all_but = [&](size_t skip) {
       std::vector<PoseGraphEdge> out;
       for (size_t m = 0; m < n; ++m)

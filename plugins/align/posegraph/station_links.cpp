@@ -54,13 +54,10 @@ StationLinks station_link_edges(const MissionSet& set, const Graph& g, const std
   for (const auto& [na, nb] : pairs) used.insert(used.end(), {na, nb});
   std::sort(used.begin(), used.end());
   used.erase(std::unique(used.begin(), used.end()), used.end());
-  auto mission_of = [&](size_t node) {
-    return size_t(std::upper_bound(g.offset.begin(), g.offset.end(), node) - g.offset.begin()) - 1;
-  };
   std::vector<PreparedCloud> clouds(used.size());
   parallel_for(used.size(), threads, [&](size_t i) {
     if (cancelled && cancelled()) return;
-    const size_t m = mission_of(used[i]);
+    const size_t m = mission_of(g, used[i]);
     clouds[i] = PreparedCloud(scan_cloud(set.missions[m].scans[used[i] - g.offset[m]], o), o.registration);
   });
   auto cloud_of = [&](size_t node) -> const PreparedCloud& {
@@ -86,7 +83,7 @@ StationLinks station_link_edges(const MissionSet& set, const Graph& g, const std
   for (const auto& e : found)
     if (e) {
       out.edges.push_back(*e);
-      out.pairs.insert({mission_of(e->from), mission_of(e->to)});
+      out.pairs.insert({mission_of(g, e->from), mission_of(g, e->to)});
     }
   return out;
 }
