@@ -319,14 +319,14 @@ Plan build_plan(const PipelineSpec& spec, const std::vector<Override>& overrides
   }
 
   // Unused outputs are worth a warning: work done for nothing.
+  std::set<std::pair<std::string, std::string>> used;  // (stage, port) some input reads
+  for (const auto& s : plan.stages)
+    for (const auto& in : s.inputs) used.emplace(in.from_stage, in.from_port);
   for (const auto& s : plan.stages) {
     if (!s.stage) continue;
-    for (const auto& out : s.stage->info.outputs) {
-      bool used = false;
-      for (const auto& other : plan.stages)
-        for (const auto& in : other.inputs) used |= in.from_stage == s.id && in.from_port == out.name;
-      if (!used) d.warning(s.where, s.id, "output '" + out.name + "' (" + out.type + ") is not used by any stage");
-    }
+    for (const auto& out : s.stage->info.outputs)
+      if (!used.count({s.id, out.name}))
+        d.warning(s.where, s.id, "output '" + out.name + "' (" + out.type + ") is not used by any stage");
   }
 
   if (!d.ok()) return plan;
