@@ -1,6 +1,7 @@
 #include <lista_segmentation/voxel_clustering.hpp>
 
 #include <lista/error.hpp>
+#include <lista_geometry/union_find.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -16,21 +17,7 @@ uint64_t pack(int64_t x, int64_t y, int64_t z) {
   return (uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset);
 }
 
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];  // path halving
-    return a;
-  }
-  // The smaller root wins, so the result does not depend on visiting order.
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a), b = find(b);
-    if (a == b) return;
-    if (a < b) std::swap(a, b);
-    parent[a] = b;
-  }
-};
+using geometry::UnionFind;
 
 // The 13 "forward" offsets of the 26-neighbourhood: visiting each voxel with
 // these covers every adjacent pair once.

@@ -1,11 +1,11 @@
 #include "agglomerative.hpp"
 
 #include <lista/error.hpp>
+#include <lista_geometry/union_find.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 namespace lista::group {
 
@@ -61,17 +61,12 @@ std::vector<Merge> dendrogram(const Eigen::MatrixXd& x, Linkage linkage) {
 
 std::vector<int> cut_to_k(int n, const std::vector<Merge>& merges, int k) {
   k = std::clamp(k, std::min(n, 1), n);
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto root = [&](int i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (int m = 0; m < n - k; ++m) parent[root(merges[m].b)] = root(merges[m].a);
+  geometry::UnionFind sets{size_t(n)};
+  for (int m = 0; m < n - k; ++m) sets.unite(size_t(merges[m].a), size_t(merges[m].b));
   std::vector<int> labels(n), map(n, -1);
   int next = 0;
   for (int i = 0; i < n; ++i) {
-    const int r = root(i);
+    const size_t r = sets.find(size_t(i));
     if (map[r] < 0) map[r] = next++;
     labels[i] = map[r];
   }

@@ -4,28 +4,18 @@
 #include "pair_costs.hpp"
 
 #include <lista/error.hpp>
+#include <lista_geometry/union_find.hpp>
 #include <lista_geometry/voxel_key.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <unordered_set>
 
 namespace lista::match {
 
 namespace {
-
-struct UnionFind {
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  size_t root(size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void join(size_t a, size_t b) { parent[root(b)] = root(a); }
-  std::vector<size_t> parent;
-};
 
 // What pairing the consecutive missions gave each object (aligned with
 // objects.objects).
@@ -49,7 +39,7 @@ struct Pairing {
   std::vector<double> move_fit;     // shape fit of the object's move(s), the lower; 1 = unchecked
   std::vector<bool> had_candidate;  // some pair through it passed the gates
   std::vector<double> best_rejected;  // the cheapest such pair not chosen
-  UnionFind chains;                 // objects one chain of moves links
+  geometry::UnionFind chains;                 // objects one chain of moves links
 };
 
 // Checks the configuration and the objects; warns of objects without a
@@ -161,7 +151,7 @@ void pair_missions(size_t m, const ObjectSet& objects, const DescriptorSet& desc
     const double pair_fit = 1.0 - pc.shape(i, j);
     s.move_fit[ia] = std::min(s.move_fit[ia], pair_fit);
     s.move_fit[jb] = std::min(s.move_fit[jb], pair_fit);
-    s.chains.join(ia, jb);
+    s.chains.unite(ia, jb);
     // Rivals: the next best partner of either end.
     double rival = std::numeric_limits<double>::max();
     for (size_t jj = 0; jj < b.size(); ++jj)
@@ -187,7 +177,7 @@ Matches changes_from(const ObjectSet& objects, const Groups* groups, const Weigh
     return 0.0;
   };
   std::map<size_t, std::vector<size_t>> chain_members;
-  for (size_t i = 0; i < n_obj; ++i) chain_members[s.chains.root(i)].push_back(i);
+  for (size_t i = 0; i < n_obj; ++i) chain_members[s.chains.find(i)].push_back(i);
 
   Matches out;
   out.method = "match.weighted";
@@ -224,7 +214,7 @@ Matches changes_from(const ObjectSet& objects, const Groups* groups, const Weigh
       if (c.status == ChangeStatus::moved) c.confidence *= s.move_fit[i];
     }
     c.confidence = std::clamp(c.confidence, 0.0, 1.0);
-    std::vector<size_t> members = chain_members[s.chains.root(i)];
+    std::vector<size_t> members = chain_members[s.chains.find(i)];
     std::sort(members.begin(), members.end(), [&](size_t x, size_t y) {
       return objects.objects[x].mission != objects.objects[y].mission
                  ? objects.objects[x].mission < objects.objects[y].mission

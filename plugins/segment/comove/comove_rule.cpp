@@ -2,11 +2,11 @@
 
 #include <lista_geometry/object_geometry.hpp>
 #include <lista_geometry/radius_grid.hpp>
+#include <lista_geometry/union_find.hpp>
 
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <optional>
 #include <set>
 #include <tuple>
@@ -225,19 +225,13 @@ std::vector<Hypothesis> joins_between(const ObjectSet& set, uint32_t m, const Co
   return chosen;
 }
 
-size_t root(std::vector<size_t>& parent, size_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
 }  // namespace
 
 ObjectSet join_comoving(const ObjectSet& given, const ComoveConfig& config, ComoveStats* stats) {
   ObjectSet in = given;  // bounds and centroids recomputed: an upstream stage may have left them stale
   for (auto& o : in.objects) o.update_geometry();
   const size_t n = in.objects.size();
-  std::vector<size_t> parent(n);
-  std::iota(parent.begin(), parent.end(), size_t(0));
+  geometry::UnionFind groups(n);  // the lowest index roots a group, so the joined object takes its place
   ComoveStats st;
   for (uint32_t m = 0; m + 1 < in.missions.size(); ++m) {
     bool cut = false;
@@ -245,11 +239,7 @@ ObjectSet join_comoving(const ObjectSet& given, const ComoveConfig& config, Como
     if (cut) st.searches_cut.push_back(m);
     for (const Hypothesis& h : joins)
       for (const auto* side : {&h.first, &h.second})
-        for (size_t o : *side) {
-          // The lowest index roots the group, so the joined object takes its place.
-          const size_t x = root(parent, (*side)[0]), y = root(parent, o);
-          if (x != y) parent[std::max(x, y)] = std::min(x, y);
-        }
+        for (size_t o : *side) groups.unite((*side)[0], o);
   }
 
   ObjectSet out;
@@ -258,7 +248,7 @@ ObjectSet join_comoving(const ObjectSet& given, const ComoveConfig& config, Como
   std::vector<long> slot(n, -1);
   std::vector<bool> grown(n, false);  // roots that took another piece
   for (size_t i = 0; i < n; ++i) {
-    const size_t r = root(parent, i);
+    const size_t r = groups.find(i);
     if (r == i) {
       slot[i] = long(out.objects.size());
       out.objects.push_back(in.objects[i]);

@@ -2,11 +2,11 @@
 
 #include <lista/error.hpp>
 #include <lista_geometry/object_geometry.hpp>
+#include <lista_geometry/union_find.hpp>
 
 #include <algorithm>
 #include <limits>
 #include <map>
-#include <numeric>
 
 namespace lista::segment {
 namespace {
@@ -26,16 +26,6 @@ using geometry::box_gap;
 float point_box_distance(const Eigen::Vector3f& p, const Object& b) {
   return (b.bbox_min - p).cwiseMax(p - b.bbox_max).cwiseMax(0.f).norm();
 }
-
-struct Dsu {
-  std::vector<size_t> p;
-  explicit Dsu(size_t n) : p(n) { std::iota(p.begin(), p.end(), size_t(0)); }
-  size_t find(size_t a) { return p[a] == a ? a : p[a] = find(p[a]); }
-  void unite(size_t a, size_t b) {
-    a = find(a), b = find(b);
-    if (a != b) p[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 std::vector<uint32_t> adjacent_missions(uint32_t m, size_t missions) {
   std::vector<uint32_t> r;
@@ -63,7 +53,7 @@ ObjectSet merge_split_by_overlap(const ObjectSet& input, const OverlapConfig& c,
   }
 
   // 1. Merges: fragments held together by one object of a neighbouring mission.
-  Dsu dsu(n);
+  geometry::UnionFind dsu(n);
   for (auto& [m, own] : by_mission)
     for (uint32_t other : adjacent_missions(m, in.missions.size())) {
       auto it = by_mission.find(other);
