@@ -1,6 +1,7 @@
 #include <lista_raycast/change_detection.hpp>
 
 #include <lista_geometry/stations.hpp>
+#include <lista_geometry/voxel_key.hpp>
 #include <lista_raycast/misfit.hpp>
 #include <lista_raycast/seen_through.hpp>
 
@@ -61,11 +62,6 @@ PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfi
 }
 
 namespace {
-
-uint64_t pack(const Voxel& v) {
-  auto u = [](int x) { return static_cast<uint64_t>(x + (1 << 20)) & 0x1FFFFF; };
-  return u(v.x()) | (u(v.y()) << 21) | (u(v.z()) << 42);
-}
 
 struct Decider {
   const VolumetricConfig& c;
@@ -240,7 +236,7 @@ PointSet collect_changes(const Mission& mission, const PointBits& bits, double r
       if (!bits[i][j]) continue;
       set.push_back_from(pts, j);
       against.push_back(bits[i][j]);
-      keys.push_back(pack(voxel_of(to_index * pts.xyz[j].cast<double>())));
+      keys.push_back(geometry::voxel_key(voxel_of(to_index * pts.xyz[j].cast<double>())));
       set.xyz.back() = to_common * pts.xyz[j];
       set.scan.back() = static_cast<uint32_t>(i);  // provenance follows the mission's scan order
       if (pts.index.empty()) set.index.back() = static_cast<uint32_t>(j);

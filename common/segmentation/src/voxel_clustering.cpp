@@ -2,6 +2,7 @@
 
 #include <lista/error.hpp>
 #include <lista_geometry/union_find.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,11 +12,7 @@
 namespace lista::segmentation {
 namespace {
 
-// 21 bits per axis: +-1e6 voxels, i.e. +-100 km at 10 cm.
-constexpr int64_t kOffset = 1 << 20;
-uint64_t pack(int64_t x, int64_t y, int64_t z) {
-  return (uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset);
-}
+constexpr int64_t kOffset = 1 << 20;  // voxel_key's reach per axis: +-100 km at 10 cm
 
 using geometry::UnionFind;
 
@@ -52,7 +49,7 @@ std::vector<std::vector<uint32_t>> cluster_voxels(const std::vector<Eigen::Vecto
     if ((c.array().abs() >= double(kOffset - 2)).any())
       throw Error("point " + std::to_string(i) + " is too far from the origin for the voxel grid");
     cell[i] = c.cast<int>();
-    key[i] = pack(cell[i].x(), cell[i].y(), cell[i].z());
+    key[i] = geometry::voxel_key(cell[i]);
   }
   std::vector<uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
@@ -70,7 +67,7 @@ std::vector<std::vector<uint32_t>> cluster_voxels(const std::vector<Eigen::Vecto
 
   auto neighbour = [&](uint32_t v, const Eigen::Vector3i& d) -> int64_t {
     const Eigen::Vector3i c = cell[order[start[v]]] + d;
-    auto it = voxel_of_key.find(pack(c.x(), c.y(), c.z()));
+    auto it = voxel_of_key.find(geometry::voxel_key(c));
     return it == voxel_of_key.end() ? -1 : int64_t(it->second);
   };
 

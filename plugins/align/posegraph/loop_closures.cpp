@@ -4,6 +4,7 @@
 
 #include <lista/error.hpp>
 #include <lista/parallel.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -208,11 +209,7 @@ class MapAgreement {
   }
 
  private:
-  uint64_t key(const Eigen::Vector3d& p) const {
-    const Eigen::Vector3i k = (p / voxel_).array().floor().cast<int>();
-    return (uint64_t(uint32_t(k.x()) & 0x1fffff) << 42) | (uint64_t(uint32_t(k.y()) & 0x1fffff) << 21) |
-           uint64_t(uint32_t(k.z()) & 0x1fffff);
-  }
+  uint64_t key(const Eigen::Vector3d& p) const { return geometry::voxel_key_of(p, voxel_); }
   const std::vector<Keyframe>& keyframes_;
   double voxel_;
   std::unordered_set<uint64_t> occupied_;

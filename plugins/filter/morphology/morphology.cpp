@@ -1,6 +1,7 @@
 #include "morphology.hpp"
 
 #include <lista/error.hpp>
+#include <lista_geometry/voxel_key.hpp>
 
 #include <cmath>
 #include <unordered_map>
@@ -9,22 +10,15 @@
 namespace lista::filter {
 namespace {
 
-constexpr int64_t kOffset = 1 << 20;
-uint64_t pack(int64_t x, int64_t y, int64_t z) {
-  return (uint64_t(x + kOffset) << 42) | (uint64_t(y + kOffset) << 21) | uint64_t(z + kOffset);
-}
-Eigen::Vector3i unpack(uint64_t k) {
-  return {int(int64_t((k >> 42) & 0x1FFFFF) - kOffset), int(int64_t((k >> 21) & 0x1FFFFF) - kOffset),
-          int(int64_t(k & 0x1FFFFF) - kOffset)};
-}
+constexpr int64_t kOffset = 1 << 20;  // voxel_key's reach per axis
 
 template <class F>
 void for_neighbours(uint64_t k, F&& f) {
-  const Eigen::Vector3i c = unpack(k);
+  const Eigen::Vector3i c = geometry::voxel_of_key(k);
   for (int dx = -1; dx <= 1; ++dx)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dz = -1; dz <= 1; ++dz)
-        if (dx || dy || dz) f(pack(c.x() + dx, c.y() + dy, c.z() + dz));
+        if (dx || dy || dz) f(geometry::voxel_key(c + Eigen::Vector3i(dx, dy, dz)));
 }
 
 }  // namespace
@@ -38,7 +32,7 @@ std::vector<uint32_t> morphology_keep(const PointSet& points, const MorphologyCo
     Eigen::Vector3d v = (points.xyz[i].cast<double>() * inv).array().floor();
     if ((v.array().abs() >= double(kOffset - 2)).any())
       throw Error("point " + std::to_string(i) + " is too far from the origin for the voxel grid");
-    key[i] = pack(int64_t(v.x()), int64_t(v.y()), int64_t(v.z()));
+    key[i] = geometry::voxel_key(v.cast<int>());
     occupied.insert(key[i]);
   }
   // Erosion (rank filter over the 26-neighbourhood).
