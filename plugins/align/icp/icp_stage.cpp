@@ -55,19 +55,14 @@ const ParamTable<IcpAlignConfig>& param_table();
 
 class IcpStage : public Stage {
  public:
-  explicit IcpStage(const Params& p) : IcpStage(param_table().read(p)) {}
-  explicit IcpStage(const IcpAlignConfig& c)
-      : voxel_(c.voxel),
-        max_range_(c.max_range),
-        initial_(c.initial),
-        min_overlap_(c.min_overlap),
-        level_(c.level) {
+  explicit IcpStage(const Params& p) : c_(param_table().read(p)) {
+    const IcpAlignConfig& c = c_;
     reg_.method = c.registration;
-    reg_.voxel = voxel_;
+    reg_.voxel = c_.voxel;
     reg_.coarse_distance = c.coarse_distance;
     reg_.fine_distance = c.fine_distance;
     reg_.max_iterations = c.iterations;
-    reg_.inlier_distance = 2.0 * voxel_;
+    reg_.inlier_distance = 2.0 * c_.voxel;
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
@@ -77,29 +72,29 @@ class IcpStage : public Stage {
     MissionSet out = set;  // point data shared
     std::vector<Cloud> maps(set.missions.size());
     parallel_for(maps.size(), ctx.threads(), [&](size_t i) {
-      maps[i] = mission_map(set.missions[i], voxel_, max_range_);
+      maps[i] = mission_map(set.missions[i], c_.voxel, c_.max_range);
       if (maps[i].size() < 20) throw Error("mission '" + set.missions[i].name + "' has too few points to register");
     });
     // The first mission's frame is the common frame; with initial = "input"
     // it keeps the to_common it came with and the others start from theirs.
-    const Eigen::Isometry3d reference = initial_ == "input" ? set.missions[0].to_common : Eigen::Isometry3d::Identity();
+    const Eigen::Isometry3d reference = c_.initial == "input" ? set.missions[0].to_common : Eigen::Isometry3d::Identity();
     out.missions[0].to_common = reference;
     for (size_t m = 1; m < maps.size(); ++m) {
       ctx.throw_if_cancelled();
       Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();  // mission m's map -> mission 0's map
-      if (initial_ == "centroid") guess.translation() = centroid(maps[0]) - centroid(maps[m]);
-      if (initial_ == "input") guess = reference.inverse() * set.missions[m].to_common;
+      if (c_.initial == "centroid") guess.translation() = centroid(maps[0]) - centroid(maps[m]);
+      if (c_.initial == "input") guess = reference.inverse() * set.missions[m].to_common;
       const RegistrationResult r = register_clouds(maps[m], maps[0], guess, reg_);
       const std::string& name = set.missions[m].name;
       ctx.record("overlap_" + name, r.overlap);
       ctx.record("rmse_" + name, r.inlier_rmse);
-      if (!r.converged || r.overlap < min_overlap_)
+      if (!r.converged || r.overlap < c_.min_overlap)
         throw Error("mission '" + name + "' does not register onto '" + set.missions[0].name + "' (overlap " +
-                    std::to_string(r.overlap) + " < min_overlap " + std::to_string(min_overlap_) +
+                    std::to_string(r.overlap) + " < min_overlap " + std::to_string(c_.min_overlap) +
                     "); the maps must overlap and start roughly aligned");
       out.missions[m].to_common = reference * r.transform;
     }
-    level_common_frame(out, level_, ctx);
+    level_common_frame(out, c_.level, ctx);
     if (const auto after = trajectory_error(out)) {
       ctx.record("ate_after_m", after->rmse);
       // One ICP per mission finds the nearest fit: maps that start turned
@@ -113,10 +108,7 @@ class IcpStage : public Stage {
   }
 
  private:
-  double voxel_, max_range_;
-  std::string initial_;
-  double min_overlap_;
-  LevelConfig level_;
+  IcpAlignConfig c_;
   RegistrationOptions reg_;
 };
 

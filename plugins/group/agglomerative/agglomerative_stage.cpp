@@ -25,14 +25,7 @@ const ParamTable<AgglomerativeConfig>& param_table();
 
 class AgglomerativeStage : public Stage {
  public:
-  explicit AgglomerativeStage(const Params& p) : AgglomerativeStage(param_table().read(p)) {}
-  explicit AgglomerativeStage(const AgglomerativeConfig& c)
-      : linkage_(parse_linkage(c.linkage)),
-        cut_(c.cut),
-        k_(c.k),
-        threshold_(c.distance),
-        min_gap_(c.min_gap),
-        k_max_(c.k_max) {}
+  explicit AgglomerativeStage(const Params& p) : c_(param_table().read(p)), linkage_(parse_linkage(c_.linkage)) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& d = in.get<DescriptorSet>("descriptors");
@@ -41,8 +34,8 @@ class AgglomerativeStage : public Stage {
     const int n = static_cast<int>(x.rows());
     const std::vector<Merge> merges = dendrogram(x, linkage_);
     int k = 0;
-    if (cut_ == "k") k = std::min(k_, n);
-    else if (cut_ == "distance") k = k_for_threshold(n, merges, threshold_);
+    if (c_.cut == "k") k = std::min(c_.k, n);
+    else if (c_.cut == "distance") k = k_for_threshold(n, merges, c_.distance);
     else k = gap_cut(n, merges, ctx);
     const std::vector<int> labels = cut_to_k(n, merges, k);
     ctx.info(std::to_string(n) + " objects in " + std::to_string(k) + " groups");
@@ -56,24 +49,21 @@ class AgglomerativeStage : public Stage {
   // One group is a finding (descriptors without classes), but it also makes
   // the grouping a no-op for matching: say so, with the jump that fell short.
   int gap_cut(int n, const std::vector<Merge>& merges, Context& ctx) const {
-    const GapCut cut = cut_at_largest_gap(n, merges, min_gap_, k_max_);
+    const GapCut cut = cut_at_largest_gap(n, merges, c_.min_gap, c_.k_max);
     if (cut.best_k > 0) ctx.record("gap_jump", cut.jump);
     if (cut.k == 1 && cut.best_k > 0) {
       char line[256];
       std::snprintf(line, sizeof line,
                     "no jump between merge heights reaches min_gap %.2f (largest %.2f, at %d groups): one group for "
                     "%d objects; cut = 'k' fixes the number",
-                    min_gap_, cut.jump, cut.best_k, n);
+                    c_.min_gap, cut.jump, cut.best_k, n);
       ctx.warn(line);
     }
     return cut.k;
   }
 
+  AgglomerativeConfig c_;
   Linkage linkage_;
-  std::string cut_;
-  int k_;
-  double threshold_, min_gap_;
-  int k_max_;
 };
 
 StageInfo info() {

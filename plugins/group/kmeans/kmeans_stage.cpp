@@ -23,15 +23,14 @@ const ParamTable<KMeansStageConfig>& param_table();
 
 class KMeansStage : public Stage {
  public:
-  explicit KMeansStage(const Params& p) : KMeansStage(param_table().read(p)) {}
-  explicit KMeansStage(const KMeansStageConfig& c) : k_(c.k), k_max_(c.k_max), cfg_(c) {}
+  explicit KMeansStage(const Params& p) : c_(param_table().read(p)) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& d = in.get<DescriptorSet>("descriptors");
     grouping::check_descriptors(d);
     const Eigen::MatrixXd x = grouping::to_double(d);
     const int n = static_cast<int>(x.rows());
-    cfg_.seed = ctx.seed();
+    c_.seed = ctx.seed();
     Outputs out;
     if (n == 0) {
       Groups g;
@@ -42,16 +41,16 @@ class KMeansStage : public Stage {
 
     KMeansResult chosen;
     int k = 0;
-    if (k_ > 0) {
-      k = std::min(k_, n);
-      chosen = kmeans(x, k, cfg_);
+    if (c_.k > 0) {
+      k = std::min(c_.k, n);
+      chosen = kmeans(x, k, c_);
     } else {
-      const int kmax = std::min(k_max_, n);
+      const int kmax = std::min(c_.k_max, n);
       std::vector<KMeansResult> runs(kmax);
       std::vector<double> wcss(kmax);
       for (int kk = 1; kk <= kmax; ++kk) {
         ctx.throw_if_cancelled();
-        runs[kk - 1] = kmeans(x, kk, cfg_);
+        runs[kk - 1] = kmeans(x, kk, c_);
         wcss[kk - 1] = runs[kk - 1].wcss;
       }
       k = elbow_k(wcss);
@@ -68,8 +67,7 @@ class KMeansStage : public Stage {
   }
 
  private:
-  int k_, k_max_;
-  KMeansConfig cfg_;
+  KMeansStageConfig c_;
 };
 
 StageInfo info() {

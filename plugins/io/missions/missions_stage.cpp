@@ -114,35 +114,27 @@ const ParamTable<MissionsConfig>& param_table();
 
 class MissionsStage : public Stage {
  public:
-  explicit MissionsStage(const Params& p) : MissionsStage(param_table().read(p)) {}
-  explicit MissionsStage(const MissionsConfig& c)
-      : path_(c.path),
-        missions_(c.missions),
-        min_range_(c.min_range),
-        scan_spacing_(c.scan_spacing),
-        dense_spacing_(c.dense_spacing),
-        scan_turn_(c.scan_turn),
-        bag_(c) {}
+  explicit MissionsStage(const Params& p) : c_(param_table().read(p)) {}
 
   Outputs run(const Inputs&, Context& ctx) override {
-    const std::string dataset = path_.empty() ? ctx.run_info().dataset : path_;
+    const std::string dataset = c_.path.empty() ? ctx.run_info().dataset : c_.path;
     if (dataset.empty())
       throw Error("no dataset: set 'path' or give the run a dataset (lista-run --dataset DIR)");
-    const std::vector<std::string> names = missions_.empty() ? list_missions(dataset) : missions_;
+    const std::vector<std::string> names = c_.missions.empty() ? list_missions(dataset) : c_.missions;
     if (names.size() < 2) ctx.warn(dataset + ": only one mission; change detection needs two or more");
     // Missions are compared in sorted-name order (data contract) unless
     // listed; week10 before week2 is rarely what was meant.
-    if (const std::string pair = missions_.empty() ? misordered(names) : ""; !pair.empty())
+    if (const std::string pair = c_.missions.empty() ? misordered(names) : ""; !pair.empty())
       ctx.warn(dataset + ": mission " + pair + " by name, and missions are compared in name order: list them in " +
                "the order they were recorded (--set " + ctx.stage_id() + ".missions=[...]) or zero-pad the numbers");
     DatasetOptions opt;
     opt.threads = ctx.threads();
-    opt.scan_spacing = scan_spacing_;
-    opt.dense_spacing = dense_spacing_;
-    opt.scan_turn_deg = scan_turn_;
+    opt.scan_spacing = c_.scan_spacing;
+    opt.dense_spacing = c_.dense_spacing;
+    opt.scan_turn_deg = c_.scan_turn;
     bag::BagMissionLog bag_log;
     opt.read_bag_mission = [&](const std::string& dir, const DatasetOptions& o) {
-      return bag::read_bag_mission(dir, o, bag_, &bag_log);
+      return bag::read_bag_mission(dir, o, c_, &bag_log);
     };
     MissionSet set;
     set.dataset = dataset;
@@ -181,7 +173,7 @@ class MissionsStage : public Stage {
       std::vector<Eigen::Isometry3d> poses;
       for (const auto& s : m.scans) poses.push_back(s.pose);
       const double spacing = spacing_for(poses, opt);
-      const std::vector<char> kept = scans_to_read(poses, spacing, scan_turn_);
+      const std::vector<char> kept = scans_to_read(poses, spacing, c_.scan_turn);
       const size_t m_read = size_t(std::count(kept.begin(), kept.end(), 1));
       read += m_read;
       // Map-frame .pcd scans carry their pose in VIEWPOINT; PCL writes an
@@ -193,7 +185,7 @@ class MissionsStage : public Stage {
       // Nothing to align or compare; later stages would blame the poses.
       if (m.point_count() == 0)
         throw Error("mission '" + m.name + "': none of its " + std::to_string(m.scans.size()) + " scans has a finite " +
-                    (min_range_ > 0 ? "point farther than min_range from the sensor" : std::string("point off the sensor origin")) +
+                    (c_.min_range > 0 ? "point farther than min_range from the sensor" : std::string("point off the sensor origin")) +
                     "; leave it out with --set " + ctx.stage_id() +
                     ".missions=[...] (listing at least two others: change needs two missions to compare)");
       std::vector<std::string> empty;
@@ -206,11 +198,11 @@ class MissionsStage : public Stage {
       if (const std::string pair = misordered_scan_names(m); !pair.empty())
         ctx.warn("mission '" + m.name + "': " + pair +
                  " by name, and scans take their poses in file-name order: zero-pad the numbers (scan_002.pcd)");
-      if (scan_spacing_ <= 0.0) say_if_dense(m, poses, spacing, ctx);
+      if (c_.scan_spacing <= 0.0) say_if_dense(m, poses, spacing, ctx);
       const size_t n = m.point_count();
       ctx.info("mission '" + m.name + "': " + std::to_string(m.scans.size()) + " scans" +
                (m_read < m.scans.size()
-                    ? " (" + std::to_string(m_read) + " read, " + (scan_spacing_ > 0.0 ? "scan_spacing" : "dense_spacing") + ")"
+                    ? " (" + std::to_string(m_read) + " read, " + (c_.scan_spacing > 0.0 ? "scan_spacing" : "dense_spacing") + ")"
                     : std::string()) +
                ", " + std::to_string(n) +
                " points" + (m.skipped_nonfinite ? ", " + std::to_string(m.skipped_nonfinite) + " non-finite skipped" : "") +
@@ -245,7 +237,7 @@ class MissionsStage : public Stage {
   // points keep their file index, so changes/ still names original points.
   // Returns how many were dropped for each reason.
   std::pair<size_t, size_t> drop_near_points(Mission& m) const {
-    const float r2 = float(min_range_ * min_range_);
+    const float r2 = float(c_.min_range * c_.min_range);
     size_t near = 0, zero = 0;
     for (auto& scan : m.scans) {
       if (!scan.points) continue;
@@ -288,7 +280,7 @@ class MissionsStage : public Stage {
       std::snprintf(text, sizeof text,
                     "mission '%s': a dense log (%zu scans, %.2f m apart at the median): reading a scan every %.2g m "
                     "or %.0f deg of turn (--set %s.dense_spacing=0 reads every scan)",
-                    m.name.c_str(), m.scans.size(), median_step(poses), spacing, scan_turn_, ctx.stage_id().c_str());
+                    m.name.c_str(), m.scans.size(), median_step(poses), spacing, c_.scan_turn, ctx.stage_id().c_str());
     else
       std::snprintf(text, sizeof text,
                     "mission '%s': a dense log (%zu scans, %.2f m apart at the median), read whole (dense_spacing = 0)",
@@ -296,10 +288,7 @@ class MissionsStage : public Stage {
     ctx.info(text);
   }
 
-  std::string path_;
-  std::vector<std::string> missions_;
-  double min_range_, scan_spacing_, dense_spacing_, scan_turn_;
-  bag::BagOptions bag_;
+  MissionsConfig c_;
 };
 
 StageInfo info() {
