@@ -1,38 +1,9 @@
 #include "mission_cloud.hpp"
 
-#include <lista/parallel.hpp>
-
 #include <algorithm>
 #include <deque>
 
 namespace lista::history {
-
-PointSet gather(const Mission& mission, const std::vector<Box>& boxes, int threads) {
-  const size_t n = mission.scans.size();
-  std::vector<PointSet> per_scan(n);
-  if (boxes.empty()) return {};
-  Box all = boxes.front();
-  for (const Box& b : boxes) all.lo = all.lo.cwiseMin(b.lo), all.hi = all.hi.cwiseMax(b.hi);
-  parallel_for(n, threads, [&](size_t s) {
-    const Scan& scan = mission.scans[s];
-    if (!scan.points) return;
-    const Eigen::Affine3f T = mission.sensor_to_common(s).cast<float>();
-    const PointSet& src = *scan.points;
-    for (size_t i = 0; i < src.size(); ++i) {
-      const Eigen::Vector3f p = T * src.xyz[i];
-      if (!all.contains(p)) continue;
-      for (const Box& b : boxes)
-        if (b.contains(p)) {
-          per_scan[s].push_back_from(src, i);
-          per_scan[s].xyz.back() = p;
-          break;
-        }
-    }
-  });
-  PointSet out;
-  for (const PointSet& s : per_scan) out.append(s);
-  return out;
-}
 
 std::vector<Eigen::Vector3f> sample(const PointSet& p) {
   const size_t step = std::max<size_t>(1, p.size() / 2000);

@@ -5,6 +5,7 @@
 
 #include <lista/missions.hpp>
 #include <lista/objects.hpp>
+#include <lista_geometry/boxes.hpp>
 #include <lista_geometry/radius_grid.hpp>
 
 #include <Eigen/Core>
@@ -13,12 +14,7 @@
 
 namespace lista::history {
 
-struct Box {
-  Eigen::Vector3f lo, hi;
-  bool contains(const Eigen::Vector3f& p) const {
-    return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
-  }
-};
+using geometry::Box;
 
 // A mission's points near the changed objects (common frame), hashed.
 struct Cloud {
@@ -31,9 +27,6 @@ struct Cloud {
     grid.add(p, uint32_t(points.size() - 1));
   }
 };
-
-// Every point of `mission` inside any of `boxes`, in scan then file order.
-PointSet gather(const Mission& mission, const std::vector<Box>& boxes, int threads);
 
 // At most about 2000 of an object's points, evenly spread over its list.
 std::vector<Eigen::Vector3f> sample(const PointSet& p);

@@ -237,7 +237,7 @@ StillResult extend_histories(const MissionSet& missions, const ObjectSet& object
     boxes.push_back({o.bbox_min.array() - 2.f * r, o.bbox_max.array() + 2.f * r});
   std::vector<Cloud> clouds(nm, Cloud(r)), reported(nm, Cloud(r));
   for (size_t m = 0; m < nm; ++m) {
-    const PointSet pts = gather(*mission_of[m], boxes, threads);
+    const PointSet pts = geometry::points_in_boxes(*mission_of[m], boxes, threads);
     for (size_t i = 0; i < pts.size(); ++i) clouds[m].add(pts, i, pts.xyz[i]);
   }
   for (const Object& o : objects.objects)

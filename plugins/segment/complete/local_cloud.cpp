@@ -1,7 +1,5 @@
 #include "local_cloud.hpp"
 
-#include <lista/parallel.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -14,32 +12,7 @@ namespace lista::segment::completion {
 LocalCloud gather(const Mission& mission, const std::vector<Box>& regions, float voxel, int threads) {
   LocalCloud cloud;
   cloud.inv_voxel = 1.f / voxel;
-  if (regions.empty()) return cloud;
-  Box all;
-  for (const auto& r : regions) all.extend(r);
-  const size_t n = mission.scans.size();
-  std::vector<PointSet> per_scan(n);
-  parallel_for(n, threads, [&](size_t s) {
-    const Scan& scan = mission.scans[s];
-    if (!scan.points) return;
-    const Eigen::Affine3f T = mission.sensor_to_common(s).cast<float>();
-    const PointSet& src = *scan.points;
-    PointSet& out = per_scan[s];
-    for (size_t i = 0; i < src.size(); ++i) {
-      const Eigen::Vector3f p = T * src.xyz[i];
-      if (!all.contains(p)) continue;
-      bool in = false;
-      for (const auto& r : regions)
-        if ((in = r.contains(p))) break;
-      if (!in) continue;
-      out.push_back_from(src, i);
-      out.xyz.back() = p;
-    }
-  });
-  size_t total = 0;
-  for (const auto& s : per_scan) total += s.size();
-  cloud.points.reserve(total);
-  for (auto& s : per_scan) cloud.points.append(s);
+  cloud.points = geometry::points_in_boxes(mission, regions, threads);
   cloud.index();
   return cloud;
 }

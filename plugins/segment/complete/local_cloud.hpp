@@ -7,6 +7,7 @@
 #include "completion.hpp"
 
 #include <lista/data.hpp>
+#include <lista_geometry/boxes.hpp>
 #include <lista_geometry/voxel_key.hpp>
 
 #include <Eigen/Core>
@@ -22,24 +23,7 @@ namespace lista::segment::completion {
 
 using geometry::voxel_key;
 
-// An axis-aligned box in the common frame, empty (inverted) until extended.
-struct Box {
-  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
-  Eigen::Vector3f hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
-  bool contains(const Eigen::Vector3f& p) const {
-    return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
-  }
-  void extend(const Box& b) {
-    lo = lo.cwiseMin(b.lo);
-    hi = hi.cwiseMax(b.hi);
-  }
-  Box grown(float xy, float z_down, float z_up) const {
-    Box b = *this;
-    b.lo -= Eigen::Vector3f(xy, xy, z_down);
-    b.hi += Eigen::Vector3f(xy, xy, z_up);
-    return b;
-  }
-};
+using geometry::Box;
 
 inline uint64_t point_key(uint32_t scan, uint32_t index) { return (uint64_t(scan) << 32) | index; }
 
