@@ -31,6 +31,7 @@
 
 #include "vdb_counts.hpp"
 
+#include <lista/parallel.hpp>
 #include <lista_raycast/dda.hpp>
 #include <lista_raycast/memory_budget.hpp>
 
@@ -40,7 +41,6 @@
 #include <atomic>
 #include <cstdio>
 #include <mutex>
-#include <thread>
 #include <type_traits>
 
 namespace lista::volumetric {
@@ -316,27 +316,21 @@ std::unique_ptr<OccupancyMap> build_vdb_map(const Mission& mission, const Volume
     w.free.charge_to(&budget);
   }
   SharedCounts shared(budget);
+  // One worker per ThreadWork, scans handed out one at a time; a failure
+  // stops the others at their next scan.
   std::atomic<size_t> next{0};
   std::atomic<bool> failed{false};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto worker = [&](int t) {
+  parallel_for(size_t(n_threads), n_threads, [&](size_t t) {
     try {
       for (size_t i; !failed && (i = next.fetch_add(1)) < mission.scans.size();) {
         cast_scan(mission, i, c, work[t], shared);
         if (progress) progress->advance(1);
       }
     } catch (...) {
-      std::lock_guard<std::mutex> lock(failure_mutex);
-      failure = std::current_exception();
       failed = true;
+      throw;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < n_threads; ++t) pool.emplace_back(worker, t);
-  worker(0);
-  for (auto& th : pool) th.join();
-  if (failure) std::rethrow_exception(failure);
+  });
 
   // The merged counters are the map; log-odds are computed on lookup.
   const LogOdds to_logodds{logodds(c.prob_hit), logodds(c.prob_miss), logodds(c.clamping_min),
