@@ -12,8 +12,6 @@
 namespace lista::segmentation {
 namespace {
 
-constexpr int64_t kOffset = 1 << 20;  // voxel_key's reach per axis: +-100 km at 10 cm
-
 using geometry::UnionFind;
 
 // The 13 "forward" offsets of the 26-neighbourhood: visiting each voxel with
@@ -46,7 +44,7 @@ std::vector<std::vector<uint32_t>> cluster_voxels(const std::vector<Eigen::Vecto
   std::vector<Eigen::Vector3i> cell(n);
   for (size_t i = 0; i < n; ++i) {
     Eigen::Vector3d c = (xyz[i].cast<double>() * inv).array().floor();
-    if ((c.array().abs() >= double(kOffset - 2)).any())
+    if ((c.array().abs() >= double(geometry::kVoxelKeyReach - 2)).any())
       throw Error("point " + std::to_string(i) + " is too far from the origin for the voxel grid");
     cell[i] = c.cast<int>();
     key[i] = geometry::voxel_key(cell[i]);

@@ -56,12 +56,11 @@ const ParamTable<IcpAlignConfig>& param_table();
 class IcpStage : public Stage {
  public:
   explicit IcpStage(const Params& p) : c_(param_table().read(p)) {
-    const IcpAlignConfig& c = c_;
-    reg_.method = c.registration;
+    reg_.method = c_.registration;
     reg_.voxel = c_.voxel;
-    reg_.coarse_distance = c.coarse_distance;
-    reg_.fine_distance = c.fine_distance;
-    reg_.max_iterations = c.iterations;
+    reg_.coarse_distance = c_.coarse_distance;
+    reg_.fine_distance = c_.fine_distance;
+    reg_.max_iterations = c_.iterations;
     reg_.inlier_distance = 2.0 * c_.voxel;
   }
 

@@ -10,8 +10,6 @@
 namespace lista::filter {
 namespace {
 
-constexpr int64_t kOffset = 1 << 20;  // voxel_key's reach per axis
-
 template <class F>
 void for_neighbours(uint64_t k, F&& f) {
   const Eigen::Vector3i c = geometry::voxel_of_key(k);
@@ -30,7 +28,7 @@ std::vector<uint32_t> morphology_keep(const PointSet& points, const MorphologyCo
   std::unordered_set<uint64_t> occupied;
   for (size_t i = 0; i < points.size(); ++i) {
     Eigen::Vector3d v = (points.xyz[i].cast<double>() * inv).array().floor();
-    if ((v.array().abs() >= double(kOffset - 2)).any())
+    if ((v.array().abs() >= double(geometry::kVoxelKeyReach - 2)).any())
       throw Error("point " + std::to_string(i) + " is too far from the origin for the voxel grid");
     key[i] = geometry::voxel_key(v.cast<int>());
     occupied.insert(key[i]);

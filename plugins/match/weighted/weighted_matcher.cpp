@@ -39,7 +39,7 @@ struct Pairing {
   std::vector<double> move_fit;     // shape fit of the object's move(s), the lower; 1 = unchecked
   std::vector<bool> had_candidate;  // some pair through it passed the gates
   std::vector<double> best_rejected;  // the cheapest such pair not chosen
-  geometry::UnionFind chains;                 // objects one chain of moves links
+  geometry::UnionFind chains;       // objects one chain of moves links
 };
 
 // Checks the configuration and the objects; warns of objects without a

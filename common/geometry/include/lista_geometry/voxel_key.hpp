@@ -7,14 +7,17 @@
 
 namespace lista::geometry {
 
+// Cells per axis either side of the origin that a key holds.
+inline constexpr int64_t kVoxelKeyReach = int64_t(1) << 20;
+
 inline uint64_t voxel_key(const Eigen::Vector3i& v) {
-  constexpr int64_t off = int64_t(1) << 20;
+  constexpr int64_t off = kVoxelKeyReach;
   return (uint64_t(v.x() + off) << 42) | (uint64_t(v.y() + off) << 21) | uint64_t(v.z() + off);
 }
 
 // The voxel a key was packed from (keys sort by x, then y, then z).
 inline Eigen::Vector3i voxel_of_key(uint64_t key) {
-  constexpr int64_t off = int64_t(1) << 20;
+  constexpr int64_t off = kVoxelKeyReach;
   constexpr uint64_t mask = (uint64_t(1) << 21) - 1;
   return Eigen::Vector3i(int(int64_t((key >> 42) & mask) - off), int(int64_t((key >> 21) & mask) - off),
                          int(int64_t(key & mask) - off));
