@@ -48,15 +48,12 @@ struct ExtentConfig {
 };
 
 const ParamTable<ExtentConfig>& param_table() {
-  static const ParamTable<ExtentConfig> table = [] {
-    ParamTable<ExtentConfig> t;
+  return ParamTable<ExtentConfig>::once([](ParamTable<ExtentConfig>& t) {
     t.bind("height_weight", &ExtentConfig::height_weight, "weight of the vertical features against the horizontal ones")
         .range(0.0, 10.0);
     t.bind("trim", &ExtentConfig::trim, "fraction of points ignored at each end of an axis when measuring extents")
         .range(0.0, 0.25);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class ExtentStage : public Stage {
@@ -96,9 +93,7 @@ class ExtentStage : public Stage {
       out.object_ids.push_back(o.id);
     }
     ctx.record("objects", double(objects.objects.size()));
-    Outputs result;
-    result.put("descriptors", std::move(out));
-    return result;
+    return Outputs::of("descriptors", std::move(out));
   }
 
  private:
@@ -143,11 +138,7 @@ class ExtentStage : public Stage {
   ExtentConfig config_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(ExtentStage::info(), [](const Params& p) { return std::make_unique<ExtentStage>(p); });
-}
-
 }  // namespace
 }  // namespace example_extent
 
-LISTA_PLUGIN(example_extent::register_stages)
+LISTA_STAGE_PLUGIN(example_extent::ExtentStage::info, example_extent::ExtentStage)

@@ -199,9 +199,7 @@ struct Harness {
   class Source : public Stage {
    public:
     Outputs run(const Inputs&, Context&) override {
-      Outputs o;
-      o.put("objects", objects());
-      return o;
+      return Outputs::of("objects", objects());
     }
   };
   class Sink : public Stage {

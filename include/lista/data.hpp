@@ -87,6 +87,13 @@ class Outputs {
   template <class T>
   void put(const std::string& port, T value) { values_[port] = Data::make<T>(std::move(value)); }
   void put(const std::string& port, Data value) { values_[port] = std::move(value); }
+  // A stage's only output: return Outputs::of("changes", std::move(out));
+  template <class T>
+  static Outputs of(const std::string& port, T value) {
+    Outputs o;
+    o.put(port, std::move(value));
+    return o;
+  }
   bool has(const std::string& port) const { return values_.count(port) != 0; }
   const Data& at(const std::string& port) const;
   const std::map<std::string, Data>& values() const { return values_; }

@@ -6,13 +6,10 @@
 //
 //   struct Config { double resolution = 0.05; std::string mode = "fast"; };
 //   const ParamTable<Config>& table() {
-//     static const ParamTable<Config> t = [] {
-//       ParamTable<Config> t;
+//     return ParamTable<Config>::once([](ParamTable<Config>& t) {
 //       t.bind("resolution", &Config::resolution, "voxel edge").range(0.005, 5).unit("m");
 //       t.bind("mode", &Config::mode, "how").one_of({"fast", "exact"});
-//       return t;
-//     }();
-//     return t;
+//     });
 //   }
 //   info.params = table().specs();          // what --describe and validation see
 //   info.renamed = table().renames();       // old names still accepted
@@ -136,6 +133,17 @@ class ParamTable {
     renamed(std::move(old_name), new_name, [new_name, toggle, off](double v) {
       return v == off ? ParamAssignments{{toggle, false}} : ParamAssignments{{toggle, true}, {new_name, v}};
     });
+  }
+
+  // The table `declare` fills, made once, on first use (the example above).
+  template <class Declare>
+  static const ParamTable& once(Declare declare) {
+    static const ParamTable table = [&] {
+      ParamTable t;
+      declare(t);
+      return t;
+    }();
+    return table;
   }
 
   std::vector<ParamSpec> specs() const {

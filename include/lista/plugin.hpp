@@ -1,9 +1,11 @@
 // Writing a plugin: one shared library, one exported entry point.
 //
 //   static void register_stages(lista::Registrar& r) {
-//     r.add(MyStage::info(), [](const lista::Params& p) { return std::make_unique<MyStage>(p); });
+//     r.add(MyStage::info(), lista::factory_of<MyStage>());
 //   }
 //   LISTA_PLUGIN(register_stages)
+//
+// or, for a plugin of one stage, LISTA_STAGE_PLUGIN(my::MyStage::info, my::MyStage).
 //
 // The core loads the library with RTLD_NOW, reads the manifest through the
 // Boost.DLL alias `lista_plugin_manifest`, refuses it if the SDK version or
@@ -24,6 +26,12 @@ class Registrar {
   virtual ~Registrar() = default;
   virtual void add(StageInfo info, StageFactory factory) = 0;
 };
+
+// Makes a stage class from its parameters.
+template <class S>
+StageFactory factory_of() {
+  return [](const Params& p) -> std::unique_ptr<Stage> { return std::make_unique<S>(p); };
+}
 
 // Plain layout so the core can read the version before touching C++ types.
 struct PluginManifest {
@@ -49,3 +57,10 @@ const ::lista::PluginManifest* manifest();
   }                                                                                      \
   }                                                                                      \
   BOOST_DLL_ALIAS(lista_plugin_detail::manifest, lista_plugin_manifest)
+
+// A plugin of one stage: its StageInfo function and its class, both fully qualified.
+#define LISTA_STAGE_PLUGIN(info_fn, StageClass)                                               \
+  namespace lista_plugin_detail {                                                             \
+  static void register_stages(::lista::Registrar& r) { r.add(info_fn(), ::lista::factory_of<StageClass>()); } \
+  }                                                                                           \
+  LISTA_PLUGIN(lista_plugin_detail::register_stages)

@@ -1,5 +1,6 @@
 #include <lista/error.hpp>
 #include <lista_bag/cloud_points.hpp>
+#include <lista_io/byte_load.hpp>
 #include <lista_io/scan_fields.hpp>
 
 #include <algorithm>
@@ -20,13 +21,8 @@ size_t type_size(uint8_t t) {
 }
 
 template <class T>
-T load(const uint8_t* p, bool swap) {
-  uint8_t b[sizeof(T)];
-  std::memcpy(b, p, sizeof(T));
-  if (swap) std::reverse(b, b + sizeof(T));
-  T v;
-  std::memcpy(&v, b, sizeof(T));
-  return v;
+double load(const uint8_t* p, bool swap) {
+  return double(io::load_bytes<T>(p, swap));
 }
 
 double value(const uint8_t* p, uint8_t type, bool swap) {

@@ -1,5 +1,7 @@
 #include "trajectory.hpp"
 
+#include <lista_geometry/order_statistics.hpp>
+
 #include <algorithm>
 
 namespace lista::bag {
@@ -27,8 +29,7 @@ double median_interval(std::vector<double> stamps) {
   std::sort(stamps.begin(), stamps.end());
   std::vector<double> gaps;
   for (size_t i = 1; i < stamps.size(); ++i) gaps.push_back(stamps[i] - stamps[i - 1]);
-  std::nth_element(gaps.begin(), gaps.begin() + long(gaps.size() / 2), gaps.end());
-  return gaps[gaps.size() / 2];
+  return geometry::median(gaps);
 }
 
 double Trajectory::median_interval() const {

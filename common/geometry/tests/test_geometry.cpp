@@ -1,5 +1,6 @@
-// lista::geometry: box gaps, the yaw-invariant footprint, stations.
+// lista::geometry: box gaps, the yaw-invariant footprint, stations, order statistics.
 #include <lista_geometry/object_geometry.hpp>
+#include <lista_geometry/order_statistics.hpp>
 #include <lista_geometry/radius_grid.hpp>
 #include <lista_geometry/stations.hpp>
 #include <lista_geometry/voxel_key.hpp>
@@ -135,4 +136,15 @@ TEST(Stations, ScansFartherApartThanTheirPointsReach) {
   lista::Mission dropout = mission(12.0, 5.0, 2);
   dropout.scans[1].points = std::make_shared<lista::PointSet>();
   EXPECT_TRUE(lista::geometry::scanned_from_stations(dropout)) << "an empty scan is stepped over";
+}
+
+TEST(OrderStatistics, KthSmallestAndTheUpperMedianWhateverTheOrder) {
+  std::vector<double> v = {5, 1, 4, 2, 3, 6};
+  EXPECT_EQ(lista::geometry::kth_smallest(v, 0), 1.0);
+  EXPECT_EQ(lista::geometry::kth_smallest(v, 5), 6.0);
+  EXPECT_EQ(lista::geometry::median(v), 4.0);  // the higher of the two middle values
+  std::vector<int> odd = {9, -3, 7};
+  EXPECT_EQ(lista::geometry::median(odd), 7);
+  std::vector<float> one = {2.5f};
+  EXPECT_EQ(lista::geometry::median(one), 2.5f);
 }

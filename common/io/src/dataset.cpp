@@ -8,6 +8,7 @@
 #include <lista_io/dataset.hpp>
 #include <lista_io/pcd.hpp>
 #include <lista_io/poses.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <Eigen/Geometry>
 
@@ -182,8 +183,7 @@ double median_step(const std::vector<Eigen::Isometry3d>& poses) {
   std::vector<double> steps;
   steps.reserve(poses.size() - 1);
   for (size_t i = 1; i < poses.size(); ++i) steps.push_back((poses[i].translation() - poses[i - 1].translation()).norm());
-  std::nth_element(steps.begin(), steps.begin() + long(steps.size() / 2), steps.end());
-  return steps[steps.size() / 2];
+  return geometry::median(steps);
 }
 
 bool is_dense_log(const std::vector<Eigen::Isometry3d>& poses) {

@@ -6,6 +6,7 @@
 
 #include <cctype>
 #include <lista/error.hpp>
+#include <lista_io/byte_load.hpp>
 #include <lista_io/pcd.hpp>
 
 #include <algorithm>
@@ -49,10 +50,8 @@ Eigen::Isometry3d parse_viewpoint(const std::vector<std::string>& tok, const Fai
 }
 
 template <class T>
-inline double load_as(const uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return static_cast<double>(v);
+double load_as(const uint8_t* p) {
+  return static_cast<double>(load_bytes<T>(p));
 }
 }  // namespace
 

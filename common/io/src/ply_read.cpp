@@ -5,6 +5,7 @@
 #include "text_util.hpp"
 
 #include <lista/error.hpp>
+#include <lista_io/byte_load.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -43,13 +44,7 @@ bool scalar_type(const std::string& t, PlyProperty& p) {
 }
 
 double load(const uint8_t* p, const PlyProperty& prop, bool swap) {
-  uint8_t b[8];
-  std::memcpy(b, p, size_t(prop.size));
-  if (swap) std::reverse(b, b + prop.size);
-  auto as = [&](auto v) {
-    std::memcpy(&v, b, sizeof v);
-    return static_cast<double>(v);
-  };
+  auto as = [&](auto v) { return static_cast<double>(load_bytes<decltype(v)>(p, swap)); };
   if (prop.kind == 'f') return prop.size == 4 ? as(float{}) : as(double{});
   if (prop.kind == 'u') {
     switch (prop.size) {

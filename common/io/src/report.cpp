@@ -86,17 +86,18 @@ struct Reader {
     for (size_t i = 0; i < v.size(); ++i) out.push_back(text(v[i], where + "[" + std::to_string(i) + "]"));
     return out;
   }
-  json parse(const std::string& path) const {
-    const std::string text = detail::read_whole_file(path);
+  // The file's top-level object, its "format" checked.
+  json parse(const std::string& expected_format) const {
+    json root;
     try {
-      return json::parse(text);
+      root = json::parse(detail::read_whole_file(file));
     } catch (const json::exception& e) {  // parse_error, and out_of_range for numbers like 1e999
-      throw Error(path + ": invalid JSON (" + std::string(e.what()) + ")");
+      throw Error(file + ": invalid JSON (" + std::string(e.what()) + ")");
     }
-  }
-  void check_format(const json& root, const std::string& expected) const {
+    if (!root.is_object()) fail("top level", "expected a JSON object");
     const std::string f = text(field(root, "top level", "format"), "format");
-    if (f != expected) fail("format", "is '" + f + "', expected '" + expected + "'");
+    if (f != expected_format) fail("format", "is '" + f + "', expected '" + expected_format + "'");
+    return root;
   }
   // Every mission of the list has a matrix in `key`, and no other.
   std::map<std::string, Eigen::Matrix4d> per_mission(const json& root, const std::string& key,
@@ -176,9 +177,7 @@ void write_report(const std::string& path, const Report& report) {
 
 Report read_report(const std::string& path) {
   Reader rd{path};
-  const json root = rd.parse(path);
-  if (!root.is_object()) rd.fail("top level", "expected a JSON object");
-  rd.check_format(root, "lista-report/1");
+  const json root = rd.parse("lista-report/1");
   Report r;
   r.missions = rd.names(rd.field(root, "top level", "missions"), "missions");
   r.alignment = rd.per_mission(root, "alignment", r.missions);
@@ -281,9 +280,7 @@ void write_ground_truth(const std::string& path, const GroundTruth& truth) {
 
 GroundTruth read_ground_truth(const std::string& path) {
   Reader rd{path};
-  const json root = rd.parse(path);
-  if (!root.is_object()) rd.fail("top level", "expected a JSON object");
-  rd.check_format(root, "lista-ground-truth/1");
+  const json root = rd.parse("lista-ground-truth/1");
   GroundTruth g;
   g.missions = rd.names(rd.field(root, "top level", "missions"), "missions");
   g.mission_to_world = rd.per_mission(root, "mission_to_world", g.missions);

@@ -1,4 +1,5 @@
 #include <lista_geometry/bounding_rectangle.hpp>
+#include <lista_geometry/order_statistics.hpp>
 #include <lista_objfeat/canonical.hpp>
 
 #include <lista/error.hpp>
@@ -74,10 +75,8 @@ float spread(const std::vector<Eigen::Vector3f>& cells, int axis, double q) {
   std::vector<float> v(cells.size());
   for (size_t i = 0; i < cells.size(); ++i) v[i] = cells[i][axis];
   const size_t lo = size_t(q * double(v.size() - 1) + 0.5), hi = v.size() - 1 - lo;
-  std::nth_element(v.begin(), v.begin() + ptrdiff_t(lo), v.end());
-  const float low = v[lo];
-  std::nth_element(v.begin(), v.begin() + ptrdiff_t(hi), v.end());
-  return v[hi] - low;
+  const float low = geometry::kth_smallest(v, lo);
+  return geometry::kth_smallest(v, hi) - low;
 }
 
 }  // namespace

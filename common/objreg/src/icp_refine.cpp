@@ -165,7 +165,7 @@ IcpResult refine_pair(const std::vector<Eigen::Vector3f>& source, const std::vec
 
 IcpConfig shape_check_config(double voxel, double inlier_distance) {
   IcpConfig c;
-  c.method = "icp";
+  c.method = PairMethod::icp;
   c.voxel = voxel;
   c.inlier_distance = inlier_distance;
   // Wide enough for the coarse pass to pull a partial view (whose centroid

@@ -53,7 +53,7 @@ PairIcp::PairIcp(const Cloud::Ptr& src, const Cloud::Ptr& dst, const IcpConfig& 
   dst_tree_.setInputCloud(dst_);
   // GICP estimates local covariances from 20 neighbours: too few points,
   // plain ICP (decided per pass: the fine subset may be large enough).
-  gicp_method_ = cfg.method == "gicp" && dst_->size() >= 30;
+  gicp_method_ = cfg.method == PairMethod::gicp && dst_->size() >= 30;
   use_gicp_ = gicp_method_ && src_icp_->size() >= 30;
   // One registration object for all hypotheses: GICP then computes the
   // points' covariances once, not once per hypothesis.

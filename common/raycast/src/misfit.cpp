@@ -1,4 +1,5 @@
 #include <lista_raycast/misfit.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <Eigen/Eigenvalues>
 
@@ -16,10 +17,6 @@ constexpr double kMaxFlatness = 0.3;     // smallest / middle spread of a plane'
 constexpr double kFloorNormalZ = 0.7;    // |n.z| above this: a floor or a ceiling, else a wall
 constexpr double kQuantisation = 0.5;    // voxels: what a point's place inside its voxel alone gives
 
-double median(std::vector<double>& v) {
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 }  // namespace
 
 double surface_misfit(const Mission& mission, const OccupancyMap& other, const VolumetricConfig& config) {
@@ -63,7 +60,7 @@ double surface_misfit(const Mission& mission, const OccupancyMap& other, const V
   }
   double misfit = 0.0;
   for (auto* kind : {&walls, &floors})
-    if (kind->size() >= kMinPerKind) misfit = std::max(misfit, median(*kind));
+    if (kind->size() >= kMinPerKind) misfit = std::max(misfit, geometry::median(*kind));
   return misfit;
 }
 

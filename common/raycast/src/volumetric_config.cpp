@@ -7,8 +7,7 @@ namespace {
 
 const ParamTable<VolumetricConfig>& param_table() {
   using C = VolumetricConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("resolution", &C::resolution, "voxel edge length").range(0.005, 5.0).unit("m");
     // The bound also refuses NaN and inf (ParamSpec::check): without one, NaN
     // passed validation, ran as "unlimited" and the report recorded nan.
@@ -44,9 +43,7 @@ const ParamTable<VolumetricConfig>& param_table() {
     t.bind("graze_max", &C::graze_max, "longest stretch before a return that graze_height keeps from being marked free")
         .range(0.0, 10.0)
         .unit("m");
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace

@@ -14,42 +14,44 @@ namespace lista::align {
 
 namespace {
 
+enum class Source { identity, file, ground_truth, ground_truth_poses };
+
 struct GivenConfig {
-  std::string mode = "identity";
+  Source mode = Source::identity;
   std::string file;
 };
 
 const ParamTable<GivenConfig>& param_table() {
   using C = GivenConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
-    t.bind("mode", &C::mode, "where the transforms come from").one_of({"identity", "file", "ground-truth", "ground-truth-poses"});
+  return ParamTable<C>::once([](ParamTable<C>& t) {
+    t.choice("mode", &C::mode,
+             {{"identity", Source::identity}, {"file", Source::file}, {"ground-truth", Source::ground_truth},
+              {"ground-truth-poses", Source::ground_truth_poses}},
+             "where the transforms come from");
     t.bind("file", &C::file, "transforms file for mode \"file\" (format in the doc)");
-    return t;
-  }();
-  return table;
+  });
 }
 
 class GivenStage : public Stage {
  public:
   explicit GivenStage(const Params& p) : GivenStage(param_table().read(p)) {}
   explicit GivenStage(const GivenConfig& c) : mode_(c.mode), file_(c.file) {
-    if (mode_ == "file" && file_.empty()) throw Error("mode \"file\" needs the 'file' parameter");
+    if (mode_ == Source::file && file_.empty()) throw Error("mode \"file\" needs the 'file' parameter");
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
     // A shallow copy: scans' point data stay shared (shared_ptr<const PointSet>).
     MissionSet out = in.get<MissionSet>("missions");
     std::map<std::string, Eigen::Isometry3d> given;
-    if (mode_ == "file") {
+    if (mode_ == Source::file) {
       given = read_transform_file(file_);
       for (const auto& [name, T] : given)
         if (!out.find(name)) throw Error(file_ + ": mission '" + name + "' is not among the missions read");
     }
     for (auto& m : out.missions) {
-      if (mode_ == "identity") {
+      if (mode_ == Source::identity) {
         m.to_common.setIdentity();
-      } else if (mode_ == "file") {
+      } else if (mode_ == Source::file) {
         auto it = given.find(m.name);
         if (it == given.end()) throw Error(file_ + ": no transform for mission '" + m.name + "'");
         m.to_common = it->second;
@@ -67,19 +69,18 @@ class GivenStage : public Stage {
         ctx.info(buf);
         // Every scan placed at its true pose; to_common stays the fit, so the
         // map frame keeps its meaning and only the drift is taken out.
-        if (mode_ == "ground-truth-poses") {
+        if (mode_ == Source::ground_truth_poses) {
           const Eigen::Isometry3d world_to_map = m.to_common.inverse();
           for (size_t i = 0; i < m.scans.size(); ++i) m.scans[i].pose = world_to_map * m.poses_gt[i];
         }
       }
     }
-    Outputs o;
-    o.put("missions", std::move(out));
-    return o;
+    return Outputs::of("missions", std::move(out));
   }
 
  private:
-  std::string mode_, file_;
+  Source mode_;
+  std::string file_;
 };
 
 StageInfo info() {
@@ -98,12 +99,8 @@ StageInfo info() {
   return s;
 }
 
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<GivenStage>(p); });
-}
-
 }  // namespace
 
 }  // namespace lista::align
 
-LISTA_PLUGIN(lista::align::register_stages)
+LISTA_STAGE_PLUGIN(lista::align::info, lista::align::GivenStage)

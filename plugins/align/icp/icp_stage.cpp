@@ -39,11 +39,13 @@ Eigen::Vector3d centroid(const Cloud& c) {
 
 // The stage's settings, flat: RegistrationOptions' defaults are
 // align.posegraph's, and the map voxel is the registration's too.
+enum class InitialGuess { identity, centroid, input };
+
 struct IcpAlignConfig {
   double voxel = 0.25;      // m
   double max_range = 40.0;  // m
   RegistrationMethod registration = RegistrationMethod::gicp;
-  std::string initial = "centroid";
+  InitialGuess initial = InitialGuess::centroid;
   double coarse_distance = 3.0;  // m
   double fine_distance = 0.5;    // m
   int iterations = 60;
@@ -76,13 +78,13 @@ class IcpStage : public Stage {
     });
     // The first mission's frame is the common frame; with initial = "input"
     // it keeps the to_common it came with and the others start from theirs.
-    const Eigen::Isometry3d reference = c_.initial == "input" ? set.missions[0].to_common : Eigen::Isometry3d::Identity();
+    const Eigen::Isometry3d reference = c_.initial == InitialGuess::input ? set.missions[0].to_common : Eigen::Isometry3d::Identity();
     out.missions[0].to_common = reference;
     for (size_t m = 1; m < maps.size(); ++m) {
       ctx.throw_if_cancelled();
       Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();  // mission m's map -> mission 0's map
-      if (c_.initial == "centroid") guess.translation() = centroid(maps[0]) - centroid(maps[m]);
-      if (c_.initial == "input") guess = reference.inverse() * set.missions[m].to_common;
+      if (c_.initial == InitialGuess::centroid) guess.translation() = centroid(maps[0]) - centroid(maps[m]);
+      if (c_.initial == InitialGuess::input) guess = reference.inverse() * set.missions[m].to_common;
       const RegistrationResult r = register_clouds(maps[m], maps[0], guess, reg_);
       const std::string& name = set.missions[m].name;
       ctx.record("overlap_" + name, r.overlap);
@@ -101,9 +103,7 @@ class IcpStage : public Stage {
       if (const std::string w = failed_alignment_warning(*after); !w.empty())
         ctx.warn(w + " (align.icp needs the missions' map frames roughly aligned; align.posegraph does not)");
     }
-    Outputs o;
-    o.put("missions", std::move(out));
-    return o;
+    return Outputs::of("missions", std::move(out));
   }
 
  private:
@@ -134,33 +134,27 @@ namespace {
 
 const ParamTable<IcpAlignConfig>& param_table() {
   using C = IcpAlignConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("voxel", &C::voxel, "map downsampling").range(0.01, 10).unit("m");
     t.bind("max_range", &C::max_range, "points farther from their sensor are left out").range(0.5, 1000).unit("m");
     t.choice("registration", &C::registration, registration_method_names(),
              "gicp (PCL's Generalized ICP), gicp_gn (ours: GICP by Gauss-Newton) or icp (point to point)");
-    t.bind("initial", &C::initial, "starting guess: identity, centroid offset, or the input to_common")
-        .one_of({"identity", "centroid", "input"});
+    t.choice("initial", &C::initial,
+             {{"identity", InitialGuess::identity}, {"centroid", InitialGuess::centroid}, {"input", InitialGuess::input}},
+             "starting guess: identity, centroid offset, or the input to_common");
     t.bind("coarse_distance", &C::coarse_distance, "max correspondence distance, coarse stage").range(0.05, 100).unit("m");
     t.bind("fine_distance", &C::fine_distance, "max correspondence distance, fine stage").range(0.01, 10).unit("m");
     t.bind("iterations", &C::iterations, "iterations per stage").range(1, 10000);
     t.bind("min_overlap", &C::min_overlap, "share of a map's points with a partner after registration").range(0, 1);
     // Declared once for every align.* stage that levels (lista_alignkit/level.hpp).
     bind_level(t, &C::level);
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace
 
 std::unique_ptr<Stage> make_icp_stage(const Params& p) { return std::make_unique<IcpStage>(p); }
 
-namespace {
-void register_stages(Registrar& r) { r.add(icp_stage_info(), make_icp_stage); }
-}  // namespace
-
 }  // namespace lista::align
 
-LISTA_PLUGIN(lista::align::register_stages)
+LISTA_STAGE_PLUGIN(lista::align::icp_stage_info, lista::align::IcpStage)

@@ -1,6 +1,7 @@
 #include "global_search.hpp"
 
 #include <lista/parallel.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -27,19 +28,13 @@ PlanView plan_view(const std::vector<Keyframe>& keyframes, size_t mission, const
     z.reserve(k.submap.size());
     for (const auto& p : k.submap) z.push_back(p.z());
     // The 5th percentile: the ground under the sensor, not a stray low point.
-    const size_t at = z.size() / 20;
-    std::nth_element(z.begin(), z.begin() + static_cast<std::ptrdiff_t>(at), z.end());
-    const double ground = z[at];
+    const double ground = geometry::kth_smallest(z, z.size() / 20);
     grounds.push_back((k.frame * Eigen::Vector3d(0, 0, ground)).z());
     for (const auto& p : k.submap)
       if (p.z() >= ground + o.band_low && p.z() <= ground + o.band_high)
         view.points.push_back((k.frame * p.cast<double>()).head<2>());
   }
-  if (!grounds.empty()) {
-    const size_t mid = grounds.size() / 2;
-    std::nth_element(grounds.begin(), grounds.begin() + static_cast<std::ptrdiff_t>(mid), grounds.end());
-    view.ground = grounds[mid];
-  }
+  if (!grounds.empty()) view.ground = geometry::median(grounds);
   return view;
 }
 

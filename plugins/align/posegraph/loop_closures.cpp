@@ -5,6 +5,7 @@
 #include <lista/error.hpp>
 #include <lista/parallel.hpp>
 #include <lista_geometry/voxel_key.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -90,8 +91,7 @@ std::vector<Keyframe> make_keyframes(const MissionSet& set, const KeyframeOption
       break;
     std::vector<size_t> sizes;
     for (const Keyframe& k : keyframes) sizes.push_back(k.submap.size());
-    std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(sizes.size() / 2), sizes.end());
-    if (sizes[sizes.size() / 2] >= o.submap_min_points) break;
+    if (geometry::median(sizes) >= o.submap_min_points) break;
   }
   return keyframes;
 }

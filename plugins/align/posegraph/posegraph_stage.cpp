@@ -194,9 +194,7 @@ class PoseGraphStage : public Stage {
                std::to_string(after->poses) + " poses");
       if (const std::string w = failed_alignment_warning(*after); !w.empty()) ctx.warn(w);
     }
-    Outputs out;
-    out.put("missions", std::move(aligned));
-    return out;
+    return Outputs::of("missions", std::move(aligned));
   }
 
  private:
@@ -256,8 +254,7 @@ void renamed_flat_names(ParamTable<PoseGraphConfig>& t) {
 
 const ParamTable<PoseGraphConfig>& param_table() {
   using C = PoseGraphConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     using K = C::Keyframes;
     auto keyframes = t.group("keyframes", &C::keyframes);
     keyframes.bind("distance", &K::distance, "trajectory length between keyframes").range(0.05, 100).unit("m");
@@ -357,21 +354,13 @@ const ParamTable<PoseGraphConfig>& param_table() {
                "edges fight the closures when with them the closures' RMS residual is more than this many times "
                "(and 1 cm more than) without them").at_least(0.0);
     renamed_flat_names(t);
-    return t;
-  }();
-  return table;
+  });
 }
 
 }  // namespace
 
 std::unique_ptr<Stage> make_posegraph_stage(const Params& p) { return std::make_unique<PoseGraphStage>(p); }
 
-namespace {
-
-void register_stages(Registrar& r) { r.add(posegraph_stage_info(), make_posegraph_stage); }
-
-}  // namespace
-
 }  // namespace lista::align
 
-LISTA_PLUGIN(lista::align::register_stages)
+LISTA_STAGE_PLUGIN(lista::align::posegraph_stage_info, lista::align::PoseGraphStage)

@@ -3,6 +3,7 @@
 #include <lista/parallel.hpp>
 #include <lista_alignkit/cloud_ops.hpp>
 #include <lista_geometry/stations.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -23,9 +24,7 @@ Cloud above_ground(const Cloud& near, const Eigen::Isometry3d& pose, double clea
   std::vector<float> height(near.size());
   for (size_t i = 0; i < near.size(); ++i) height[i] = (level * near[i]).z();
   std::vector<float> sorted = height;
-  const size_t k = sorted.size() / 50;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
-  const float cut = sorted[k] + static_cast<float>(clearance);
+  const float cut = geometry::kth_smallest(sorted, sorted.size() / 50) + static_cast<float>(clearance);
   Cloud above;
   for (size_t i = 0; i < near.size(); ++i)
     if (height[i] > cut) above.push_back(near[i]);

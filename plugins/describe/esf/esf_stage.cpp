@@ -66,15 +66,11 @@ class EsfStage : public Stage {
       out.values.row(long(i)) = row / row.norm();
       out.object_ids.push_back(o.id);
     }
-    return [&] { Outputs o; o.put("descriptors", std::move(out)); return o; }();
+    return Outputs::of("descriptors", std::move(out));
   }
 };
-
-void register_stages(Registrar& r) {
-  r.add(EsfStage::info(), [](const Params& p) { return std::make_unique<EsfStage>(p); });
-}
 
 }  // namespace
 }  // namespace lista::describe
 
-LISTA_PLUGIN(lista::describe::register_stages)
+LISTA_STAGE_PLUGIN(lista::describe::EsfStage::info, lista::describe::EsfStage)

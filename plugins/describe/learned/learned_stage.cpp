@@ -28,16 +28,13 @@ struct LearnedConfig {
 
 const ParamTable<LearnedConfig>& param_table() {
   using C = LearnedConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("weights", &C::weights, "weights file (empty: the shipped model, see doc)");
     t.bind("batch", &C::batch, "objects per network call").range(1, 4096);
     t.bind("samples", &C::samples,
            "voxel-cell selections per object whose descriptors are averaged (1: one fixed selection)")
         .range(1, 64);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class LearnedStage : public Stage {
@@ -101,7 +98,7 @@ class LearnedStage : public Stage {
     // The pipeline shows weights = "" for the shipped model: the report says which file it was.
     ctx.note("weights", weights_path_);
     ctx.note("weights_sha256", weights_sha256_);
-    return [&] { Outputs o; o.put("descriptors", std::move(out)); return o; }();
+    return Outputs::of("descriptors", std::move(out));
   }
 
  private:
@@ -110,11 +107,7 @@ class LearnedStage : public Stage {
   objfeat::DescriptorNet net_{nullptr};
 };
 
-void register_stages(Registrar& r) {
-  r.add(LearnedStage::info(), [](const Params& p) { return std::make_unique<LearnedStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::describe
 
-LISTA_PLUGIN(lista::describe::register_stages)
+LISTA_STAGE_PLUGIN(lista::describe::LearnedStage::info, lista::describe::LearnedStage)

@@ -30,14 +30,11 @@ struct RiftConfig {
 
 const ParamTable<RiftConfig>& param_table() {
   using C = RiftConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("voxel", &C::voxel, "downsampling voxel edge (keypoint spacing)").range(0.001, 1.0).unit("m");
     t.bind("normal_radius", &C::normal_radius, "normal and gradient estimation radius").range(0.005, 2.0).unit("m");
     t.bind("support_radius", &C::support_radius, "RIFT support radius").range(0.01, 5.0).unit("m");
-    return t;
-  }();
-  return table;
+  });
 }
 
 class RiftStage : public Stage {
@@ -79,7 +76,7 @@ class RiftStage : public Stage {
     // Objects are independent: one per thread, each with its own estimators.
 #pragma omp parallel for schedule(dynamic) num_threads(ctx.threads())
     for (long i = 0; i < n; ++i) out.values.row(i) = describe(objects.objects[size_t(i)].points);
-    return [&] { Outputs o; o.put("descriptors", std::move(out)); return o; }();
+    return Outputs::of("descriptors", std::move(out));
   }
 
  private:
@@ -142,11 +139,7 @@ class RiftStage : public Stage {
   const RiftConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(RiftStage::info(), [](const Params& p) { return std::make_unique<RiftStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::describe
 
-LISTA_PLUGIN(lista::describe::register_stages)
+LISTA_STAGE_PLUGIN(lista::describe::RiftStage::info, lista::describe::RiftStage)

@@ -27,14 +27,11 @@ struct ShotConfig {
 
 const ParamTable<ShotConfig>& param_table() {
   using C = ShotConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("voxel", &C::voxel, "downsampling voxel edge (keypoint spacing)").range(0.001, 1.0).unit("m");
     t.bind("normal_radius", &C::normal_radius, "normal estimation radius").range(0.005, 2.0).unit("m");
     t.bind("support_radius", &C::support_radius, "SHOT support radius").range(0.01, 5.0).unit("m");
-    return t;
-  }();
-  return table;
+  });
 }
 
 class ShotStage : public Stage {
@@ -71,7 +68,7 @@ class ShotStage : public Stage {
       out.values.row(long(i)) = describe(o.points, ctx.threads());
       out.object_ids.push_back(o.id);
     }
-    return [&] { Outputs o; o.put("descriptors", std::move(out)); return o; }();
+    return Outputs::of("descriptors", std::move(out));
   }
 
  private:
@@ -120,11 +117,7 @@ class ShotStage : public Stage {
   const ShotConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(ShotStage::info(), [](const Params& p) { return std::make_unique<ShotStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::describe
 
-LISTA_PLUGIN(lista::describe::register_stages)
+LISTA_STAGE_PLUGIN(lista::describe::ShotStage::info, lista::describe::ShotStage)

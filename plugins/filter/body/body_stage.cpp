@@ -66,9 +66,7 @@ class BodyStage : public Stage {
     ctx.record("dropped", double(dropped));
     ctx.record("platform_dropped", double(on_platform));
     ctx.record("cells", double(cells));
-    Outputs out;
-    out.put("missions", std::move(set));
-    return out;
+    return Outputs::of("missions", std::move(set));
   }
 
  private:
@@ -123,8 +121,7 @@ StageInfo info() {
 
 const ParamTable<BodyConfig>& param_table() {
   using C = BodyConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("max_range", &C::max_range, "body points lie nearer their sensor than this; 0 turns the stage off")
         .range(0, 10)
         .unit("m");
@@ -145,17 +142,11 @@ const ParamTable<BodyConfig>& param_table() {
         .unit("m");
     t.bind("probes", &C::probes, "scans, spread over the mission, whose candidate cells are checked")
         .range(1, 10000);
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<BodyStage>(p); });
+  });
 }
 
 }  // namespace
 
 }  // namespace lista::filter
 
-LISTA_PLUGIN(lista::filter::register_stages)
+LISTA_STAGE_PLUGIN(lista::filter::info, lista::filter::BodyStage)

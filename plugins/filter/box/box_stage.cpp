@@ -3,6 +3,7 @@
 #include <lista/missions.hpp>
 #include <lista/param_table.hpp>
 #include <lista/plugin.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -19,17 +20,14 @@ struct BoxConfig {
 
 const ParamTable<BoxConfig>& param_table() {
   using C = BoxConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("min", &C::min, "lower corner [x, y, z]").unit("m");
     t.bind("max", &C::max, "upper corner [x, y, z]").unit("m");
     t.bind("max_height_above_floor", &C::max_height_above_floor, "drop points higher above the floor; 0 = off")
         .range(0.0, 1e4)
         .unit("m");
     t.bind("floor_quantile", &C::floor_quantile, "quantile of z taken as the floor height").range(0.0, 0.5);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class BoxFilterStage : public Stage {
@@ -73,10 +71,9 @@ class BoxFilterStage : public Stage {
       std::vector<float> z = in.has("missions") ? heights(in.get<MissionSet>("missions"))
                                                  : heights(changes, keep);
       if (!z.empty()) {
-        auto nth = z.begin() + std::ptrdiff_t(floor_quantile_ * double(z.size() - 1));
-        std::nth_element(z.begin(), nth, z.end());
-        const float top = float(*nth + ceiling_);
-        context.record("floor_z", *nth);
+        const float floor_z = geometry::kth_smallest(z, size_t(floor_quantile_ * double(z.size() - 1)));
+        const float top = float(floor_z + ceiling_);
+        context.record("floor_z", floor_z);
         for (size_t m = 0; m < keep.size(); ++m)
           keep[m].erase(std::remove_if(keep[m].begin(), keep[m].end(),
                                        [&](uint32_t i) { return changes.sets[m].xyz[i].z() > top; }),
@@ -92,9 +89,7 @@ class BoxFilterStage : public Stage {
     }
     context.record("kept_points", double(kept));
     context.record("removed_points", double(changes.total() - kept));
-    Outputs o;
-    o.put("changes", std::move(out));
-    return o;
+    return Outputs::of("changes", std::move(out));
   }
 
  private:
@@ -135,11 +130,7 @@ class BoxFilterStage : public Stage {
   double ceiling_ = 0, floor_quantile_ = 0.01;
 };
 
-void register_stages(Registrar& r) {
-  r.add(BoxFilterStage::info(), [](const Params& p) { return std::make_unique<BoxFilterStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::filter
 
-LISTA_PLUGIN(lista::filter::register_stages)
+LISTA_STAGE_PLUGIN(lista::filter::BoxFilterStage::info, lista::filter::BoxFilterStage)

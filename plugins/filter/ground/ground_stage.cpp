@@ -12,8 +12,7 @@ namespace {
 
 const ParamTable<GroundConfig>& param_table() {
   using C = GroundConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("tile_size", &C::tile_size, "xy tile edge; one plane set per tile").range(0.5, 100).unit("m");
     t.bind("distance", &C::distance, "inlier distance to the ground plane").range(0.005, 1).unit("m");
     t.bind("max_slope", &C::max_slope_deg, "steepest plane taken as ground").range(0, 45).unit("deg");
@@ -25,9 +24,7 @@ const ParamTable<GroundConfig>& param_table() {
         .range(0, 1e4)
         .unit("m^2");
     t.bind("max_iterations", &C::max_iterations, "RANSAC iterations per plane").range(10, 100000);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class GroundFilterStage : public Stage {
@@ -69,20 +66,14 @@ class GroundFilterStage : public Stage {
       out.sets.push_back(s.select(keep));
     }
     context.record("removed_points", double(removed));
-    Outputs o;
-    o.put("changes", std::move(out));
-    return o;
+    return Outputs::of("changes", std::move(out));
   }
 
  private:
   GroundConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(GroundFilterStage::info(), [](const Params& p) { return std::make_unique<GroundFilterStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::filter
 
-LISTA_PLUGIN(lista::filter::register_stages)
+LISTA_STAGE_PLUGIN(lista::filter::GroundFilterStage::info, lista::filter::GroundFilterStage)

@@ -10,14 +10,11 @@ namespace {
 
 const ParamTable<MlsConfig>& param_table() {
   using C = MlsConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("radius", &C::radius, "neighbourhood radius of the fit").range(0.005, 5.0).unit("m");
     t.bind("polynomial_order", &C::polynomial_order, "order of the fitted surface").range(1, 3);
     t.bind("drop_unfitted", &C::drop_unfitted, "drop points with too few neighbours for a fit");
-    return t;
-  }();
-  return table;
+  });
 }
 
 class MlsFilterStage : public Stage {
@@ -51,20 +48,14 @@ class MlsFilterStage : public Stage {
       fitted_total += fitted;
     }
     context.record("fitted_points", double(fitted_total));
-    Outputs o;
-    o.put("changes", std::move(out));
-    return o;
+    return Outputs::of("changes", std::move(out));
   }
 
  private:
   MlsConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(MlsFilterStage::info(), [](const Params& p) { return std::make_unique<MlsFilterStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::filter
 
-LISTA_PLUGIN(lista::filter::register_stages)
+LISTA_STAGE_PLUGIN(lista::filter::MlsFilterStage::info, lista::filter::MlsFilterStage)

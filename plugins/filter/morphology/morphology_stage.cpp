@@ -12,17 +12,14 @@ namespace {
 
 const ParamTable<MorphologyConfig>& param_table() {
   using C = MorphologyConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("voxel", &C::voxel, "voxel edge").range(0.005, 5.0).unit("m");
     t.bind("min_neighbours", &C::min_neighbours, "occupied 26-neighbours a voxel needs to survive erosion")
         .range(0, 26);
     t.bind("dilate_steps", &C::dilate_steps, "dilations by the 3x3x3 cube after erosion (without reconstruct)")
         .range(0, 10);
     t.bind("reconstruct", &C::reconstruct, "dilate until stable: keep whole every component with a core");
-    return t;
-  }();
-  return table;
+  });
 }
 
 class MorphologyFilterStage : public Stage {
@@ -54,21 +51,14 @@ class MorphologyFilterStage : public Stage {
     parallel_for(m, context.threads(),
                  [&](size_t i) { out.sets[i] = changes.sets[i].select(morphology_keep(changes.sets[i], c_)); });
     context.record("removed_points", double(changes.total() - out.total()));
-    Outputs o;
-    o.put("changes", std::move(out));
-    return o;
+    return Outputs::of("changes", std::move(out));
   }
 
  private:
   MorphologyConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(MorphologyFilterStage::info(),
-        [](const Params& p) { return std::make_unique<MorphologyFilterStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::filter
 
-LISTA_PLUGIN(lista::filter::register_stages)
+LISTA_STAGE_PLUGIN(lista::filter::MorphologyFilterStage::info, lista::filter::MorphologyFilterStage)

@@ -9,14 +9,6 @@
 
 namespace lista::group {
 
-Linkage parse_linkage(const std::string& name) {
-  if (name == "single") return Linkage::single;
-  if (name == "average") return Linkage::average;
-  if (name == "complete") return Linkage::complete;
-  if (name == "ward") return Linkage::ward;
-  throw Error("unknown linkage '" + name + "' (single, average, complete, ward)");
-}
-
 std::vector<Merge> dendrogram(const Eigen::MatrixXd& x, Linkage linkage) {
   const int n = static_cast<int>(x.rows());
   // Ward works on squared distances (Lance-Williams form); the others on distances.

@@ -10,7 +10,6 @@
 namespace lista::group {
 
 enum class Linkage { single, average, complete, ward };
-Linkage parse_linkage(const std::string& name);  // throws lista::Error
 
 struct Merge {
   int a, b;       // cluster slots merged (a absorbs b)

@@ -12,9 +12,11 @@ namespace lista::group {
 
 namespace {
 
+enum class Cut { gap, distance, k };
+
 struct AgglomerativeConfig {
-  std::string linkage = "average";
-  std::string cut = "gap";
+  Linkage linkage = Linkage::average;
+  Cut cut = Cut::gap;
   int k = 2;
   double distance = 1.0;  // descriptor units
   double min_gap = 0.5;
@@ -25,24 +27,22 @@ const ParamTable<AgglomerativeConfig>& param_table();
 
 class AgglomerativeStage : public Stage {
  public:
-  explicit AgglomerativeStage(const Params& p) : c_(param_table().read(p)), linkage_(parse_linkage(c_.linkage)) {}
+  explicit AgglomerativeStage(const Params& p) : c_(param_table().read(p)) {}
 
   Outputs run(const Inputs& in, Context& ctx) override {
     const auto& d = in.get<DescriptorSet>("descriptors");
     grouping::check_descriptors(d);
     const Eigen::MatrixXd x = grouping::to_double(d);
     const int n = static_cast<int>(x.rows());
-    const std::vector<Merge> merges = dendrogram(x, linkage_);
+    const std::vector<Merge> merges = dendrogram(x, c_.linkage);
     int k = 0;
-    if (c_.cut == "k") k = std::min(c_.k, n);
-    else if (c_.cut == "distance") k = k_for_threshold(n, merges, c_.distance);
+    if (c_.cut == Cut::k) k = std::min(c_.k, n);
+    else if (c_.cut == Cut::distance) k = k_for_threshold(n, merges, c_.distance);
     else k = gap_cut(n, merges, ctx);
     const std::vector<int> labels = cut_to_k(n, merges, k);
     ctx.info(std::to_string(n) + " objects in " + std::to_string(k) + " groups");
     ctx.record("k", k);
-    Outputs out;
-    out.put("groups", grouping::make_groups("group.agglomerative", d.object_ids, x, labels));
-    return out;
+    return Outputs::of("groups", grouping::make_groups("group.agglomerative", d.object_ids, x, labels));
   }
 
  private:
@@ -63,7 +63,6 @@ class AgglomerativeStage : public Stage {
   }
 
   AgglomerativeConfig c_;
-  Linkage linkage_;
 };
 
 StageInfo info() {
@@ -83,10 +82,13 @@ StageInfo info() {
 
 const ParamTable<AgglomerativeConfig>& param_table() {
   using C = AgglomerativeConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
-    t.bind("linkage", &C::linkage, "cluster distance").one_of({"single", "average", "complete", "ward"});
-    t.bind("cut", &C::cut, "how the dendrogram is cut").one_of({"gap", "distance", "k"});
+  return ParamTable<C>::once([](ParamTable<C>& t) {
+    t.choice("linkage", &C::linkage,
+             {{"single", Linkage::single}, {"average", Linkage::average}, {"complete", Linkage::complete},
+              {"ward", Linkage::ward}},
+             "cluster distance");
+    t.choice("cut", &C::cut, {{"gap", Cut::gap}, {"distance", Cut::distance}, {"k", Cut::k}},
+             "how the dendrogram is cut");
     t.bind("k", &C::k, "groups kept with cut = 'k'").range(1, 100000);
     t.bind("distance", &C::distance, "largest merge height kept with cut = 'distance' (descriptor units)")
         .at_least(0.0);
@@ -95,17 +97,11 @@ const ParamTable<AgglomerativeConfig>& param_table() {
         .at_least(0.0);
     t.bind("k_max", &C::k_max, "cut = 'gap': most groups considered (and at most half the objects)")
         .range(2, 100000);
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<AgglomerativeStage>(p); });
+  });
 }
 
 }  // namespace
 
 }  // namespace lista::group
 
-LISTA_PLUGIN(lista::group::register_stages)
+LISTA_STAGE_PLUGIN(lista::group::info, lista::group::AgglomerativeStage)

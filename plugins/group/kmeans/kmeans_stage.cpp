@@ -87,23 +87,16 @@ StageInfo info() {
 
 const ParamTable<KMeansStageConfig>& param_table() {
   using C = KMeansStageConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("k", &C::k, "fixed number of groups; 0 = choose by the elbow rule").range(0, 1000);
     t.bind("k_max", &C::k_max, "largest K tried by the elbow rule").range(1, 1000);
     t.bind("restarts", &C::restarts, "k-means++ seedings per K; the lowest WCSS wins").range(1, 1000);
     t.bind("max_iterations", &C::max_iterations, "Lloyd iterations per seeding").range(1, 100000);
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<KMeansStage>(p); });
+  });
 }
 
 }  // namespace
 
 }  // namespace lista::group
 
-LISTA_PLUGIN(lista::group::register_stages)
+LISTA_STAGE_PLUGIN(lista::group::info, lista::group::KMeansStage)

@@ -85,8 +85,7 @@ StageInfo info() {
 
 const ParamTable<StillConfig>& param_table() {
   using C = StillConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("radius", &C::radius, "a point of the other mission within this distance shows the same surface")
         .range(0.01, 1.0)
         .unit("m");
@@ -100,17 +99,11 @@ const ParamTable<StillConfig>& param_table() {
         .range(0.0, 1.0);
     t.bind("follow_contradictions", &C::follow_contradictions,
            "also follow an added or removed object that stands still in the mission it was said to have changed against, and correct its status");
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<StaticStage>(p); });
+  });
 }
 
 }  // namespace
 
 }  // namespace lista::history
 
-LISTA_PLUGIN(lista::history::register_stages)
+LISTA_STAGE_PLUGIN(lista::history::info, lista::history::StaticStage)

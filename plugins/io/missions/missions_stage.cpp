@@ -3,6 +3,7 @@
 #include <lista/param_table.hpp>
 #include <lista_bag/bag_mission.hpp>
 #include <lista_io/dataset.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -56,17 +57,14 @@ bool natural_less(const std::string& a, const std::string& b) {
 // none; else the first few named, for a warning.
 std::string far_off_poses(const Mission& m) {
   if (m.scans.size() < 3) return "";
-  auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
   std::vector<double> c[3];
   for (const auto& s : m.scans)
     for (int k = 0; k < 3; ++k) c[k].push_back(s.pose.translation()[k]);
-  const Eigen::Vector3d centre(median(c[0]), median(c[1]), median(c[2]));
+  const Eigen::Vector3d centre(geometry::median(c[0]), geometry::median(c[1]), geometry::median(c[2]));
   std::vector<double> d;
   for (const auto& s : m.scans) d.push_back((s.pose.translation() - centre).norm());
-  const double spread = median(d), limit = std::max(1000.0, 100.0 * spread);
+  std::vector<double> ordered = d;
+  const double spread = geometry::median(ordered), limit = std::max(1000.0, 100.0 * spread);
   std::string named;
   size_t far = 0;
   for (size_t i = 0; i < d.size(); ++i) {
@@ -223,9 +221,7 @@ class MissionsStage : public Stage {
     if (zero_dropped > 0)
       ctx.info(std::to_string(zero_dropped) + " points at (0, 0, 0), the sensor origin, dropped: a driver's way of "
                "writing a missing return");
-    Outputs out;
-    out.put("missions", std::move(set));
-    return out;
+    return Outputs::of("missions", std::move(set));
   }
 
  private:
@@ -308,8 +304,7 @@ StageInfo info() {
 
 const ParamTable<MissionsConfig>& param_table() {
   using C = MissionsConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("path", &C::path, "dataset folder; empty = the run's dataset (lista-run --dataset)");
     t.bind("missions", &C::missions, "mission folder names in the order to use; empty = all, sorted");
     t.bind("min_range", &C::min_range,
@@ -339,17 +334,11 @@ const ParamTable<MissionsConfig>& param_table() {
            "when thinning (scan_spacing or dense_spacing), a scan turned this far from the last one read is read too")
         .range(0.1, 180)
         .unit("deg");
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<MissionsStage>(p); });
+  });
 }
 
 }  // namespace
 
 }  // namespace lista::io
 
-LISTA_PLUGIN(lista::io::register_stages)
+LISTA_STAGE_PLUGIN(lista::io::info, lista::io::MissionsStage)

@@ -22,17 +22,14 @@ struct ReportConfig {
 
 const ParamTable<ReportConfig>& param_table() {
   using C = ReportConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("path", &C::path, "output folder; empty = the run's output folder (lista-run --out)");
     t.bind("unread_cell", &C::unread_cell,
            "cube edge for placing the points of scans io.missions did not read (scan_spacing) "
            "into the change: a point in a cube holding a change point is reported with it")
         .range(0.01, 1)
         .unit("m");
-    return t;
-  }();
-  return table;
+  });
 }
 
 class ReportStage : public Stage {
@@ -131,12 +128,8 @@ StageInfo info() {
   return s;
 }
 
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<ReportStage>(p); });
-}
-
 }  // namespace
 
 }  // namespace lista::io
 
-LISTA_PLUGIN(lista::io::register_stages)
+LISTA_STAGE_PLUGIN(lista::io::info, lista::io::ReportStage)

@@ -129,9 +129,7 @@ class WeightedMatchStage : public Stage {
     ctx.record("moved", moved);
     ctx.record("removed", removed);
     ctx.record("added", added);
-    Outputs out;
-    out.put("matches", std::move(m));
-    return out;
+    return Outputs::of("matches", std::move(m));
   }
 
  private:
@@ -186,8 +184,7 @@ void renamed_flat_names(ParamTable<MatchStageConfig>& t) {
 
 const ParamTable<MatchStageConfig>& param_table() {
   using C = MatchStageConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("alpha", &C::alpha, "weight of the normalised physical distance").range(0.0, 100.0);
     t.bind("beta", &C::beta, "weight of the normalised descriptor distance").range(0.0, 100.0);
     t.bind("shape_weight", &C::shape_weight,
@@ -257,17 +254,11 @@ const ParamTable<MatchStageConfig>& param_table() {
                     "a pair standing on floors in both missions is registered among upright poses only; false: refused "
                     "when its best pose is off the floor");
     renamed_flat_names(t);
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<WeightedMatchStage>(p); });
+  });
 }
 
 }  // namespace
 
 }  // namespace lista::match
 
-LISTA_PLUGIN(lista::match::register_stages)
+LISTA_STAGE_PLUGIN(lista::match::info, lista::match::WeightedMatchStage)

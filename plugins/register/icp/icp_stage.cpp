@@ -61,9 +61,7 @@ class IcpStage : public Stage {
       ctx.record("mean_inlier_ratio", std::accumulate(inlier_ratios.begin(), inlier_ratios.end(), 0.0) / double(pairs));
     ctx.record("pairs", double(pairs));
     ctx.record("ambiguous_pairs", ambiguous);
-    Outputs o;
-    o.put("matches", std::move(out));
-    return o;
+    return Outputs::of("matches", std::move(out));
   }
 
  private:
@@ -89,9 +87,9 @@ StageInfo info() {
 
 const ParamTable<IcpStageConfig>& param_table() {
   using C = IcpStageConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
-    t.bind("method", &C::method, "registration algorithm").one_of({"gicp", "icp"});
+  return ParamTable<C>::once([](ParamTable<C>& t) {
+    t.choice("method", &C::method, {{"gicp", objreg::PairMethod::gicp}, {"icp", objreg::PairMethod::icp}},
+             "registration algorithm");
     t.bind("voxel", &C::voxel, "voxel size for downsampling before ICP; 0 = none").range(0.0, 1.0).unit("m");
     t.bind("max_correspondence", &C::max_correspondence, "largest point pair distance ICP uses").range(0.001, 10.0).unit("m");
     t.bind("max_iterations", &C::max_iterations, "ICP iterations per hypothesis").range(1, 10000);
@@ -126,17 +124,11 @@ const ParamTable<IcpStageConfig>& param_table() {
         .range(0.0, 10.0)
         .unit("m");
     t.bind("max_tilt", &C::max_tilt, "an object standing on floors in both missions is registered tilted by at most this (180 = any pose)").range(1.0, 180.0).unit("deg");
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<IcpStage>(p); });
+  });
 }
 
 }  // namespace
 
 }  // namespace lista::registration
 
-LISTA_PLUGIN(lista::registration::register_stages)
+LISTA_STAGE_PLUGIN(lista::registration::info, lista::registration::IcpStage)

@@ -133,8 +133,8 @@ TEST(IcpRefine, ImprovesOnSvdForAPartialNoisyView) {
 
   double svd_m, svd_deg, icp_m, icp_deg;
   errors(svd_transform(principal_frame(src), principal_frame(dst)), truth, svd_m, svd_deg);
-  for (const char* method : {"gicp", "icp"}) {
-    SCOPED_TRACE(method);
+  for (const auto method : {objreg::PairMethod::gicp, objreg::PairMethod::icp}) {
+    SCOPED_TRACE(method == objreg::PairMethod::gicp ? "gicp" : "icp");
     IcpConfig cfg;
     cfg.method = method;
     const IcpResult r = icp_refine(src, dst, cfg);

@@ -20,14 +20,11 @@ struct SvdConfig {
 
 const ParamTable<SvdConfig>& param_table() {
   using C = SvdConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("ambiguity_tolerance", &C::ambiguity_tolerance,
            "relative skew / variance gap below which a frame is reported ambiguous")
         .range(0.0, 1.0);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class SvdStage : public Stage {
@@ -52,9 +49,7 @@ class SvdStage : public Stage {
                " moved pairs have near-symmetric shapes; their SVD orientation may be off by a flip, which a "
                "register.icp stage after this one resolves");
     ctx.record("ambiguous_pairs", ambiguous.load());
-    Outputs o;
-    o.put("matches", std::move(out));
-    return o;
+    return Outputs::of("matches", std::move(out));
   }
 
  private:
@@ -76,12 +71,8 @@ StageInfo info() {
   return s;
 }
 
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<SvdStage>(p); });
-}
-
 }  // namespace
 
 }  // namespace lista::registration
 
-LISTA_PLUGIN(lista::registration::register_stages)
+LISTA_STAGE_PLUGIN(lista::registration::info, lista::registration::SvdStage)

@@ -83,25 +83,18 @@ StageInfo info() {
 
 const ParamTable<HtmlReportConfig>& param_table() {
   using C = HtmlReportConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("path", &C::path, "output folder; empty = the run's --out folder");
     t.bind("title", &C::title, "page title");
     t.bind("pixels", &C::pixels, "longest side of each top-down map image").range(64, 8000).unit("px");
     t.bind("max_map_points", &C::max_map_points, "static map points sampled per mission pair")
         .range(1000, 1e9);
     t.bind("ply", &C::ply, "also write changes.ply");
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(info(), [](const Params& p) { return std::make_unique<HtmlReportStage>(p); });
+  });
 }
 
 }  // namespace
 
 }  // namespace lista::report
 
-LISTA_PLUGIN(lista::report::register_stages)
+LISTA_STAGE_PLUGIN(lista::report::info, lista::report::HtmlReportStage)

@@ -4,6 +4,8 @@
 
 #include <stb/stb_image_write.h>
 
+#include <lista_geometry/order_statistics.hpp>
+
 #include <algorithm>
 #include <cmath>
 
@@ -70,11 +72,7 @@ std::vector<Eigen::Vector3f> static_map(const MissionSet& missions, size_t a, si
   if (pts.size() < 100) return pts;
   std::vector<float> z(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) z[i] = pts[i].z();
-  auto pct = [&](double q) {
-    auto it = z.begin() + size_t(q * (z.size() - 1));
-    std::nth_element(z.begin(), it, z.end());
-    return *it;
-  };
+  auto pct = [&](double q) { return geometry::kth_smallest(z, size_t(q * (z.size() - 1))); };
   const float floor_z = pct(0.03), ceiling_z = pct(0.97);
   const float lo = floor_z + 0.15f, hi = ceiling_z - 0.15f;
   if (hi <= lo) return pts;
@@ -155,11 +153,7 @@ std::vector<uint8_t> map_png(const std::vector<Eigen::Vector3f>& map, const std:
   for (uint32_t d : density)
     if (d) nonzero.push_back(d);
   double top = 1;
-  if (!nonzero.empty()) {
-    auto it = nonzero.begin() + size_t(0.95 * (nonzero.size() - 1));
-    std::nth_element(nonzero.begin(), it, nonzero.end());
-    top = std::max<double>(1, *it);
-  }
+  if (!nonzero.empty()) top = std::max<double>(1, geometry::kth_smallest(nonzero, size_t(0.95 * (nonzero.size() - 1))));
   std::vector<uint8_t> rgb(size_t(r.width) * r.height * 3, 255);
   for (size_t i = 0; i < density.size(); ++i) {
     if (!density[i]) continue;

@@ -3,6 +3,7 @@
 #include <lista/parallel.hpp>
 #include <lista_geometry/object_geometry.hpp>
 #include <lista_geometry/voxel_key.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -193,9 +194,7 @@ float top_of(const PointSet& s, const std::vector<uint32_t>& idx) {
   std::vector<float> z;
   z.reserve(idx.size());
   for (uint32_t i : idx) z.push_back(s.xyz[i].z());
-  const size_t k = std::min(z.size() - 1, size_t(0.98 * double(z.size())));
-  std::nth_element(z.begin(), z.begin() + ptrdiff_t(k), z.end());
-  return z[k];
+  return geometry::kth_smallest(z, std::min(z.size() - 1, size_t(0.98 * double(z.size()))));
 }
 
 // Connected parts of the points `idx` (voxels of edge `cell`, 26-neighbourhood),

@@ -21,8 +21,7 @@ std::string fmt(double v) {
 
 const ParamTable<CarveConfig>& param_table() {
   using C = CarveConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("voxel", &C::voxel, "search step (translation) and grid cell").range(0.01, 0.5).unit("m");
     t.bind("tolerance", &C::tolerance, "a template point fits within this of a host point (at most 4 x voxel)").range(0.01, 0.5).unit("m");
     t.bind("yaw_step", &C::yaw_step, "yaw search step").range(0.5, 90).unit("deg");
@@ -32,9 +31,7 @@ const ParamTable<CarveConfig>& param_table() {
     t.bind("max_overlap", &C::max_overlap, "most of the smaller side's floor cells (2 x voxel) also under the other").range(0, 1);
     t.bind("min_width", &C::min_width, "narrowest template footprint (shorter side): a leg or a panel fits almost anywhere").range(0, 5).unit("m");
     t.bind("min_points", &C::min_points, "smallest template, and smallest separate part of the rest").range(1, 1e9);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class CarveStage : public Stage {
@@ -80,20 +77,14 @@ class CarveStage : public Stage {
       context.debug("object " + std::to_string(k.host) + " cut where object " + std::to_string(k.tmpl) + " fits (" +
                     std::to_string(int(100 * k.fit + 0.5)) + " %): " + std::to_string(k.carved) + " + " +
                     std::to_string(k.rest) + " points");
-    Outputs out;
-    out.put("objects", std::move(objects));
-    return out;
+    return Outputs::of("objects", std::move(objects));
   }
 
  private:
   CarveConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(CarveStage::info(), [](const Params& p) { return std::make_unique<CarveStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::segment
 
-LISTA_PLUGIN(lista::segment::register_stages)
+LISTA_STAGE_PLUGIN(lista::segment::CarveStage::info, lista::segment::CarveStage)

@@ -11,8 +11,7 @@ namespace {
 
 const ParamTable<ComoveConfig>& param_table() {
   using C = ComoveConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("slender_ratio", &C::slender_ratio, "a piece takes part when its height is at least this times its footprint's short side; 0 = every piece")
         .range(0, 100);
     t.bind("join_gap", &C::join_gap, "largest box-to-box gap between pieces of one object").range(0, 10).unit("m");
@@ -24,9 +23,7 @@ const ParamTable<ComoveConfig>& param_table() {
         .unit("m");
     t.bind("cover_share", &C::cover_share, "share of a piece's points covered for it to join").range(0.01, 1);
     t.bind("max_extent", &C::max_extent, "longest footprint side of a joined object").range(0.1, 50).unit("m");
-    return t;
-  }();
-  return table;
+  });
 }
 
 class ComoveStage : public Stage {
@@ -59,20 +56,14 @@ class ComoveStage : public Stage {
     context.record("joins", double(st.joins));
     context.record("joined_pieces", double(st.joined));
     context.record("objects", double(objects.objects.size()));
-    Outputs out;
-    out.put("objects", std::move(objects));
-    return out;
+    return Outputs::of("objects", std::move(objects));
   }
 
  private:
   ComoveConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(ComoveStage::info(), [](const Params& p) { return std::make_unique<ComoveStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::segment
 
-LISTA_PLUGIN(lista::segment::register_stages)
+LISTA_STAGE_PLUGIN(lista::segment::ComoveStage::info, lista::segment::ComoveStage)

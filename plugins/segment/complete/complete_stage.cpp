@@ -9,22 +9,11 @@
 namespace lista::segment {
 namespace {
 
-// The completion's settings; leak_growth and pair_order name its switches.
-struct CompleteStageConfig : CompletionConfig {
-  std::string leak_growth = "own_box";
-  std::string pair_order = "centroid";
-};
-
-const ParamTable<CompleteStageConfig>& param_table();
+const ParamTable<CompletionConfig>& param_table();
 
 class CompleteStage : public Stage {
  public:
-  explicit CompleteStage(const Params& p) {
-    const CompleteStageConfig c = param_table().read(p);
-    c_ = c;
-    c_.centroid_order = c.pair_order == "centroid";
-    c_.leak_own_box = c.leak_growth == "own_box";
-  }
+  explicit CompleteStage(const Params& p) : c_(param_table().read(p)) {}
 
   static StageInfo info() {
     StageInfo i;
@@ -71,19 +60,16 @@ class CompleteStage : public Stage {
                  (st.joined ? ", " + std::to_string(st.joined) + " fragments joined into completed pairs" : "") +
                  (st.connected ? ", " + std::to_string(st.connected) + " objects joined over changed points" : "") +
                  (st.absorbed ? ", " + std::to_string(st.absorbed) + " fragments joined to the object around them" : ""));
-    Outputs out;
-    out.put("objects", std::move(objects));
-    return out;
+    return Outputs::of("objects", std::move(objects));
   }
 
  private:
   CompletionConfig c_;
 };
 
-const ParamTable<CompleteStageConfig>& param_table() {
-  using C = CompleteStageConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+const ParamTable<CompletionConfig>& param_table() {
+  using C = CompletionConfig;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("voxel", &C::voxel, "connectivity grid of the growth").range(0.01, 1).unit("m");
     t.bind("pair_gap", &C::pair_gap, "largest box-to-box gap of a pair").range(0, 10).unit("m");
     t.bind("box_margin", &C::box_margin, "growth region: union box of the pair grown by this").range(0, 2).unit("m");
@@ -91,9 +77,8 @@ const ParamTable<CompleteStageConfig>& param_table() {
     t.bind("floor_percentile", &C::floor_percentile, "of the per-cell lowest points, the local floor").range(0, 1);
     t.bind("shape_tolerance", &C::shape_tolerance, "relative disagreement of the pair's extents allowed").range(0, 2);
     t.bind("shape_slack", &C::shape_slack, "absolute disagreement of the pair's extents allowed").range(0, 2).unit("m");
-    t.bind("leak_growth", &C::leak_growth,
-           "what a growth leaking out of its region keeps: own_box = what it reaches inside the object's own box (a pair: the union of its two boxes); base = a self-completion its base only, a pair nothing")
-        .one_of({"own_box", "base"});
+    t.choice("leak_growth", &C::leak_growth, {{"own_box", LeakGrowth::own_box}, {"base", LeakGrowth::base}},
+             "what a growth leaking out of its region keeps: own_box = what it reaches inside the object's own box (a pair: the union of its two boxes); base = a self-completion its base only, a pair nothing");
     t.bind("self_complete", &C::self_complete, "also complete every object inside its own box grown by box_margin (its base, mostly)");
     t.bind("static_check", &C::static_check,
            "self-completion leaves out points every neighbouring mission also holds (see static_share)");
@@ -121,9 +106,8 @@ const ParamTable<CompleteStageConfig>& param_table() {
     t.bind("pair_retry", &C::pair_retry,
            "a pair whose growth is refused (leak or shapes) frees both objects for their next-nearest "
            "candidates; false = each object is offered its nearest candidate only");
-    t.bind("pair_order", &C::pair_order,
-           "order of candidate pairs: by box gap in whole voxels, then by centroid distance (centroid) or object id (gap)")
-        .one_of({"centroid", "gap"});
+    t.choice("pair_order", &C::pair_order, {{"centroid", PairOrder::centroid}, {"gap", PairOrder::gap}},
+             "order of candidate pairs: by box gap in whole voxels, then by centroid distance (centroid) or object id (gap)");
     t.bind("join_fragments", &C::join_fragments,
            "join into a pair's object the other objects of its mission that its growth reaches, when the shapes then agree");
     t.bind("still_check", &C::still_check,
@@ -133,16 +117,10 @@ const ParamTable<CompleteStageConfig>& param_table() {
            "reaches the other over points mostly not held by the neighbouring missions (a table's "
            "legs without its top)");
     t.bind("max_leak", &C::max_leak, "occupied voxels found just outside the region, per voxel grown into, at most").range(0, 1);
-    return t;
-  }();
-  return table;
-}
-
-void register_stages(Registrar& r) {
-  r.add(CompleteStage::info(), [](const Params& p) { return std::make_unique<CompleteStage>(p); });
+  });
 }
 
 }  // namespace
 }  // namespace lista::segment
 
-LISTA_PLUGIN(lista::segment::register_stages)
+LISTA_STAGE_PLUGIN(lista::segment::CompleteStage::info, lista::segment::CompleteStage)

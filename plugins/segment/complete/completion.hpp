@@ -27,7 +27,7 @@
 //     object in at most one completed pair, so the result does not depend
 //     on order; at equal gaps (overlapping boxes are all 0 m apart) the
 //     pair with the nearer centroids (horizontal) goes first
-//     (`centroid_order`); with `pair_retry` a pair refused by step 4 leaves both
+//     (`pair_order`); with `pair_retry` a pair refused by step 4 leaves both
 //     objects free for their next candidates (the nearest box may be a third
 //     object's, touching the first as closely as its true partner does),
 //     without it each object is offered its nearest candidate only.
@@ -52,7 +52,7 @@
 //  4. Check. Neither growth may want out of R: occupied voxels next to it
 //     but outside R, over `max_leak` per voxel it grew into, mean it is part
 //     of something bigger (a wall, the desk the object touches): then, with
-//     `leak_own_box`, both grow again inside the union of the two objects'
+//     `leak_growth` own_box, both grow again inside the union of the two objects'
 //     boxes without margin (R less the margin: the object, not what it
 //     touches), else the pair is left alone. And both
 //     grown objects must have the same shape as one rigid object would: height above the floor and the two sides of their
@@ -84,7 +84,7 @@
 //     to the floor (the floor voxel is occupied in both missions), so objects
 //     lose their base; this gives it back. If the growth wants out of the box
 //     (the object touches a wall), the base below its lowest detected part,
-//     in the columns that part occupies, is added, and with `leak_own_box`
+//     in the columns that part occupies, is added, and with `leak_growth` own_box
 //     what the growth reaches inside the object's own box (no margin).
 //     With `static_check`, when at least `static_share` of the points a
 //     self-completion would add lie in voxels also occupied (above that
@@ -128,6 +128,9 @@ constexpr float kOnFloorGap = 0.3f;
 // its noise reaches 0.18 m, a pallet's height.
 constexpr float kFloorObjectHeight = 0.1f;
 
+enum class PairOrder { centroid, gap };
+enum class LeakGrowth { own_box, base };
+
 struct CompletionConfig {
   double voxel = 0.1;             // m, connectivity grid of the growth
   double pair_gap = 1.0;          // m, largest box-to-box gap of a pair
@@ -141,9 +144,8 @@ struct CompletionConfig {
   // candidates (true); or each object is offered its nearest candidate only.
   bool pair_retry = true;
   // Candidates at the same gap (boxes that overlap are all 0 m apart) are
-  // tried by the horizontal distance of their centroids (true), or in id
-  // order (false).
-  bool centroid_order = true;
+  // tried by the horizontal distance of their centroids, or in id order (gap).
+  PairOrder pair_order = PairOrder::centroid;
   // A pair's growth that reaches other free objects of its own mission
   // tries again with them joined (true): kept if the joined shapes agree.
   bool join_fragments = true;
@@ -158,8 +160,8 @@ struct CompletionConfig {
   // When a growth leaks out of its region (the object touches a wall or
   // furniture): rule 5 also adds what the growth reaches inside the
   // object's own box, rules 1-4 grow the pair inside the union of its two
-  // boxes (true); or only the base, and no pair completion (false).
-  bool leak_own_box = true;
+  // boxes (own_box); or only the base, and no pair completion (base).
+  LeakGrowth leak_growth = LeakGrowth::own_box;
   bool static_check = true;       // rule 5 adds nothing every neighbouring mission also holds
   double static_share = 0.8;      // ... once at least this share of the growth is held there
   double nested_share = 0.5;      // rule 6: share of a fragment inside a larger object's box; 0 = off

@@ -43,7 +43,7 @@ std::vector<std::tuple<float, float, float, size_t, size_t>> CompletionPass::can
       if (b.mission != a.mission + 1 || a.points.empty() || b.points.empty()) continue;
       const float gap = box_gap(a, b);
       if (gap > c_.pair_gap) continue;
-      if (c_.centroid_order)
+      if (c_.pair_order == PairOrder::centroid)
         candidates.emplace_back(std::floor(gap / float(c_.voxel)), (a.centroid - b.centroid).head<2>().norm(), gap, i, j);
       else
         candidates.emplace_back(gap, 0.f, 0.f, i, j);
@@ -236,7 +236,7 @@ void CompletionPass::self_complete() {
     } else if (on_floor) {
       add = base_points(o, cloud, f, owned_[o.mission]);
       how = "its growth leaks out of its box (" + leak_note(g) + "), only its base added";
-      if (c_.leak_own_box) {
+      if (c_.leak_growth == LeakGrowth::own_box) {
         // What leaks is the thing it touches, beyond its own extent; within
         // that extent the connected points are its own (a sparse scan's
         // difference may flag only part of a desk's whole box).

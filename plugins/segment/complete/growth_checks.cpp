@@ -1,6 +1,7 @@
 #include "growth_checks.hpp"
 
 #include <lista_geometry/object_geometry.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -82,8 +83,7 @@ int surface_sides(const Object& o, const LocalCloud& own, float ring, float tol)
   std::vector<float> z;
   z.reserve(o.points.size());
   for (const auto& p : o.points.xyz) z.push_back(p.z());
-  std::nth_element(z.begin(), z.begin() + std::ptrdiff_t(z.size() / 2), z.end());
-  const float zc = z[z.size() / 2];
+  const float zc = geometry::median(z);
   constexpr float kColumn = 0.1f;
   auto column = [&](float v) { return int(std::floor(v / kColumn)); };
   const int ix0 = column(o.bbox_min.x()), ix1 = column(o.bbox_max.x());

@@ -1,5 +1,7 @@
 #include "local_cloud.hpp"
 
+#include <lista_geometry/order_statistics.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -63,13 +65,9 @@ bool local_floor(const LocalCloud& cloud, const Box& region, double percentile, 
   std::vector<float> band;
   for (const auto& c : cells)
     if (std::get<2>(c) >= f0 && std::get<2>(c) <= f0 + 0.06f) band.push_back(std::get<2>(c));
-  auto median = [](std::vector<float>& v) {
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
-  floor.z = median(band);
+  floor.z = geometry::median(band);
   for (auto& z : band) z = std::abs(z - floor.z);
-  const float sigma = 1.4826f * median(band);
+  const float sigma = 1.4826f * geometry::median(band);
   floor.clear_z = floor.z + std::max(float(min_clearance), 4.f * sigma);
   return true;
 }

@@ -135,7 +135,7 @@ CompletionPass::Attempt CompletionPass::attempt(const PairSides& s, const PointS
   t.touched_a = free_touched(t.ga.touched);
   t.touched_b = free_touched(t.gb.touched);
   t.contained = t.ga.contained(c_.max_leak) && t.gb.contained(c_.max_leak);
-  if (!t.contained && c_.leak_own_box) {
+  if (!t.contained && c_.leak_growth == LeakGrowth::own_box) {
     // As in rule 5: what leaks is the thing they touch; the pair's own box
     // (the two clusters' union, no margin) holds the object. The shapes
     // must still agree.

@@ -196,7 +196,7 @@ TEST(SegmentComplete, AShortMoveAgainstAWallGrowsInsideThePairsOwnBox) {
   EXPECT_EQ(count_in_box(out.objects[0].points, middle_lo, middle_hi), count_in_box(s.cloud[0], middle_lo, middle_hi));
 
   // leak_growth = base: the pair is left as two slivers.
-  c.leak_own_box = false;
+  c.leak_growth = segment::LeakGrowth::base;
   segment::CompletionStats st_base;
   const ObjectSet out_base = segment::complete_objects(in, s.missions, c, &st_base);
   EXPECT_EQ(st_base.completed, 0u);
@@ -343,7 +343,7 @@ TEST(SegmentComplete, AmongOverlappingBoxesTheNearerCentroidsPairFirst) {
             count_in_box(s.cloud[0], {1.0f, 0.f, clear}, {1.6f, 0.4f, 0.8f}));
 
   // In id order the removed box pairs first and the sliver stays a sliver.
-  c.centroid_order = false;
+  c.pair_order = segment::PairOrder::gap;
   segment::CompletionStats st_id;
   const ObjectSet out_id = segment::complete_objects(in, s.missions, c, &st_id);
   ASSERT_FALSE(st_id.pair_notes.empty());
@@ -507,7 +507,7 @@ TEST(SegmentComplete, AgainstAWallOnlyTheObjectsOwnBoxIsAdded) {
 
   // leak_growth = base: only what lies below the found part's lowest points.
   segment::CompletionConfig base_only;
-  base_only.leak_own_box = false;
+  base_only.leak_growth = segment::LeakGrowth::base;
   segment::CompletionStats st_base;
   const ObjectSet out_base = segment::complete_objects(in, s.missions, base_only, &st_base);
   ASSERT_EQ(st_base.object_notes.size(), 1u);

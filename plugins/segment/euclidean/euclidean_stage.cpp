@@ -11,14 +11,11 @@ namespace {
 
 const ParamTable<EuclideanClusterConfig>& param_table() {
   using C = EuclideanClusterConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("tolerance", &C::tolerance, "joining distance").range(0.005, 5.0).unit("m");
     t.bind("min_points", &C::min_points, "smallest cluster kept").range(1, 2e9);
     t.bind("max_points", &C::max_points, "largest cluster kept").range(1, 2e9);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class EuclideanSegmentStage : public Stage {
@@ -47,21 +44,14 @@ class EuclideanSegmentStage : public Stage {
         in.get<MissionPoints>("changes"), context,
         [&](const PointSet& s, int) { return cluster_euclidean(s, config_); });
     context.record("objects", double(objects.objects.size()));
-    Outputs out;
-    out.put("objects", std::move(objects));
-    return out;
+    return Outputs::of("objects", std::move(objects));
   }
 
  private:
   EuclideanClusterConfig config_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(EuclideanSegmentStage::info(),
-        [](const Params& p) { return std::make_unique<EuclideanSegmentStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::segment
 
-LISTA_PLUGIN(lista::segment::register_stages)
+LISTA_STAGE_PLUGIN(lista::segment::EuclideanSegmentStage::info, lista::segment::EuclideanSegmentStage)

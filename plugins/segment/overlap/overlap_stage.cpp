@@ -11,16 +11,13 @@ namespace {
 
 const ParamTable<OverlapConfig>& param_table() {
   using C = OverlapConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("margin", &C::margin, "bounding boxes grown by this").range(0, 2).unit("m");
     t.bind("merge_ratio", &C::merge_ratio, "share of a fragment inside the other mission's object").range(0.01, 1);
     t.bind("merge_gap", &C::merge_gap, "largest box-to-box gap between fragments").range(0, 5).unit("m");
     t.bind("split_ratio", &C::split_ratio, "share of each other-mission object inside the composite").range(0.01, 1);
     t.bind("min_points", &C::min_points, "smallest part of a split").range(1, 1e9);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class OverlapStage : public Stage {
@@ -48,20 +45,14 @@ class OverlapStage : public Stage {
     context.record("merged", double(st.merged));
     context.record("split", double(st.split));
     context.record("objects", double(objects.objects.size()));
-    Outputs out;
-    out.put("objects", std::move(objects));
-    return out;
+    return Outputs::of("objects", std::move(objects));
   }
 
  private:
   OverlapConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(OverlapStage::info(), [](const Params& p) { return std::make_unique<OverlapStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::segment
 
-LISTA_PLUGIN(lista::segment::register_stages)
+LISTA_STAGE_PLUGIN(lista::segment::OverlapStage::info, lista::segment::OverlapStage)

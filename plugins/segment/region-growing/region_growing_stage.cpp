@@ -11,17 +11,14 @@ namespace {
 
 const ParamTable<RegionGrowingConfig>& param_table() {
   using C = RegionGrowingConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("normal_neighbours", &C::normal_neighbours, "k nearest points for each normal").range(3, 500);
     t.bind("neighbours", &C::neighbours, "k nearest points tested while growing").range(3, 500);
     t.bind("smoothness", &C::smoothness_deg, "largest normal angle between neighbours").range(0.1, 180).unit("deg");
     t.bind("curvature", &C::curvature, "growth continues only from points flatter than this (1 = any)").range(0, 1);
     t.bind("min_points", &C::min_points, "smallest region kept").range(1, 2e9);
     t.bind("max_points", &C::max_points, "largest region kept").range(1, 2e9);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class RegionGrowingStage : public Stage {
@@ -51,20 +48,14 @@ class RegionGrowingStage : public Stage {
         in.get<MissionPoints>("changes"), context,
         [&](const PointSet& s, int threads) { return cluster_region_growing(s, c_, threads); });
     context.record("objects", double(objects.objects.size()));
-    Outputs out;
-    out.put("objects", std::move(objects));
-    return out;
+    return Outputs::of("objects", std::move(objects));
   }
 
  private:
   RegionGrowingConfig c_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(RegionGrowingStage::info(), [](const Params& p) { return std::make_unique<RegionGrowingStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::segment
 
-LISTA_PLUGIN(lista::segment::register_stages)
+LISTA_STAGE_PLUGIN(lista::segment::RegionGrowingStage::info, lista::segment::RegionGrowingStage)

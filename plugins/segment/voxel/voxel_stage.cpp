@@ -10,31 +10,20 @@
 namespace lista::segment {
 namespace {
 
-// The clustering's settings; connectivity names its `exact` switch.
-struct VoxelStageConfig : segmentation::VoxelClusterConfig {
-  std::string connectivity = "voxel";
-};
-
-const ParamTable<VoxelStageConfig>& param_table() {
-  using C = VoxelStageConfig;
-  static const ParamTable<C> table = [] {
-    ParamTable<C> t;
+const ParamTable<segmentation::VoxelClusterConfig>& param_table() {
+  using C = segmentation::VoxelClusterConfig;
+  return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("tolerance", &C::tolerance, "voxel edge and joining distance").range(0.005, 5.0).unit("m");
-    t.bind("connectivity", &C::connectivity, "join touching voxels, or points within tolerance")
-        .one_of({"voxel", "exact"});
+    t.choice("connectivity", &C::exact, {{"voxel", false}, {"exact", true}},
+             "join touching voxels, or points within tolerance");
     t.bind("min_points", &C::min_points, "smallest cluster kept").range(1, 1e9);
     t.bind("max_points", &C::max_points, "largest cluster kept").range(1, 1e12);
-    return t;
-  }();
-  return table;
+  });
 }
 
 class VoxelSegmentStage : public Stage {
  public:
-  explicit VoxelSegmentStage(const Params& p) {
-    const VoxelStageConfig c = param_table().read(p);
-    config_ = c;
-    config_.exact = c.connectivity == "exact";
+  explicit VoxelSegmentStage(const Params& p) : config_(param_table().read(p)) {
     if (config_.max_points < config_.min_points)
       throw Error("max_points (" + std::to_string(config_.max_points) + ") is below min_points (" +
                   std::to_string(config_.min_points) + ")");
@@ -60,21 +49,14 @@ class VoxelSegmentStage : public Stage {
     ObjectSet objects = segmentation::objects_from_missions(
         changes, context, [&](const PointSet& s, int) { return segmentation::cluster_voxels(s.xyz, config_); });
     context.record("objects", double(objects.objects.size()));
-    Outputs out;
-    out.put("objects", std::move(objects));
-    return out;
+    return Outputs::of("objects", std::move(objects));
   }
 
  private:
   segmentation::VoxelClusterConfig config_;
 };
 
-void register_stages(Registrar& r) {
-  r.add(VoxelSegmentStage::info(),
-        [](const Params& p) { return std::make_unique<VoxelSegmentStage>(p); });
-}
-
 }  // namespace
 }  // namespace lista::segment
 
-LISTA_PLUGIN(lista::segment::register_stages)
+LISTA_STAGE_PLUGIN(lista::segment::VoxelSegmentStage::info, lista::segment::VoxelSegmentStage)

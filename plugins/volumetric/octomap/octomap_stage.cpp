@@ -96,17 +96,11 @@ class OctomapStage : public Stage {
     }
     raycast::record_stats(ctx, missions, stats, changes);
     ctx.info("changed points: " + std::to_string(out.total()));
-    Outputs o;
-    o.put("changes", std::move(out));
-    return o;
+    return Outputs::of("changes", std::move(out));
   }
 
   raycast::VolumetricConfig config_;
 };
-
-void register_stages(Registrar& r) {
-  r.add(octomap_info(), [](const Params& p) { return std::make_unique<OctomapStage>(p); });
-}
 
 }  // namespace
 
@@ -116,4 +110,4 @@ std::unique_ptr<Stage> make_volumetric_octomap(const Params& p) { return std::ma
 
 }  // namespace lista::volumetric
 
-LISTA_PLUGIN(lista::volumetric::register_stages)
+LISTA_STAGE_PLUGIN(lista::volumetric::octomap_info, lista::volumetric::OctomapStage)

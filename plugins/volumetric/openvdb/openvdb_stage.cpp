@@ -53,18 +53,12 @@ class OpenVdbStage : public Stage {
     ctx.progress().end();
     raycast::record_stats(ctx, missions, stats, changes);
     ctx.info("changed points: " + std::to_string(out.total()));
-    Outputs o;
-    o.put("changes", std::move(out));
-    return o;
+    return Outputs::of("changes", std::move(out));
   }
 
  private:
   raycast::VolumetricConfig config_;
 };
-
-void register_stages(Registrar& r) {
-  r.add(openvdb_info(), [](const Params& p) { return std::make_unique<OpenVdbStage>(p); });
-}
 
 }  // namespace
 
@@ -74,4 +68,4 @@ std::unique_ptr<Stage> make_volumetric_openvdb(const Params& p) { return std::ma
 
 }  // namespace lista::volumetric
 
-LISTA_PLUGIN(lista::volumetric::register_stages)
+LISTA_STAGE_PLUGIN(lista::volumetric::openvdb_info, lista::volumetric::OpenVdbStage)

@@ -136,9 +136,7 @@ class Join : public Stage {
     for (const char* port : {"a", "b", "c"})
       if (in.has(port))
         for (const auto& m : in.get<MissionSet>(port).missions) all.missions.push_back(m);
-    Outputs out;
-    out.put("missions", std::move(all));
-    return out;
+    return Outputs::of("missions", std::move(all));
   }
 };
 
@@ -157,9 +155,7 @@ class ToPoints : public Stage {
       for (const auto& scan : m.scans) s.append(*scan.points);
       mp.sets.push_back(std::move(s));
     }
-    Outputs out;
-    out.put("points", std::move(mp));
-    return out;
+    return Outputs::of("points", std::move(mp));
   }
 };
 
@@ -207,9 +203,7 @@ class WaitCancel : public Stage {
       ctx.throw_if_cancelled();
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    Outputs out;
-    out.put("missions", in.at("missions"));
-    return out;
+    return Outputs::of("missions", in.at("missions"));
   }
 
  private:
@@ -274,9 +268,7 @@ class ToObjects : public Stage {
       o.update_geometry();
       set.objects.push_back(std::move(o));
     }
-    Outputs out;
-    out.put("objects", std::move(set));
-    return out;
+    return Outputs::of("objects", std::move(set));
   }
 };
 
@@ -334,9 +326,7 @@ class Interval : public Stage {
   }
   Outputs run(const Inputs&, Context& ctx) override {
     ctx.record("ran", 1.0);
-    Outputs out;
-    out.put("missions", MissionSet{});
-    return out;
+    return Outputs::of("missions", MissionSet{});
   }
 
  private:

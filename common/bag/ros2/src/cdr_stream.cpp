@@ -1,6 +1,7 @@
 #include "cdr_stream.hpp"
 
 #include <lista/error.hpp>
+#include <lista_io/byte_load.hpp>
 
 #include <algorithm>
 #include <cstring>
@@ -14,16 +15,6 @@ constexpr bool host_big_endian() {
 #else
   return false;
 #endif
-}
-
-template <class T>
-T load(const uint8_t* p, bool swap) {
-  uint8_t b[sizeof(T)];
-  std::memcpy(b, p, sizeof(T));
-  if (swap) std::reverse(b, b + sizeof(T));
-  T v;
-  std::memcpy(&v, b, sizeof(T));
-  return v;
 }
 
 }  // namespace
@@ -52,9 +43,9 @@ const uint8_t* Input::take(size_t n, size_t alignment, const char* field) {
 }
 
 uint8_t Input::u8(const char* field) { return *take(1, 1, field); }
-uint32_t Input::u32(const char* field) { return load<uint32_t>(take(4, 4, field), swap_); }
-int32_t Input::i32(const char* field) { return load<int32_t>(take(4, 4, field), swap_); }
-double Input::f64(const char* field) { return load<double>(take(8, 8, field), swap_); }
+uint32_t Input::u32(const char* field) { return io::load_bytes<uint32_t>(take(4, 4, field), swap_); }
+int32_t Input::i32(const char* field) { return io::load_bytes<int32_t>(take(4, 4, field), swap_); }
+double Input::f64(const char* field) { return io::load_bytes<double>(take(8, 8, field), swap_); }
 
 bool Input::boolean(const char* field) {
   const uint8_t v = u8(field);

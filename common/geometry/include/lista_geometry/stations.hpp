@@ -8,6 +8,7 @@
 #pragma once
 
 #include <lista/missions.hpp>
+#include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -29,10 +30,6 @@ inline bool scanned_from_stations(const Mission& mission) {
   }
   if (held == 1) return true;
   if (steps.empty() || ranges.empty()) return false;
-  auto median = [](std::vector<double>& v) {
-    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
   return median(steps) > median(ranges);
 }
 

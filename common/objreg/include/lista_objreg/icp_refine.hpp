@@ -50,8 +50,10 @@
 
 namespace lista::objreg {
 
+enum class PairMethod { gicp, icp };
+
 struct IcpConfig {
-  std::string method = "gicp";        // "gicp" or "icp"
+  PairMethod method = PairMethod::gicp;
   double voxel = 0.02;                // m: downsampling before ICP; 0 = none
   double max_correspondence = 0.15;   // m
   int max_iterations = 50;
