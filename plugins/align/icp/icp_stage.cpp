@@ -2,7 +2,6 @@
 // map (all scans in its map frame, voxel-downsampled) is registered onto the
 // first mission's map with one rigid ICP/GICP. Poses are left as they are, so
 // drift that bends one map against the other stays ("double walls").
-#include "icp_stage.hpp"
 
 #include <lista/lista.hpp>
 #include <lista/param_table.hpp>
@@ -111,8 +110,6 @@ class IcpStage : public Stage {
   RegistrationOptions reg_;
 };
 
-}  // namespace
-
 StageInfo icp_stage_info() {
   StageInfo s;
   s.name = "align.icp";
@@ -129,8 +126,6 @@ StageInfo icp_stage_info() {
   s.renamed = param_table().renames();
   return s;
 }
-
-namespace {
 
 const ParamTable<IcpAlignConfig>& param_table() {
   using C = IcpAlignConfig;
@@ -152,8 +147,6 @@ const ParamTable<IcpAlignConfig>& param_table() {
 }
 
 }  // namespace
-
-std::unique_ptr<Stage> make_icp_stage(const Params& p) { return std::make_unique<IcpStage>(p); }
 
 }  // namespace lista::align
 

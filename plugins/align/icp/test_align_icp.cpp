@@ -1,16 +1,14 @@
-#include "icp_stage.hpp"
-
 #include <lista/basic_context.hpp>
 #include <lista/data.hpp>
 #include <lista_alignkit/synthetic_scene.hpp>
 #include <lista_alignkit/trajectory_error.hpp>
+#include <lista_testing/plugin_stage.hpp>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 using namespace lista;
-using namespace lista::align;
 using namespace lista::alignkit;
 using namespace lista::alignkit::testing;
 
@@ -24,9 +22,7 @@ Eigen::Isometry3d offset(double x, double y, double z, double yaw_deg) {
 }
 
 const MissionSet& run(const MissionSet& set, BasicContext& ctx, Outputs& out, const std::string& initial = "identity") {
-  Params p = Params::defaults(icp_stage_info().params);
-  p.set("initial", initial);
-  auto stage = make_icp_stage(p);
+  auto stage = plugin_test::make_stage("align.icp", {{"initial", initial}});
   Inputs in;
   in.set("missions", Data::make(set));
   out = stage->run(in, ctx);

@@ -1,7 +1,5 @@
 // align.posegraph: multi-mission alignment by Scan Context loop closures,
 // GICP verification and a jointly optimised pose graph (paper, Sect. III-A).
-#include "posegraph_stage.hpp"
-
 #include "joint_alignment.hpp"
 #include "unposed_stations.hpp"
 
@@ -202,8 +200,6 @@ class PoseGraphStage : public Stage {
   LevelConfig level_;
 };
 
-}  // namespace
-
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
@@ -221,8 +217,6 @@ StageInfo posegraph_stage_info() {
   s.renamed = param_table().renames();
   return s;
 }
-
-namespace {
 
 // The flat names before the groups, accepted until the next release.
 void renamed_flat_names(ParamTable<PoseGraphConfig>& t) {
@@ -358,8 +352,6 @@ const ParamTable<PoseGraphConfig>& param_table() {
 }
 
 }  // namespace
-
-std::unique_ptr<Stage> make_posegraph_stage(const Params& p) { return std::make_unique<PoseGraphStage>(p); }
 
 }  // namespace lista::align
 

@@ -2,7 +2,6 @@
 #include "joint_alignment.hpp"
 #include "loop_closures.hpp"
 #include "pose_graph.hpp"
-#include "posegraph_stage.hpp"
 #include "scan_context.hpp"
 #include "scan_odometry.hpp"
 #include "station_links.hpp"
@@ -16,6 +15,7 @@
 #include <lista_alignkit/registration.hpp>
 #include <lista_alignkit/synthetic_scene.hpp>
 #include <lista_alignkit/trajectory_error.hpp>
+#include <lista_testing/plugin_stage.hpp>
 
 #include <gtest/gtest.h>
 
@@ -46,10 +46,7 @@ Params light() {
 }
 
 Outputs run_stage(const MissionSet& set, BasicContext& ctx, Params params = light()) {
-  const StageInfo info = posegraph_stage_info();
-  Params p = Params::defaults(info.params);
-  for (const auto& [k, v] : params.values()) p.set(k, v);
-  auto stage = make_posegraph_stage(p);
+  auto stage = plugin_test::make_stage("align.posegraph", params.values());
   Inputs in;
   in.set("missions", Data::make(set));
   return stage->run(in, ctx);
@@ -597,11 +594,8 @@ TEST(LoopClosures, SparseSubmapsGrowTogetherAlongThePath) {
 }
 
 TEST(AlignPosegraph, ASubmapCapBelowTheSpanIsAnError) {
-  const StageInfo info = posegraph_stage_info();
-  Params p = Params::defaults(info.params);
-  p.set("keyframes.submap_max_distance", 1.0);  // under submap_distance (2 m)
   try {
-    make_posegraph_stage(p);
+    plugin_test::make_stage("align.posegraph", {{"keyframes.submap_max_distance", 1.0}});  // under submap_distance (2 m)
     FAIL() << "expected an error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("keyframes.submap_max_distance must be at least keyframes.submap_distance"), std::string::npos)
