@@ -34,12 +34,11 @@ struct Established {
 
 // PCL's room_scan1 / room_scan2: an office chair that stood behind station
 // B in A and beside it, turned, in B (A saw its back only), reported as one
-// move; a sliver at the edge of a chair-high thing both stations see, 4 cm
-// further out in B.
+// move. Nothing else: the sliver at the edge of a chair-high thing, 4 cm
+// further out in B, is 15 places listed twice, under segment's min_points.
 const std::vector<Established> kRoom = {
     {"A", {2.17, -0.73, -0.75}, {"moved"}, true, "office chair, its place in A"},
     {"B", {2.20, -1.18, -0.80}, {"moved"}, true, "office chair, its place in B"},
-    {"B", {0.40, 2.13, -0.53}, {"added"}, false, "sliver: a 4 cm shift at an object's edge"},
 };
 
 struct RoomRun {
