@@ -20,7 +20,9 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 
 // Every parameter, in its TOML group (JointAlignmentOptions nests them
-// otherwise); angles in degrees, as declared.
+// otherwise); angles in degrees, as declared. A group whose algorithm's
+// options hold just its parameters is those options (scan_context,
+// candidates).
 struct PoseGraphConfig {
   struct Keyframes {
     double distance = 1.0, angle = 30.0;
@@ -28,17 +30,8 @@ struct PoseGraphConfig {
     int submap_min_points = 8000;
     double submap_max_distance = 10.0, voxel = 0.2;
   } keyframes;
-  struct ScanContext {
-    int rings = 20, sectors = 60;
-    double max_radius = 40.0, min_height = -3.0, max_height = 1.5;
-  } scan_context;
-  struct Candidates {
-    int neighbours = 10;
-    double max_descriptor_distance = 0.35;
-    int per_pair = 200;
-    bool intra = false;
-    double intra_min_travel = 30.0;
-  } candidates;
+  ScanContextOptions scan_context;
+  CandidateOptions candidates;
   RegistrationMethod registration = RegistrationMethod::gicp_gn;
   int icp_iterations = 40;
   struct Closures {
@@ -85,18 +78,10 @@ JointAlignmentOptions options_from(const PoseGraphConfig& c) {
   if (k.submap_max_distance < k.submap_distance)
     throw Error("keyframes.submap_max_distance must be at least keyframes.submap_distance");
   o.keyframes.voxel = k.voxel;
-  const auto& sc = c.scan_context;
-  o.keyframes.scan_context.rings = sc.rings;
-  o.keyframes.scan_context.sectors = sc.sectors;
-  o.keyframes.scan_context.max_radius = sc.max_radius;
-  o.keyframes.scan_context.min_z = sc.min_height;
-  o.keyframes.scan_context.max_z = sc.max_height;
-  if (sc.max_height <= sc.min_height) throw Error("scan_context.max_height must be above scan_context.min_height");
-  o.candidates.neighbours = c.candidates.neighbours;
-  o.candidates.max_distance = c.candidates.max_descriptor_distance;
-  o.candidates.max_per_pair = c.candidates.per_pair;
-  o.candidates.intra = c.candidates.intra;
-  o.candidates.intra_min_travel = c.candidates.intra_min_travel;
+  o.keyframes.scan_context = c.scan_context;
+  if (c.scan_context.max_z <= c.scan_context.min_z)
+    throw Error("scan_context.max_height must be above scan_context.min_height");
+  o.candidates = c.candidates;
   const auto& cl = c.closures;
   o.verify.registration.method = c.registration;
   o.verify.registration.voxel = k.voxel;
@@ -261,20 +246,20 @@ const ParamTable<PoseGraphConfig>& param_table() {
     keyframes.bind("submap_max_distance", &K::submap_max_distance, "the most path either side a sparse submap grows to")
         .range(0, 100).unit("m");
     keyframes.bind("voxel", &K::voxel, "submap downsampling for registration").range(0.01, 5).unit("m");
-    using S = C::ScanContext;
+    using S = ScanContextOptions;
     auto scan_context = t.group("scan_context", &C::scan_context);
     scan_context.bind("rings", &S::rings, "Scan Context rings").range(2, 200);
     scan_context.bind("sectors", &S::sectors, "Scan Context sectors (yaw resolution 360/sectors deg)").range(8, 720);
     scan_context.bind("max_radius", &S::max_radius, "Scan Context radius (80 for open roads, 20-40 indoors)").range(1, 500).unit("m");
-    scan_context.bind("min_height", &S::min_height, "lowest point used, relative to the sensor").range(-100, 100).unit("m");
-    scan_context.bind("max_height", &S::max_height, "highest point used, relative to the sensor (below indoor ceilings)")
+    scan_context.bind("min_height", &S::min_z, "lowest point used, relative to the sensor").range(-100, 100).unit("m");
+    scan_context.bind("max_height", &S::max_z, "highest point used, relative to the sensor (below indoor ceilings)")
         .range(-100, 100).unit("m");
-    using N = C::Candidates;
+    using N = CandidateOptions;
     auto candidates = t.group("candidates", &C::candidates);
     candidates.bind("neighbours", &N::neighbours, "ring-key nearest neighbours compared per keyframe").range(1, 1000);
-    candidates.bind("max_descriptor_distance", &N::max_descriptor_distance, "Scan Context distance accepted as a candidate")
+    candidates.bind("max_descriptor_distance", &N::max_distance, "Scan Context distance accepted as a candidate")
         .range(0, 1);
-    candidates.bind("per_pair", &N::per_pair, "best candidates verified per mission pair").range(1, 1e6);
+    candidates.bind("per_pair", &N::max_per_pair, "best candidates verified per mission pair").range(1, 1e6);
     candidates.bind("intra", &N::intra, "also loops within a mission");
     candidates.bind("intra_min_travel", &N::intra_min_travel, "trajectory between the two keyframes of such a loop at least this")
         .range(0.1, 1e5).unit("m");
