@@ -14,10 +14,10 @@ namespace lista::align {
 
 namespace {
 
-enum class Source { identity, file, ground_truth, ground_truth_poses };
+enum class Mode { identity, file, ground_truth, ground_truth_poses };
 
 struct GivenConfig {
-  Source mode = Source::identity;
+  Mode mode = Mode::identity;
   std::string file;
 };
 
@@ -25,8 +25,8 @@ const ParamTable<GivenConfig>& param_table() {
   using C = GivenConfig;
   return ParamTable<C>::once([](ParamTable<C>& t) {
     t.choice("mode", &C::mode,
-             {{"identity", Source::identity}, {"file", Source::file}, {"ground-truth", Source::ground_truth},
-              {"ground-truth-poses", Source::ground_truth_poses}},
+             {{"identity", Mode::identity}, {"file", Mode::file}, {"ground-truth", Mode::ground_truth},
+              {"ground-truth-poses", Mode::ground_truth_poses}},
              "where the transforms come from");
     t.bind("file", &C::file, "transforms file for mode \"file\" (format in the doc)");
   });
@@ -36,22 +36,22 @@ class GivenStage : public Stage {
  public:
   explicit GivenStage(const Params& p) : GivenStage(param_table().read(p)) {}
   explicit GivenStage(const GivenConfig& c) : mode_(c.mode), file_(c.file) {
-    if (mode_ == Source::file && file_.empty()) throw Error("mode \"file\" needs the 'file' parameter");
+    if (mode_ == Mode::file && file_.empty()) throw Error("mode \"file\" needs the 'file' parameter");
   }
 
   Outputs run(const Inputs& in, Context& ctx) override {
     // A shallow copy: scans' point data stay shared (shared_ptr<const PointSet>).
     MissionSet out = in.get<MissionSet>("missions");
     std::map<std::string, Eigen::Isometry3d> given;
-    if (mode_ == Source::file) {
+    if (mode_ == Mode::file) {
       given = read_transform_file(file_);
       for (const auto& [name, T] : given)
         if (!out.find(name)) throw Error(file_ + ": mission '" + name + "' is not among the missions read");
     }
     for (auto& m : out.missions) {
-      if (mode_ == Source::identity) {
+      if (mode_ == Mode::identity) {
         m.to_common.setIdentity();
-      } else if (mode_ == Source::file) {
+      } else if (mode_ == Mode::file) {
         auto it = given.find(m.name);
         if (it == given.end()) throw Error(file_ + ": no transform for mission '" + m.name + "'");
         m.to_common = it->second;
@@ -69,7 +69,7 @@ class GivenStage : public Stage {
         ctx.info(buf);
         // Every scan placed at its true pose; to_common stays the fit, so the
         // map frame keeps its meaning and only the drift is taken out.
-        if (mode_ == Source::ground_truth_poses) {
+        if (mode_ == Mode::ground_truth_poses) {
           const Eigen::Isometry3d world_to_map = m.to_common.inverse();
           for (size_t i = 0; i < m.scans.size(); ++i) m.scans[i].pose = world_to_map * m.poses_gt[i];
         }
@@ -79,7 +79,7 @@ class GivenStage : public Stage {
   }
 
  private:
-  Source mode_;
+  Mode mode_;
   std::string file_;
 };
 
