@@ -121,7 +121,7 @@ std::vector<Candidate> find_candidates(const std::vector<Keyframe>& keyframes, s
         const size_t r = members[a][j];
         if (a == query.mission && query.travelled - keyframes[r].travelled < o.intra_min_travel) continue;
         const ScanContextMatch match = compare(keyframes[r].descriptor, query.descriptor);
-        if (match.distance <= o.max_distance && (!any || match.distance < best.distance)) {
+        if (match.distance <= o.max_descriptor_distance && (!any || match.distance < best.distance)) {
           best = {r, q, match.distance, match.yaw};
           any = true;
         }
@@ -135,7 +135,7 @@ std::vector<Candidate> find_candidates(const std::vector<Keyframe>& keyframes, s
   std::vector<Candidate> out;
   for (auto& [pair, list] : by_pair) {
     std::stable_sort(list.begin(), list.end(), [](const Candidate& a, const Candidate& b) { return a.distance < b.distance; });
-    if (static_cast<int>(list.size()) > o.max_per_pair) list.resize(o.max_per_pair);
+    if (static_cast<int>(list.size()) > o.per_pair) list.resize(o.per_pair);
     out.insert(out.end(), list.begin(), list.end());
   }
   return out;

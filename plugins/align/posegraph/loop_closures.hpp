@@ -45,8 +45,8 @@ std::vector<Keyframe> make_keyframes(const MissionSet& missions, const KeyframeO
 
 struct CandidateOptions {
   int neighbours = 10;          // ring-key nearest neighbours examined per query
-  double max_distance = 0.35;   // Scan Context distance threshold
-  int max_per_pair = 200;       // best candidates kept per mission pair
+  double max_descriptor_distance = 0.35;  // Scan Context distance threshold
+  int per_pair = 200;  // best candidates kept per mission pair
   // Loops within one mission: a keyframe may close onto one of its own
   // mission intra_min_travel of trajectory earlier.
   bool intra = false;

@@ -79,7 +79,7 @@ JointAlignmentOptions options_from(const PoseGraphConfig& c) {
     throw Error("keyframes.submap_max_distance must be at least keyframes.submap_distance");
   o.keyframes.voxel = k.voxel;
   o.keyframes.scan_context = c.scan_context;
-  if (c.scan_context.max_z <= c.scan_context.min_z)
+  if (c.scan_context.max_height <= c.scan_context.min_height)
     throw Error("scan_context.max_height must be above scan_context.min_height");
   o.candidates = c.candidates;
   const auto& cl = c.closures;
@@ -251,15 +251,15 @@ const ParamTable<PoseGraphConfig>& param_table() {
     scan_context.bind("rings", &S::rings, "Scan Context rings").range(2, 200);
     scan_context.bind("sectors", &S::sectors, "Scan Context sectors (yaw resolution 360/sectors deg)").range(8, 720);
     scan_context.bind("max_radius", &S::max_radius, "Scan Context radius (80 for open roads, 20-40 indoors)").range(1, 500).unit("m");
-    scan_context.bind("min_height", &S::min_z, "lowest point used, relative to the sensor").range(-100, 100).unit("m");
-    scan_context.bind("max_height", &S::max_z, "highest point used, relative to the sensor (below indoor ceilings)")
+    scan_context.bind("min_height", &S::min_height, "lowest point used, relative to the sensor").range(-100, 100).unit("m");
+    scan_context.bind("max_height", &S::max_height, "highest point used, relative to the sensor (below indoor ceilings)")
         .range(-100, 100).unit("m");
     using N = CandidateOptions;
     auto candidates = t.group("candidates", &C::candidates);
     candidates.bind("neighbours", &N::neighbours, "ring-key nearest neighbours compared per keyframe").range(1, 1000);
-    candidates.bind("max_descriptor_distance", &N::max_distance, "Scan Context distance accepted as a candidate")
+    candidates.bind("max_descriptor_distance", &N::max_descriptor_distance, "Scan Context distance accepted as a candidate")
         .range(0, 1);
-    candidates.bind("per_pair", &N::max_per_pair, "best candidates verified per mission pair").range(1, 1e6);
+    candidates.bind("per_pair", &N::per_pair, "best candidates verified per mission pair").range(1, 1e6);
     candidates.bind("intra", &N::intra, "also loops within a mission");
     candidates.bind("intra_min_travel", &N::intra_min_travel, "trajectory between the two keyframes of such a loop at least this")
         .range(0.1, 1e5).unit("m");

@@ -8,20 +8,20 @@ namespace lista::align {
 
 ScanContext make_scan_context(const std::vector<Eigen::Vector3f>& points,
                               const ScanContextOptions& o) {
-  if (o.rings < 1 || o.sectors < 4 || o.max_radius <= 0.0 || o.max_z <= o.min_z)
-    throw Error("scan context: need rings >= 1, sectors >= 4, max_radius > 0 and max_z > min_z");
+  if (o.rings < 1 || o.sectors < 4 || o.max_radius <= 0.0 || o.max_height <= o.min_height)
+    throw Error("scan context: need rings >= 1, sectors >= 4, max_radius > 0 and max_height > min_height");
   ScanContext sc;
   sc.grid = Eigen::MatrixXf::Zero(o.rings, o.sectors);
   const double two_pi = 2.0 * M_PI;
   for (const auto& p : points) {
-    if (p.z() < o.min_z || p.z() > o.max_z) continue;
+    if (p.z() < o.min_height || p.z() > o.max_height) continue;
     const double r = std::hypot(p.x(), p.y());
     if (r >= o.max_radius || r < 1e-6) continue;
     const int ring = std::min(o.rings - 1, static_cast<int>(r / o.max_radius * o.rings));
     const double angle = std::atan2(p.y(), p.x()) + M_PI;  // [0, 2pi]
     const int sector = std::min(o.sectors - 1, static_cast<int>(angle / two_pi * o.sectors));
     // Height above the band floor, so an occupied bin is never 0.
-    const float h = static_cast<float>(p.z() - o.min_z) + 1e-3f;
+    const float h = static_cast<float>(p.z() - o.min_height) + 1e-3f;
     float& cell = sc.grid(ring, sector);
     if (h > cell) cell = h;
   }

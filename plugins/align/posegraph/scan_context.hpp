@@ -1,10 +1,10 @@
 // Scan Context (Kim & Kim, IROS 2018): a polar grid (rings x sectors) around
 // the sensor holding the highest point in each bin, compared under every
 // column shift so that a revisit is recognised whatever the heading.
-// Heights are taken relative to the sensor inside a band [min_z, max_z] so the
+// Heights are taken relative to the sensor inside a band [min_height, max_height] so the
 // same parameters work for a vehicle LiDAR outdoors and an indoor sensor
 // whose wide vertical field of view sees the ceiling everywhere (points above
-// max_z are ignored instead of saturating every bin).
+// max_height are ignored instead of saturating every bin).
 #pragma once
 
 #include <Eigen/Core>
@@ -16,12 +16,12 @@ struct ScanContextOptions {
   int rings = 20;
   int sectors = 60;
   double max_radius = 40.0;  // m; points farther away are ignored
-  double min_z = -3.0;       // m, relative to the sensor, in the levelled frame
-  double max_z = 1.5;        // m, relative to the sensor
+  double min_height = -3.0;       // m, relative to the sensor, in the levelled frame
+  double max_height = 1.5;        // m, relative to the sensor
 };
 
 struct ScanContext {
-  Eigen::MatrixXf grid;      // rings x sectors; 0 = empty, else height above min_z
+  Eigen::MatrixXf grid;      // rings x sectors; 0 = empty, else height above min_height
   Eigen::VectorXf ring_key;  // per ring: share of occupied sectors (yaw invariant)
 };
 
