@@ -43,10 +43,7 @@ std::vector<std::vector<uint32_t>> cluster_voxels(const std::vector<Eigen::Vecto
   std::vector<uint64_t> key(n);
   std::vector<Eigen::Vector3i> cell(n);
   for (size_t i = 0; i < n; ++i) {
-    Eigen::Vector3d c = (xyz[i].cast<double>() * inv).array().floor();
-    if ((c.array().abs() >= double(geometry::kVoxelKeyReach - 2)).any())
-      throw Error("point " + std::to_string(i) + " is too far from the origin for the voxel grid");
-    cell[i] = c.cast<int>();
+    cell[i] = geometry::voxel_in_reach(xyz[i], inv, i);
     key[i] = geometry::voxel_key(cell[i]);
   }
   std::vector<uint32_t> order(n);

@@ -27,10 +27,7 @@ std::vector<uint32_t> morphology_keep(const PointSet& points, const MorphologyCo
   std::vector<uint64_t> key(points.size());
   std::unordered_set<uint64_t> occupied;
   for (size_t i = 0; i < points.size(); ++i) {
-    Eigen::Vector3d v = (points.xyz[i].cast<double>() * inv).array().floor();
-    if ((v.array().abs() >= double(geometry::kVoxelKeyReach - 2)).any())
-      throw Error("point " + std::to_string(i) + " is too far from the origin for the voxel grid");
-    key[i] = geometry::voxel_key(v.cast<int>());
+    key[i] = geometry::voxel_key(geometry::voxel_in_reach(points.xyz[i], inv, i));
     occupied.insert(key[i]);
   }
   // Erosion (rank filter over the 26-neighbourhood).

@@ -2,8 +2,11 @@
 // per axis, offset so that +-2^20 cells (+-100 km at 0.1 m) fit.
 #pragma once
 
+#include <lista/error.hpp>
+
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 
 namespace lista::geometry {
 
@@ -26,6 +29,15 @@ inline Eigen::Vector3i voxel_of_key(uint64_t key) {
 // The key of the voxel of edge `cell` holding p.
 inline uint64_t voxel_key_of(const Eigen::Vector3d& p, double cell) {
   return voxel_key((p / cell).array().floor().cast<int>());
+}
+
+// The voxel of `p` in a grid of edge 1/inv, with room left for its
+// neighbours' keys; a point beyond that reach is an error naming `index`.
+inline Eigen::Vector3i voxel_in_reach(const Eigen::Vector3f& p, double inv, size_t index) {
+  const Eigen::Vector3d c = (p.cast<double>() * inv).array().floor();
+  if ((c.array().abs() >= double(kVoxelKeyReach - 2)).any())
+    throw Error("point " + std::to_string(index) + " is too far from the origin for the voxel grid");
+  return c.cast<int>();
 }
 
 }  // namespace lista::geometry
