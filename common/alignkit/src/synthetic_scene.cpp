@@ -133,7 +133,7 @@ std::vector<Eigen::Isometry3d> drifted(const std::vector<Eigen::Isometry3d>& tru
 }
 
 Mission make_mission(const std::string& name, const Scene& scene, const std::vector<Eigen::Isometry3d>& truth,
-                     const std::vector<Eigen::Isometry3d>& poses, uint32_t seed) {
+                     const std::vector<Eigen::Isometry3d>& poses, uint32_t seed, int rings) {
   Mission m;
   m.name = name;
   m.dir = "/nonexistent/" + name;
@@ -143,7 +143,7 @@ Mission make_mission(const std::string& name, const Scene& scene, const std::vec
     s.file = std::to_string(i) + ".pcd";
     s.timestamp = static_cast<double>(i);
     s.pose = poses[i];
-    auto points = std::make_shared<PointSet>(cast_scan(scene, truth[i], static_cast<uint32_t>(i), rng));
+    auto points = std::make_shared<PointSet>(cast_scan(scene, truth[i], static_cast<uint32_t>(i), rng, rings));
     s.points_in_file = static_cast<uint32_t>(points->size());
     s.points = std::move(points);
     m.scans.push_back(std::move(s));

@@ -241,17 +241,19 @@ std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& k
   return placements_of(PlanSearch(keyframes, reference, query, o), o, threads);
 }
 
-std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
-                                             const GlobalSearchOptions& o, const VerifyOptions& verify, int threads,
-                                             const std::optional<Eigen::Isometry3d>& incumbent) {
+PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
+                                    const GlobalSearchOptions& o, const VerifyOptions& verify, int threads,
+                                    const std::optional<Eigen::Isometry3d>& incumbent) {
   const PlanSearch search(keyframes, reference, query, o);
   std::vector<GlobalPlacement> placements = placements_of(search, o, threads);
-  if (placements.empty()) return std::nullopt;
+  PlacementSearch out;
+  if (placements.empty()) return out;
   // The incumbent competes as one more placement, registered the same way.
   if (incumbent) {
     GlobalPlacement p;
     p.reference_T_query = *incumbent;
     placements.push_back(p);
+    out.incumbent_plan_score = plan_agreement(search.fine_grid, search.qry.points, *incumbent, o.cell);
   }
   // Whole map onto whole map: missions of a few scans share no two keyframes
   // close enough for their submaps to overlap, while their maps do. The maps
@@ -262,6 +264,7 @@ std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyfra
   registration.min_coarse_overlap = 0.0;
   const Cloud reference_map = mission_map(keyframes, reference, registration.voxel);
   const Cloud query_map = mission_map(keyframes, query, registration.voxel);
+  out.query_centre = centroid(query_map);
   const PreparedCloud prepared_reference(reference_map, registration);
   const PreparedCloud prepared_query(query_map, registration);
   const bool query_smaller = query_map.size() <= reference_map.size();
@@ -277,57 +280,74 @@ std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyfra
     p.overlap = overlap;
     p.rmse = r.inlier_rmse;
     p.incumbent = incumbent && i + 1 == placements.size();
+    p.incumbent_plan_score = out.incumbent_plan_score;
     verified[i] = std::move(p);
   });
+  for (auto& p : verified)
+    if (p) out.verified.push_back(std::move(*p));
+  return out;
+}
+
+bool same_placement(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const Eigen::Vector3d& centre) {
+  return (a * centre - b * centre).norm() <= 1.0 && rotation_angle(a.linear().transpose() * b.linear()) <= 5.0 * M_PI / 180.0;
+}
+
+std::vector<Closure> placement_closures(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
+                                        const GlobalPlacement& placement, int max_pairs) {
+  // Each query keyframe (at most max_pairs, spread along the mission) with
+  // the reference keyframe nearest to where it lands.
+  std::vector<size_t> refs, queries;
+  for (size_t i = 0; i < keyframes.size(); ++i) {
+    if (keyframes[i].mission == reference) refs.push_back(i);
+    if (keyframes[i].mission == query) queries.push_back(i);
+  }
+  std::vector<Closure> out;
+  if (refs.empty() || queries.empty()) return out;
+  const size_t pairs = max_pairs > 0 ? std::min(queries.size(), size_t(max_pairs)) : queries.size();
+  for (size_t j = 0; j < pairs; ++j) {
+    const size_t q = queries[j * queries.size() / pairs];
+    const Eigen::Isometry3d at = placement.reference_T_query * keyframes[q].frame;
+    size_t nearest = refs.front();
+    for (size_t r : refs)
+      if ((keyframes[r].frame.translation() - at.translation()).norm() <
+          (keyframes[nearest].frame.translation() - at.translation()).norm())
+        nearest = r;
+    out.push_back(Closure{nearest, q, keyframes[nearest].frame.inverse() * at, placement.overlap, placement.rmse, 1.0});
+  }
+  return out;
+}
+
+std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
+                                             const GlobalSearchOptions& o, const VerifyOptions& verify, int threads,
+                                             const std::optional<Eigen::Isometry3d>& incumbent) {
+  const PlacementSearch search = verified_placements(keyframes, reference, query, o, verify, threads, incumbent);
   // Ranked by the plan view, not the overlap: the overlap counts floor,
   // ceiling and walls, which a half-turned symmetric room fits as well,
   // while the plan view leaves out floor and ceiling, so what stands in the
   // room weighs more (a 14 x 10 m office of 2 scans a mission: overlap 0.83
   // against 0.78 turned, plan view before registration 0.91 against 0.78).
   std::optional<GlobalPlacement> best;
-  for (auto& p : verified)
-    if (p && p->overlap >= o.min_overlap && (!best || p->plan_score > best->plan_score)) best = p;
+  for (const auto& p : search.verified)
+    if (p.overlap >= o.min_overlap && (!best || p.plan_score > best->plan_score)) best = p;
   if (!best) return std::nullopt;
-  const Eigen::Vector3d centre = centroid(query_map);
   auto distinct = [&](const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-    return (a * centre - b * centre).norm() > 1.0 || rotation_angle(a.linear().transpose() * b.linear()) > 5.0 * M_PI / 180.0;
+    return !same_placement(a, b, search.query_centre);
   };
   // The incumbent's own fit, or one that agrees with it: nothing new.
   if (incumbent && (best->incumbent || !distinct(best->reference_T_query, *incumbent))) return std::nullopt;
-  if (incumbent) {
-    // As the closures put it, before any registration: a placement the
-    // whole-map registration merely polishes (a closure a metre off on a
-    // drifting map) is no reason to overrule them.
-    best->incumbent_plan_score = plan_agreement(search.fine_grid, search.qry.points, *incumbent, o.cell);
-    if (best->plan_score < (1.0 + o.margin) * best->incumbent_plan_score) return std::nullopt;
-  }
+  // As the closures put it, before any registration: a placement the
+  // whole-map registration merely polishes (a closure a metre off on a
+  // drifting map) is no reason to overrule them.
+  if (incumbent && best->plan_score < (1.0 + o.margin) * best->incumbent_plan_score) return std::nullopt;
   // A rectangular hall fits its own map turned by half a turn nearly as
   // well; only the furniture tells. A placement no better than a distinct
   // rival is a guess, and a wrong placement costs more than an error.
-  for (const auto& p : verified)
-    if (p && distinct(p->reference_T_query, best->reference_T_query) &&
-        best->plan_score < (1.0 + o.margin) * p->plan_score)
+  for (const auto& p : search.verified)
+    if (distinct(p.reference_T_query, best->reference_T_query) && best->plan_score < (1.0 + o.margin) * p.plan_score)
       return std::nullopt;
   // The placement as closures between keyframes, so that the pose graph
-  // holds it like any other: each query keyframe (at most max_pairs, spread
-  // along the mission) with the reference keyframe nearest to where it lands.
-  std::vector<size_t> refs, queries;
-  for (size_t i = 0; i < keyframes.size(); ++i) {
-    if (keyframes[i].mission == reference) refs.push_back(i);
-    if (keyframes[i].mission == query) queries.push_back(i);
-  }
-  const size_t pairs = o.max_pairs > 0 ? std::min(queries.size(), size_t(o.max_pairs)) : queries.size();
-  for (size_t j = 0; j < pairs; ++j) {
-    const size_t q = queries[j * queries.size() / pairs];
-    const Eigen::Isometry3d at = best->reference_T_query * keyframes[q].frame;
-    size_t nearest = refs.front();
-    for (size_t r : refs)
-      if ((keyframes[r].frame.translation() - at.translation()).norm() <
-          (keyframes[nearest].frame.translation() - at.translation()).norm())
-        nearest = r;
-    best->closures.push_back(
-        Closure{nearest, q, keyframes[nearest].frame.inverse() * at, best->overlap, best->rmse, 1.0});
-  }
+  // holds it like any other.
+  best->closures = placement_closures(keyframes, reference, query, *best, o.max_pairs);
   return best;
 }
 

@@ -56,14 +56,34 @@ struct GlobalPlacement {
 std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& keyframes, size_t reference,
                                                   size_t query, const GlobalSearchOptions& options, int threads);
 
-// Each plan-view placement refined by registering the query mission's whole
-// map onto the reference's (verify's registration); of those that pass the
-// options' bars, the one with the best plan-view score afterwards, as
-// closures between keyframes, if it clearly beats every rival; none
-// otherwise. An `incumbent` (the placement
-// the loop closures chose) competes as one more: when it, or a placement
-// that agrees with it, fits best, or the best does not beat its plan-view
-// score as given by `margin`, none is returned either.
+// Every plan-view placement (and an `incumbent`, the placement the loop
+// closures chose, as one more) refined by registering the query mission's
+// whole map onto the reference's (verify's registration), those that
+// converge within max_rmse kept, unranked (min_overlap is the caller's).
+struct PlacementSearch {
+  std::vector<GlobalPlacement> verified;
+  Eigen::Vector3d query_centre = Eigen::Vector3d::Zero();  // the query map's centroid, in its frame
+  double incumbent_plan_score = 0.0;                       // the incumbent's as given, when one was given
+};
+PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
+                                    const GlobalSearchOptions& options, const VerifyOptions& verify, int threads,
+                                    const std::optional<Eigen::Isometry3d>& incumbent = std::nullopt);
+
+// Two map-to-map placements that put `centre` (in the query's frame) within
+// 1 m of each other and turn within 5 deg: one fit, not rivals.
+bool same_placement(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const Eigen::Vector3d& centre);
+
+// A placement as closures between keyframes, so that the pose graph holds it
+// like any other: each query keyframe (at most max_pairs, spread along the
+// mission; 0: all) with the reference keyframe nearest to where it lands.
+std::vector<Closure> placement_closures(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
+                                        const GlobalPlacement& placement, int max_pairs);
+
+// Of the verified placements that overlap min_overlap, the one with the best
+// plan-view score, as closures, if it clearly beats every verified rival (by
+// `margin`); none otherwise.
+// When it is the incumbent's own fit or one that agrees with it, or does not
+// beat the incumbent's plan-view score as given by `margin`, none either.
 std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyframes, size_t reference,
                                              size_t query, const GlobalSearchOptions& options,
                                              const VerifyOptions& verify, int threads,

@@ -56,6 +56,11 @@ struct JointAlignmentReport {
   size_t scan_map_missions = 0;  // missions registered scan to local map (ScanEdgeOptions::map_use)
   size_t station_missions = 0;  // missions whose pairs were judged as stations' (ScanEdgeReport::stations)
   size_t station_links_tried = 0, station_links = 0;  // whole-scan registrations between missions' stations
+  // Three or more stations laid out together (station_vote.hpp): the pairs
+  // with a whole-map placement, those that agree with the layout, and the
+  // layout's mean share of a station's points where another saw through.
+  size_t station_pairs = 0, station_pairs_agreeing = 0;
+  double station_conflict = 0.0;
   std::vector<char> linked;  // per mission: linked to the first by the final closures
   std::vector<size_t> closures_per_mission;  // consistent closures to other missions
   double initial_cost = 0.0, final_cost = 0.0;

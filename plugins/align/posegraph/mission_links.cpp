@@ -1,5 +1,8 @@
 #include "mission_links.hpp"
 
+#include "station_links.hpp"
+#include "station_vote.hpp"
+
 #include <lista/error.hpp>
 
 #include <algorithm>
@@ -94,8 +97,10 @@ namespace {
 // a symmetric room. A placement that clearly fits the maps better replaces
 // the pair's closures (in `closures` and `verified`), with a warning.
 // Returns the pairs (reference, query mission) replaced.
-std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set, const std::vector<Keyframe>& kf, std::vector<Closure>& closures,
-                          std::vector<Closure>& verified, const JointAlignmentOptions& o, Context& ctx) {
+std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set, const std::vector<Keyframe>& kf,
+                                                          std::vector<Closure>& closures, std::vector<Closure>& verified,
+                                                          const std::set<std::pair<size_t, size_t>>& decided,
+                                                          const JointAlignmentOptions& o, Context& ctx) {
   std::map<std::pair<size_t, size_t>, std::vector<size_t>> by_pair;
   for (size_t i = 0; i < closures.size(); ++i) {
     const size_t a = kf[closures[i].reference].mission, b = kf[closures[i].query].mission;
@@ -103,7 +108,8 @@ std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set,
   }
   std::vector<std::pair<size_t, size_t>> replaced;
   for (const auto& [pair, list] : by_pair) {
-    if (list.size() >= size_t(std::max(0, o.global.check_below))) continue;
+    if (list.size() >= size_t(std::max(0, o.global.check_below)) || decided.count(std::minmax(pair.first, pair.second)))
+      continue;
     ctx.throw_if_cancelled();
     const Closure* tightest = &closures[list.front()];
     for (size_t i : list)
@@ -134,6 +140,39 @@ std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set,
       ctx.warn(text);
   }
   return replaced;
+}
+
+// Three or more missions of stations are laid out together
+// (station_vote.hpp): the layout's placements replace every station pair's
+// closures (in `closures` and `verified`). Returns the pairs it decided.
+std::set<std::pair<size_t, size_t>> vote_on_stations(const MissionSet& set, const std::vector<Keyframe>& kf,
+                                                     std::vector<Closure>& closures, std::vector<Closure>& verified,
+                                                     const JointAlignmentOptions& o, Context& ctx,
+                                                     JointAlignmentReport& report) {
+  const StationVote vote = vote_station_placements(kf, station_missions(set), closures, o.global, o.verify,
+                                                   ctx.threads(), [&] { ctx.throw_if_cancelled(); });
+  if (vote.decided.empty()) return {};
+  report.station_pairs = vote.pairs;
+  report.station_pairs_agreeing = vote.kept;
+  report.station_conflict = vote.conflict;
+  auto of_decided = [&](const Closure& c) {
+    return vote.decided.count(std::minmax(kf[c.reference].mission, kf[c.query].mission)) > 0;
+  };
+  for (auto* list : {&closures, &verified}) {
+    list->erase(std::remove_if(list->begin(), list->end(), of_decided), list->end());
+    list->insert(list->end(), vote.closures.begin(), vote.closures.end());
+  }
+  char text[480];
+  std::snprintf(text, sizeof text,
+                "stations laid out together: the whole-map placements of %zu of %zu station pairs agree with the "
+                "layout; %.1f %% of a station's points stand where another's sensor saw through",
+                vote.kept, vote.pairs, 100.0 * vote.conflict);
+  if (layout_is_a_guess(vote))
+    ctx.warn(std::string(text) + ": most pairs disagree, so the layout is a guess (stations that see too little "
+                                 "of each other?); give registered station poses in poses.txt");
+  else
+    ctx.info(text);
+  return vote.decided;
 }
 
 // Each mission the closures leave apart from the first is searched for on
@@ -204,11 +243,14 @@ MissionClosures find_mission_closures(const MissionSet& set, const JointAlignmen
   std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency, &ambiguous);
   report.consistent = closures.size();
   if (o.global_search) {
-    const auto replaced = recheck_weak_links(set, kf, closures, verified, o, ctx);
+    const auto decided = vote_on_stations(set, kf, closures, verified, o, ctx, report);
+    const auto replaced = recheck_weak_links(set, kf, closures, verified, decided, o, ctx);
     report.global_replaced = replaced.size();
-    // A pair the whole maps placed is decided, whatever its closures' rival was.
+    // A pair the stations' layout or the whole maps placed is decided,
+    // whatever its closures' rival was.
     const auto was_replaced = [&](const AmbiguousPlacement& a) {
-      return std::find(replaced.begin(), replaced.end(), std::make_pair(a.reference, a.query)) != replaced.end() ||
+      return decided.count(std::minmax(a.reference, a.query)) > 0 ||
+             std::find(replaced.begin(), replaced.end(), std::make_pair(a.reference, a.query)) != replaced.end() ||
              std::find(replaced.begin(), replaced.end(), std::make_pair(a.query, a.reference)) != replaced.end();
     };
     ambiguous.erase(std::remove_if(ambiguous.begin(), ambiguous.end(), was_replaced), ambiguous.end());

@@ -163,6 +163,11 @@ class PoseGraphStage : public Stage {
     ctx.record("scan_map_missions", static_cast<double>(report.scan_map_missions));
     ctx.record("station_missions", static_cast<double>(report.station_missions));
     ctx.record("station_links", static_cast<double>(report.station_links));
+    if (report.station_pairs > 0) {
+      ctx.record("station_pairs", static_cast<double>(report.station_pairs));
+      ctx.record("station_pairs_agreeing", static_cast<double>(report.station_pairs_agreeing));
+      ctx.record("station_conflict", report.station_conflict);
+    }
     if (report.scan_edges > 0) {
       ctx.record("closure_residual_with_scan_edges_m", report.closure_residual_with_scan_edges);
       ctx.record("closure_residual_without_scan_edges_m", report.closure_residual_without_scan_edges);
@@ -188,13 +193,14 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.11.0";
+  s.version = "1.12.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Aligns the missions into the first one's frame and corrects every scan's pose: Scan Context loop closures "
       "between keyframe submaps verified by GICP, a whole-map search for weakly linked missions, and one Ceres "
       "pose graph of odometry, scan-to-scan edges and closures (between missions of stations: whole-scan "
-      "registrations instead); then the common frame is levelled. "
+      "registrations instead; three or more missions of stations are laid out together by their pairs' "
+      "whole-map placements); then the common frame is levelled. "
       "Details: docs/alignment.md, \"align.posegraph\".";
   s.inputs = {{"missions", "missions", "missions, each in its own map frame"}};
   s.outputs = {{"missions", "missions", "missions with corrected poses and to_common"}};

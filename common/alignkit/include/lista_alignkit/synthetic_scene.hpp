@@ -41,8 +41,9 @@ std::vector<Eigen::Isometry3d> loop_route(double size_x, double size_y, double i
 std::vector<Eigen::Isometry3d> drifted(const std::vector<Eigen::Isometry3d>& truth, double yaw_rate,
                                        double scale_error, const Eigen::Isometry3d& map_from_world);
 
-// A mission read from nowhere: poses (map frame), poses_gt (truth) and scans.
+// A mission read from nowhere: poses (map frame), poses_gt (truth) and scans
+// by a `rings`-beam sensor (cast_scan).
 Mission make_mission(const std::string& name, const Scene& scene, const std::vector<Eigen::Isometry3d>& truth,
-                     const std::vector<Eigen::Isometry3d>& poses, uint32_t seed);
+                     const std::vector<Eigen::Isometry3d>& poses, uint32_t seed, int rings = 16);
 
 }  // namespace lista::alignkit::testing
