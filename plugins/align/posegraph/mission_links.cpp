@@ -305,12 +305,23 @@ std::vector<Eigen::Isometry3d> initial_transforms(const MissionSet& set, const s
       }
     }
   }
-  std::string isolated, detached;
+  // A station laid out with others (station_vote.hpp) had whole-map
+  // placements, which all disagreed with where the others put it.
+  const std::vector<char> stations = station_missions(set);
+  std::string isolated, detached, outvoted;
   for (size_t m = 0; m < n; ++m) {
     if (to_common[m]) continue;
-    std::string& list = report.closures_per_mission[m] == 0 ? isolated : detached;
+    std::string& list = report.closures_per_mission[m] != 0                 ? detached
+                        : report.station_pairs > 0 && stations[m] ? outvoted
+                                                                            : isolated;
     list += (list.empty() ? "'" : ", '") + set.missions[m].name + "'";
   }
+  if (!outvoted.empty())
+    throw Error("station " + outvoted + " links to no other: of the stations laid out together (" +
+                std::to_string(report.station_pairs_agreeing) + " of " + std::to_string(report.station_pairs) +
+                " pairs agreeing), none of its whole-map placements agrees with where the others put it (stations that "
+                "see too little of each other?); give registered station poses in poses.txt (docs/alignment.md, "
+                "\"Stations laid out together\")");
   if (!isolated.empty())
     throw Error("mission " + isolated + " links to no other mission: no verified loop closure (" +
                 std::to_string(report.candidates) + " candidates, " + std::to_string(report.verified) +

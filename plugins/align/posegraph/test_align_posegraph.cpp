@@ -1,6 +1,7 @@
 #include "global_search.hpp"
 #include "joint_alignment.hpp"
 #include "loop_closures.hpp"
+#include "mission_links.hpp"
 #include "pose_graph.hpp"
 #include "scan_context.hpp"
 #include "scan_odometry.hpp"
@@ -1286,4 +1287,38 @@ TEST(AlignPosegraph, UnposedStationsOfTwoMissionsAreLaidOutTogether) {
     voted = voted || m.find("stations laid out together") != std::string::npos;
   }
   EXPECT_TRUE(voted);
+}
+
+// A station the layout leaves without any agreeing placement links to no
+// other: the error says it was outvoted, not that nothing was verified.
+TEST(StationVote, AnOutvotedStationIsNamedAsSuch) {
+  MissionSet set;
+  for (const char* name : {"a", "b", "c"}) {
+    Mission m = stations_at_the_origin(name);
+    m.scans.resize(1);  // one scan: a station
+    set.missions.push_back(m);
+  }
+  std::vector<Keyframe> kf(3);
+  for (size_t m = 0; m < 3; ++m) kf[m].mission = m, kf[m].frame = Eigen::Isometry3d::Identity();
+  const std::vector<Closure> closures{{0, 1, offset(2, 0, 0, 0), 0.6, 0.05, 1.0}};
+  JointAlignmentReport report;
+  report.closures_per_mission = {1, 1, 0};
+  report.station_pairs = 3;
+  report.station_pairs_agreeing = 1;
+  try {
+    initial_transforms(set, kf, closures, report);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("station 'c' links to no other: of the stations laid out together (1 of 3 "
+                                         "pairs agreeing)"),
+              std::string::npos)
+        << e.what();
+  }
+  report.station_pairs = 0;  // not laid out: nothing was verified for it
+  try {
+    initial_transforms(set, kf, closures, report);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("mission 'c' links to no other mission"), std::string::npos) << e.what();
+  }
 }
