@@ -150,7 +150,7 @@ std::set<std::pair<size_t, size_t>> vote_on_stations(const MissionSet& set, cons
                                                      const JointAlignmentOptions& o, Context& ctx,
                                                      JointAlignmentReport& report) {
   const StationVote vote = vote_station_placements(kf, station_missions(set), closures, o.global, o.verify,
-                                                   ctx.threads(), [&] { ctx.throw_if_cancelled(); });
+                                                   ctx.threads(), [&] { ctx.throw_if_cancelled(); }, &ctx.progress());
   if (vote.decided.empty()) return {};
   report.station_pairs = vote.pairs;
   report.station_pairs_agreeing = vote.kept;

@@ -169,7 +169,7 @@ constexpr size_t kSeeds = 32;
 StationVote vote_station_placements(const std::vector<Keyframe>& kf, const std::vector<char>& stations,
                                     const std::vector<Closure>& incumbents, const GlobalSearchOptions& o,
                                     const VerifyOptions& verify, int threads,
-                                    const std::function<void()>& throw_if_cancelled) {
+                                    const std::function<void()>& throw_if_cancelled, Progress* progress) {
   StationVote vote;
   std::vector<size_t> list;
   for (size_t m = 0; m < stations.size(); ++m)
@@ -187,6 +187,7 @@ StationVote vote_station_placements(const std::vector<Keyframe>& kf, const std::
     incumbent[key] = {c.rmse, r < q ? r_T_q : r_T_q.inverse()};
   }
   PairMap pairs;
+  if (progress) progress->begin("whole-map searches between stations", list.size() * (list.size() - 1) / 2);
   for (size_t i = 0; i < list.size(); ++i)
     for (size_t j = i + 1; j < list.size(); ++j) {
       throw_if_cancelled();
@@ -200,7 +201,9 @@ StationVote vote_station_placements(const std::vector<Keyframe>& kf, const std::
                                           [&](const GlobalPlacement& p) { return p.overlap < o.min_overlap; }),
                            found.verified.end());
       if (!found.verified.empty()) pairs[{a, b}] = {std::move(found.verified), found.query_centre};
+      if (progress) progress->advance();
     }
+  if (progress) progress->end();
   vote.pairs = pairs.size();
   if (pairs.empty()) return vote;
   // Layouts grown from the pairs' best placements; the one that puts the

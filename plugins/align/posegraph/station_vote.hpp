@@ -17,6 +17,7 @@
 
 #include "global_search.hpp"
 
+#include <lista/context.hpp>
 #include <lista/missions.hpp>
 
 #include <functional>
@@ -36,11 +37,12 @@ struct StationVote {
 
 // Nothing (empty `decided`) with fewer than three stations: no triangles.
 // `incumbents` are the closures already found; each pair's best-fitting one
-// competes as one more placement. `cancelled` is polled between pairs.
+// competes as one more placement. `throw_if_cancelled` is called between
+// pairs and moves; `progress`, if given, counts the pairs searched.
 StationVote vote_station_placements(const std::vector<Keyframe>& keyframes, const std::vector<char>& stations,
                                     const std::vector<Closure>& incumbents, const GlobalSearchOptions& options,
                                     const VerifyOptions& verify, int threads,
-                                    const std::function<void()>& throw_if_cancelled);
+                                    const std::function<void()>& throw_if_cancelled, Progress* progress = nullptr);
 
 // Right placements agree with each other: where fewer than half of the
 // pairs' do, the stations share too little to be placed by their scans.
