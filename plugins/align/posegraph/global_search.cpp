@@ -248,12 +248,13 @@ PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size
   std::vector<GlobalPlacement> placements = placements_of(search, o, threads);
   PlacementSearch out;
   if (placements.empty()) return out;
+  double incumbent_plan_score = 0.0;
   // The incumbent competes as one more placement, registered the same way.
   if (incumbent) {
     GlobalPlacement p;
     p.reference_T_query = *incumbent;
     placements.push_back(p);
-    out.incumbent_plan_score = plan_agreement(search.fine_grid, search.qry.points, *incumbent, o.cell);
+    incumbent_plan_score = plan_agreement(search.fine_grid, search.qry.points, *incumbent, o.cell);
   }
   // Whole map onto whole map: missions of a few scans share no two keyframes
   // close enough for their submaps to overlap, while their maps do. The maps
@@ -280,7 +281,7 @@ PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size
     p.overlap = overlap;
     p.rmse = r.inlier_rmse;
     p.incumbent = incumbent && i + 1 == placements.size();
-    p.incumbent_plan_score = out.incumbent_plan_score;
+    p.incumbent_plan_score = incumbent_plan_score;
     verified[i] = std::move(p);
   });
   for (auto& p : verified)

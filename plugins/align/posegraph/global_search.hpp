@@ -63,7 +63,6 @@ std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& k
 struct PlacementSearch {
   std::vector<GlobalPlacement> verified;
   Eigen::Vector3d query_centre = Eigen::Vector3d::Zero();  // the query map's centroid, in its frame
-  double incumbent_plan_score = 0.0;                       // the incumbent's as given, when one was given
 };
 PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
                                     const GlobalSearchOptions& options, const VerifyOptions& verify, int threads,

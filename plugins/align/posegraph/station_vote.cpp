@@ -257,12 +257,13 @@ StationVote vote_station_placements(const std::vector<Keyframe>& kf, const std::
   const double summed = judge.of(*best, list, &shares);
   vote.conflict = shares ? summed / double(shares) : 0.0;
   // Each pair keeps its best placement that agrees with the layout.
+  const std::vector<int> kept = kept_placements(pairs, *best);
+  size_t pair = 0;
   for (const auto& [key, pp] : pairs) {
-    const auto [a, b] = key;
-    const GlobalPlacement* keep = best->placed_together(a, b) ? agreeing(pairs, a, b, best->between(a, b)) : nullptr;
-    if (!keep) continue;
+    const int keep = kept[pair++];
+    if (keep < 0) continue;
     ++vote.kept;
-    const auto closures = placement_closures(kf, a, b, *keep, o.max_pairs);
+    const auto closures = placement_closures(kf, key.first, key.second, pp.placements[size_t(keep)], o.max_pairs);
     vote.closures.insert(vote.closures.end(), closures.begin(), closures.end());
   }
   return vote;
