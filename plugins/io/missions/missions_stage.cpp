@@ -1,13 +1,16 @@
 // io.missions: reads a dataset of missions (data contract, sect. 1).
 #include <lista/lista.hpp>
 #include <lista/param_table.hpp>
+#include <lista/parallel.hpp>
 #include <lista_bag/bag_mission.hpp>
 #include <lista_io/dataset.hpp>
 #include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 namespace lista::io {
@@ -97,6 +100,36 @@ std::string misordered_scan_names(const Mission& m) {
   return misordered(names);
 }
 
+// Keeps, of the points `keep` of `xyz` (in file order), the first of each
+// set at exactly the same coordinates (open addressing on the bits; -0 and
+// +0 are one place).
+void keep_first_occurrences(const std::vector<Eigen::Vector3f>& xyz, std::vector<uint32_t>& keep) {
+  size_t size = 16;
+  while (size < 2 * keep.size()) size *= 2;
+  std::vector<uint32_t> slots(size, UINT32_MAX);
+  auto bits = [](float v) {
+    uint32_t b;
+    v += 0.0f;
+    std::memcpy(&b, &v, sizeof b);
+    return uint64_t(b);
+  };
+  size_t kept = 0;
+  for (const uint32_t i : keep) {
+    const Eigen::Vector3f& p = xyz[i];
+    size_t h = size_t((bits(p.x()) * 0x9E3779B97F4A7C15ull ^ bits(p.y()) * 0xC2B2AE3D27D4EB4Full ^
+                       bits(p.z()) * 0x165667B19E3779F9ull) >> 17) & (size - 1);
+    while (slots[h] != UINT32_MAX && xyz[slots[h]] != p) h = (h + 1) & (size - 1);
+    if (slots[h] != UINT32_MAX) continue;  // a repeat
+    slots[h] = i;
+    keep[kept++] = i;
+  }
+  keep.resize(kept);
+}
+
+struct DroppedPoints {
+  size_t near = 0, zero = 0, repeated = 0;
+};
+
 // What the stage reads and how: the dataset, the thinning of dense logs, and
 // (its base) where a bag mission's clouds and poses come from.
 struct MissionsConfig : bag::BagOptions {
@@ -136,7 +169,6 @@ class MissionsStage : public Stage {
     };
     MissionSet set;
     set.dataset = dataset;
-    size_t near_dropped = 0, zero_dropped = 0;
     ctx.progress().begin("reading missions", names.size());
     for (const auto& name : names) {
       ctx.throw_if_cancelled();
@@ -147,13 +179,21 @@ class MissionsStage : public Stage {
       if (!bag_log.bag.empty()) say_bag(part.missions[0].name, bag_log, ctx);
       for (const auto& seen : set.missions)
         if (seen.name == part.missions[0].name) throw Error("mission '" + name + "' listed twice in 'missions'");
-      const auto [near, zero] = drop_near_points(part.missions[0]);
-      near_dropped += near;
-      zero_dropped += zero;
       set.missions.push_back(std::move(part.missions[0]));
       ctx.progress().advance();
     }
     ctx.progress().end();
+    std::vector<Scan*> scans_read;
+    for (auto& m : set.missions)
+      for (auto& scan : m.scans) scans_read.push_back(&scan);
+    std::vector<DroppedPoints> per_scan(scans_read.size());
+    parallel_for(scans_read.size(), ctx.threads(), [&](size_t i) { per_scan[i] = drop_unusable_points(*scans_read[i]); });
+    DroppedPoints dropped;
+    for (const DroppedPoints& d : per_scan) {
+      dropped.near += d.near;
+      dropped.zero += d.zero;
+      dropped.repeated += d.repeated;
+    }
     set.origin = local_origin(set);
     if (!set.origin.isZero()) {
       for (auto& m : set.missions) {
@@ -214,44 +254,51 @@ class MissionsStage : public Stage {
     ctx.record("scans_read", double(read));
     ctx.record("points", double(points));
     ctx.record("skipped_nonfinite", double(skipped));
-    ctx.record("dropped_near", double(near_dropped));
-    ctx.record("dropped_zero", double(zero_dropped));
-    if (near_dropped > 0)
-      ctx.info(std::to_string(near_dropped) + " points nearer than min_range to their sensor dropped");
-    if (zero_dropped > 0)
-      ctx.info(std::to_string(zero_dropped) + " points at (0, 0, 0), the sensor origin, dropped: a driver's way of "
+    ctx.record("dropped_near", double(dropped.near));
+    ctx.record("dropped_zero", double(dropped.zero));
+    ctx.record("dropped_repeated", double(dropped.repeated));
+    if (dropped.near > 0)
+      ctx.info(std::to_string(dropped.near) + " points nearer than min_range to their sensor dropped");
+    if (dropped.zero > 0)
+      ctx.info(std::to_string(dropped.zero) + " points at (0, 0, 0), the sensor origin, dropped: a driver's way of "
                "writing a missing return");
+    if (dropped.repeated > 0)
+      ctx.info(std::to_string(dropped.repeated) + " points dropped that repeat an earlier point of their scan to the "
+               "bit (a sweep written twice)");
     return Outputs::of("missions", std::move(set));
   }
 
  private:
   // Drops the points nearer than min_range to their sensor (the robot's own
   // body, the operator carrying the scanner: they move with the sensor and
-  // would leave a trail of change along every path), and always those at
-  // exactly the sensor origin: many drivers write a missing return as
-  // (0, 0, 0) rather than NaN, and no LiDAR measures a range of 0. Kept
+  // would leave a trail of change along every path); always those at
+  // exactly the sensor origin (many drivers write a missing return as
+  // (0, 0, 0) rather than NaN, and no LiDAR measures a range of 0); and a
+  // point that repeats an earlier point of its scan to the bit (exporters
+  // that list a sweep twice: a repeated return is no new evidence, and
+  // counted twice it doubles the votes and point counts downstream). Kept
   // points keep their file index, so changes/ still names original points.
-  // Returns how many were dropped for each reason.
-  std::pair<size_t, size_t> drop_near_points(Mission& m) const {
+  DroppedPoints drop_unusable_points(Scan& scan) const {
+    DroppedPoints dropped;
+    if (!scan.points) return dropped;
     const float r2 = float(c_.min_range * c_.min_range);
-    size_t near = 0, zero = 0;
-    for (auto& scan : m.scans) {
-      if (!scan.points) continue;
-      const PointSet& all = *scan.points;
-      std::vector<uint32_t> keep;
-      keep.reserve(all.size());
-      for (size_t i = 0; i < all.size(); ++i) {
-        const float d2 = all.xyz[i].squaredNorm();
-        if (d2 == 0.0f)
-          ++zero;
-        else if (d2 < r2)
-          ++near;
-        else
-          keep.push_back(uint32_t(i));
-      }
-      if (keep.size() != all.size()) scan.points = std::make_shared<PointSet>(all.select(keep));
+    const PointSet& all = *scan.points;
+    std::vector<uint32_t> keep;
+    keep.reserve(all.size());
+    for (size_t i = 0; i < all.size(); ++i) {
+      const float d2 = all.xyz[i].squaredNorm();
+      if (d2 == 0.0f)
+        ++dropped.zero;
+      else if (d2 < r2)
+        ++dropped.near;
+      else
+        keep.push_back(uint32_t(i));
     }
-    return {near, zero};
+    const size_t before = keep.size();
+    keep_first_occurrences(all.xyz, keep);
+    dropped.repeated = before - keep.size();
+    if (keep.size() != all.size()) scan.points = std::make_shared<PointSet>(all.select(keep));
+    return dropped;
   }
 
   // What a bag mission was read from, and what of it could not be used.
@@ -290,11 +337,11 @@ class MissionsStage : public Stage {
 StageInfo info() {
   StageInfo s;
   s.name = "io.missions";
-  s.version = "1.4.0";
+  s.version = "1.5.0";
   s.summary = "reads a dataset of missions (poses.txt + scans/, the VIEWPOINT layout, or ROS 1/ROS 2 bags)";
   s.doc =
       "Reads a dataset's missions (data contract, section 1): poses.txt and scans/ (PCD, PLY, KITTI .bin), the "
-      "VIEWPOINT layout, or ROS 1 and ROS 2 bags; thins dense logs, drops non-finite and zero points, and moves "
+      "VIEWPOINT layout, or ROS 1 and ROS 2 bags; thins dense logs, drops non-finite, zero and repeated points, and moves "
       "georeferenced poses near zero. "
       "Details: docs/formats.md, \"Input: a dataset of missions\".";
   s.outputs = {{"missions", "missions", "the missions, each in its own map frame (to_common = identity)"}};

@@ -113,6 +113,29 @@ TEST(IoMissions, PointsAtTheSensorOriginAreMissingReturns) {
   EXPECT_EQ(ctx.info.metrics["read"]["dropped_near"], 0.0);
 }
 
+// Some exporters write a sweep twice (PCL's real room lists every point two
+// or three times): a point repeating an earlier one of its scan to the bit
+// is dropped, the first keeps its file index; -0 and +0 are one place, and
+// the same point in another mission's scan is kept.
+TEST(IoMissions, PointsRepeatedInTheirScanAreDroppedOnce) {
+  const fs::path root = make_dataset("repeated");
+  PointSet p;
+  for (const Eigen::Vector3f& q : {Eigen::Vector3f(1, 2, 3), Eigen::Vector3f(4, 0, 0), Eigen::Vector3f(1, 2, 3),
+                                   Eigen::Vector3f(1, 2, 3.0001f), Eigen::Vector3f(4, -0.0f, 0), Eigen::Vector3f(1, 2, 3)})
+    p.xyz.push_back(q);
+  io::write_scan_pcd((root / "t0" / "scans" / "001.pcd").string(), p);
+  io::write_scan_pcd((root / "t1" / "scans" / "001.pcd").string(), p);
+  BasicContext ctx("read", 2);
+  ctx.info.dataset = root.string();
+  auto out = plugin_test::make_stage("io.missions")->run(Inputs{}, ctx);
+  for (const auto& mission : out.at("missions").as<MissionSet>().missions) {
+    const auto& scan = mission.scans[1];
+    ASSERT_EQ(scan.points->size(), 3u) << mission.name;
+    EXPECT_EQ(scan.points->index, (std::vector<uint32_t>{0, 1, 3}));
+  }
+  EXPECT_EQ(ctx.info.metrics["read"]["dropped_repeated"], 6.0);
+}
+
 // A dense log read thinned: scans 0.5 m apart, one read per metre; the
 // others are not called empty scans.
 TEST(IoMissions, ScanSpacingThinsADenseLogWithoutCallingTheRestEmpty) {

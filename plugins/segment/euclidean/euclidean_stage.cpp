@@ -13,7 +13,7 @@ const ParamTable<EuclideanClusterConfig>& param_table() {
   using C = EuclideanClusterConfig;
   return ParamTable<C>::once([](ParamTable<C>& t) {
     t.bind("tolerance", &C::tolerance, "joining distance").range(0.005, 5.0).unit("m");
-    t.bind("min_points", &C::min_points, "smallest cluster kept, in points at distinct places").range(1, 2e9);
+    t.bind("min_points", &C::min_points, "smallest cluster kept").range(1, 2e9);
     t.bind("max_points", &C::max_points, "largest cluster kept").range(1, 2e9);
   });
 }
@@ -27,7 +27,7 @@ class EuclideanSegmentStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.euclidean";
-    i.version = "1.2.0";
+    i.version = "1.3.0";
     i.summary = "PCL Euclidean cluster extraction of the change points";
     i.doc =
         "PCL Euclidean cluster extraction of each mission's change points (points within tolerance share a "
@@ -41,7 +41,7 @@ class EuclideanSegmentStage : public Stage {
 
   Outputs run(const Inputs& in, Context& context) override {
     ObjectSet objects = segmentation::objects_from_missions(
-        in.get<MissionPoints>("changes"), context, config_.min_points,
+        in.get<MissionPoints>("changes"), context,
         [&](const PointSet& s, int) { return cluster_euclidean(s, config_); });
     context.record("objects", double(objects.objects.size()));
     return Outputs::of("objects", std::move(objects));

@@ -16,7 +16,7 @@ const ParamTable<RegionGrowingConfig>& param_table() {
     t.bind("neighbours", &C::neighbours, "k nearest points tested while growing").range(3, 500);
     t.bind("smoothness", &C::smoothness_deg, "largest normal angle between neighbours").range(0.1, 180).unit("deg");
     t.bind("curvature", &C::curvature, "growth continues only from points flatter than this (1 = any)").range(0, 1);
-    t.bind("min_points", &C::min_points, "smallest region kept, in points at distinct places").range(1, 2e9);
+    t.bind("min_points", &C::min_points, "smallest region kept").range(1, 2e9);
     t.bind("max_points", &C::max_points, "largest region kept").range(1, 2e9);
   });
 }
@@ -30,7 +30,7 @@ class RegionGrowingStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.region-growing";
-    i.version = "1.2.0";
+    i.version = "1.3.0";
     i.summary = "PCL region growing with normals: splits clusters that touch";
     i.doc =
         "PCL region growing with normals: splits change clusters that touch along a crease, at the price of "
@@ -45,7 +45,7 @@ class RegionGrowingStage : public Stage {
 
   Outputs run(const Inputs& in, Context& context) override {
     ObjectSet objects = segmentation::objects_from_missions(
-        in.get<MissionPoints>("changes"), context, c_.min_points,
+        in.get<MissionPoints>("changes"), context,
         [&](const PointSet& s, int threads) { return cluster_region_growing(s, c_, threads); });
     context.record("objects", double(objects.objects.size()));
     return Outputs::of("objects", std::move(objects));

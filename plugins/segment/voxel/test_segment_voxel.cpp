@@ -1,5 +1,4 @@
 #include <lista_testing/point_scenes.hpp>
-#include <lista_segmentation/mission_objects.hpp>
 #include <lista_segmentation/voxel_clustering.hpp>
 
 #include <gtest/gtest.h>
@@ -126,20 +125,4 @@ TEST(SegmentVoxel, ClustersMostlySeenFreeInTheirOwnMissionAreDynamics) {
   EXPECT_NEAR(objects.dynamics[0].bbox_max.z(), 1.8f, 1e-4f);
   EXPECT_EQ(ctx.info.metrics.at("segment").at("dynamic_objects"), 1.0);
   EXPECT_EQ(ctx.info.metrics.at("segment").at("dynamic_points"), double(person + torso));
-}
-
-// A scan that lists every return twice (PCL's room scans do): a cluster of
-// 15 places counts 15 points, not 30, against min_points (20).
-TEST(SegmentVoxel, PointsListedTwiceCountOnceAgainstMinPoints) {
-  lista::PointSet a;
-  for (int i = 0; i < 15; ++i)
-    for (int copy = 0; copy < 2; ++copy) add_point(a, {0.01f * float(i), 0, 0});
-  for (int i = 0; i < 20; ++i) add_point(a, {5 + 0.01f * float(i), 0, 0});
-  auto out = run_stage("segment.voxel", "changes", lista::Data::make(missions({a, a})));
-  const auto& objects = out.at("objects").as<lista::ObjectSet>();
-  ASSERT_EQ(objects.objects.size(), 2u);  // the 20 distinct points, in each mission
-  EXPECT_EQ(objects.objects[0].points.size(), 20u);
-  EXPECT_NEAR(objects.objects[0].centroid.x(), 5.095f, 1e-4f);
-  EXPECT_TRUE(lista::segmentation::has_distinct_points(a.xyz, {0, 1, 2, 3}, 2));
-  EXPECT_FALSE(lista::segmentation::has_distinct_points(a.xyz, {0, 1, 2, 3}, 3));  // two places, each twice
 }

@@ -16,7 +16,7 @@ const ParamTable<segmentation::VoxelClusterConfig>& param_table() {
     t.bind("tolerance", &C::tolerance, "voxel edge and joining distance").range(0.005, 5.0).unit("m");
     t.choice("connectivity", &C::exact, {{"voxel", false}, {"exact", true}},
              "join touching voxels, or points within tolerance");
-    t.bind("min_points", &C::min_points, "smallest cluster kept, in points at distinct places").range(1, 1e9);
+    t.bind("min_points", &C::min_points, "smallest cluster kept").range(1, 1e9);
     t.bind("max_points", &C::max_points, "largest cluster kept").range(1, 1e12);
   });
 }
@@ -32,7 +32,7 @@ class VoxelSegmentStage : public Stage {
   static StageInfo info() {
     StageInfo i;
     i.name = "segment.voxel";
-    i.version = "1.2.0";
+    i.version = "1.3.0";
     i.summary = "Connected components of the change over a voxel grid (union-find)";
     i.doc =
         "Connected components of each mission's change points over a voxel grid (union-find; connectivity exact "
@@ -47,7 +47,7 @@ class VoxelSegmentStage : public Stage {
   Outputs run(const Inputs& in, Context& context) override {
     const auto& changes = in.get<MissionPoints>("changes");
     ObjectSet objects = segmentation::objects_from_missions(
-        changes, context, config_.min_points, [&](const PointSet& s, int) { return segmentation::cluster_voxels(s.xyz, config_); });
+        changes, context, [&](const PointSet& s, int) { return segmentation::cluster_voxels(s.xyz, config_); });
     context.record("objects", double(objects.objects.size()));
     return Outputs::of("objects", std::move(objects));
   }

@@ -5,9 +5,7 @@
 // so the result does not depend on the thread count. A cluster most of whose
 // points its own mission also saw free (seen_free_in_own_mission) moved
 // during the mission: it goes to ObjectSet::dynamics, not to the objects,
-// with the clusters that stand mostly on its footprint. A cluster counts as
-// many points as it has distinct places: fewer than `min_points` and it is
-// dropped (has_distinct_points).
+// with the clusters that stand mostly on its footprint.
 #pragma once
 
 #include <lista/context.hpp>
@@ -16,31 +14,14 @@
 #include <lista/parallel.hpp>
 
 #include <algorithm>
-#include <array>
-#include <cstring>
 #include <functional>
-#include <set>
 #include <vector>
 
 namespace lista::segmentation {
 
 using Clusters = std::vector<std::vector<uint32_t>>;
 
-// Whether the points `idx` of `xyz` stand at `n` or more distinct places. A
-// scan that lists a return twice (PCL's room scans list every one twice)
-// must not pass a size bar on half the evidence.
-inline bool has_distinct_points(const std::vector<Eigen::Vector3f>& xyz, const std::vector<uint32_t>& idx, size_t n) {
-  if (idx.size() < n) return false;
-  std::set<std::array<uint32_t, 3>> places;
-  for (size_t k = 0; k < idx.size() && places.size() < n; ++k) {
-    std::array<uint32_t, 3> bits;
-    std::memcpy(bits.data(), xyz[idx[k]].data(), sizeof bits);
-    places.insert(bits);
-  }
-  return places.size() >= n;
-}
-
-inline ObjectSet objects_from_missions(const MissionPoints& points, Context& context, size_t min_points,
+inline ObjectSet objects_from_missions(const MissionPoints& points, Context& context,
                                        const std::function<Clusters(const PointSet&, int threads)>& cluster) {
   const size_t m = points.sets.size();
   std::vector<Clusters> per_mission(m);
@@ -58,7 +39,6 @@ inline ObjectSet objects_from_missions(const MissionPoints& points, Context& con
     std::vector<Object> kept;
     const size_t first_dynamic = out.dynamics.size();
     for (const auto& cluster_indices : per_mission[i]) {
-      if (!has_distinct_points(points.sets[i].xyz, cluster_indices, min_points)) continue;
       Object o;
       o.mission = uint32_t(i);
       o.points = points.sets[i].select(cluster_indices);
