@@ -318,10 +318,8 @@ std::vector<Closure> placement_closures(const std::vector<Keyframe>& keyframes, 
   return out;
 }
 
-std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
-                                             const GlobalSearchOptions& o, const VerifyOptions& verify, int threads,
-                                             const std::optional<Eigen::Isometry3d>& incumbent) {
-  const PlacementSearch search = verified_placements(keyframes, reference, query, o, verify, threads, incumbent);
+std::optional<GlobalPlacement> plan_view_choice(const PlacementSearch& search, const GlobalSearchOptions& o,
+                                                const std::optional<Eigen::Isometry3d>& incumbent) {
   // Ranked by the plan view, not the overlap: the overlap counts floor,
   // ceiling and walls, which a half-turned symmetric room fits as well,
   // while the plan view leaves out floor and ceiling, so what stands in the
@@ -346,9 +344,17 @@ std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyfra
   for (const auto& p : search.verified)
     if (distinct(p.reference_T_query, best->reference_T_query) && best->plan_score < (1.0 + o.margin) * p.plan_score)
       return std::nullopt;
+  return best;
+}
+
+std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
+                                             const GlobalSearchOptions& o, const VerifyOptions& verify, int threads,
+                                             const std::optional<Eigen::Isometry3d>& incumbent) {
+  auto best = plan_view_choice(verified_placements(keyframes, reference, query, o, verify, threads, incumbent), o,
+                               incumbent);
   // The placement as closures between keyframes, so that the pose graph
   // holds it like any other.
-  best->closures = placement_closures(keyframes, reference, query, *best, o.max_pairs);
+  if (best) best->closures = placement_closures(keyframes, reference, query, *best, o.max_pairs);
   return best;
 }
 

@@ -79,10 +79,14 @@ std::vector<Closure> placement_closures(const std::vector<Keyframe>& keyframes, 
                                         const GlobalPlacement& placement, int max_pairs);
 
 // Of the verified placements that overlap min_overlap, the one with the best
-// plan-view score, as closures, if it clearly beats every verified rival (by
-// `margin`); none otherwise.
-// When it is the incumbent's own fit or one that agrees with it, or does not
-// beat the incumbent's plan-view score as given by `margin`, none either.
+// plan-view score, if it clearly beats every verified rival (by `margin`);
+// none otherwise. When it is the incumbent's own fit or one that agrees with
+// it, or does not beat the incumbent's plan-view score as given by `margin`,
+// none either.
+std::optional<GlobalPlacement> plan_view_choice(const PlacementSearch& search, const GlobalSearchOptions& options,
+                                                const std::optional<Eigen::Isometry3d>& incumbent);
+
+// verified_placements, then plan_view_choice's placement as closures.
 std::optional<GlobalPlacement> global_search(const std::vector<Keyframe>& keyframes, size_t reference,
                                              size_t query, const GlobalSearchOptions& options,
                                              const VerifyOptions& verify, int threads,

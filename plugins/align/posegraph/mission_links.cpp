@@ -1,6 +1,7 @@
 #include "mission_links.hpp"
 
 #include "station_links.hpp"
+#include "seen_through.hpp"
 #include "station_vote.hpp"
 
 #include <lista/error.hpp>
@@ -92,6 +93,31 @@ std::vector<char> linked_to_first(size_t missions, const std::vector<Keyframe>& 
 
 namespace {
 
+std::string plan_view_note(const GlobalPlacement& p) {
+  char text[160];
+  std::snprintf(text, sizeof text, "%.0f %% of the plan view lies on the other map under it against %.0f %% under the closures'",
+                100.0 * p.plan_score, 100.0 * p.incumbent_plan_score);
+  return text;
+}
+
+// The whole-map search of a mission pair (global_search.hpp), its choice as
+// closures; between two missions scanned from stations what their stations
+// saw may overrule the plan view (judge_station_placements), said in `note`.
+std::optional<GlobalPlacement> searched_placement(const std::vector<Keyframe>& kf, size_t a, size_t b,
+                                                  const std::vector<char>& stations, const JointAlignmentOptions& o,
+                                                  Context& ctx, const std::optional<Eigen::Isometry3d>& incumbent,
+                                                  std::string& note) {
+  const PlacementSearch search = verified_placements(kf, a, b, o.global, o.verify, ctx.threads(), incumbent);
+  std::optional<GlobalPlacement> best = plan_view_choice(search, o.global, incumbent);
+  note.clear();
+  if (stations[a] && stations[b]) {
+    StationJudgement judged = judge_station_placements(kf, a, b, search, o.global, incumbent, best);
+    if (judged.overruled) best = std::move(judged.choice), note = judged.note;
+  }
+  if (best) best->closures = placement_closures(kf, a, b, *best, o.global.max_pairs);
+  return best;
+}
+
 // Mission pairs linked by fewer than check_below closures are checked on
 // their whole maps: two or three closures can agree on a half-turned fit of
 // a symmetric room. A placement that clearly fits the maps better replaces
@@ -107,6 +133,7 @@ std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set,
     if (a != b) by_pair[{a, b}].push_back(i);
   }
   std::vector<std::pair<size_t, size_t>> replaced;
+  const std::vector<char> stations = station_missions(set);
   for (const auto& [pair, list] : by_pair) {
     if (list.size() >= size_t(std::max(0, o.global.check_below)) || decided.count(std::minmax(pair.first, pair.second)))
       continue;
@@ -115,8 +142,13 @@ std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set,
     for (size_t i : list)
       if (closures[i].rmse < tightest->rmse) tightest = &closures[i];
     const Eigen::Isometry3d incumbent = implied_map_transform(kf, *tightest);
-    const auto better = global_search(kf, pair.first, pair.second, o.global, o.verify, ctx.threads(), incumbent);
-    if (!better) continue;
+    std::string judged;
+    const auto better = searched_placement(kf, pair.first, pair.second, stations, o, ctx, incumbent, judged);
+    if (!better) {
+      if (!judged.empty())
+        ctx.info("'" + set.missions[pair.first].name + "' and '" + set.missions[pair.second].name + "': " + judged);
+      continue;
+    }
     auto of_pair = [&](const Closure& c) {
       return kf[c.reference].mission == pair.first && kf[c.query].mission == pair.second;
     };
@@ -128,11 +160,10 @@ std::vector<std::pair<size_t, size_t>> recheck_weak_links(const MissionSet& set,
     char text[480];
     std::snprintf(text, sizeof text,
                   "the %zu loop closure(s) between '%s' and '%s' were replaced by a whole-map placement %.0f deg "
-                  "from theirs: %.0f %% of the plan view lies on the other map under it against %.0f %% under the "
-                  "closures' (a near-symmetric place?); check the change maps",
+                  "from theirs: %s (a near-symmetric place?); check the change maps",
                   list.size(), set.missions[pair.first].name.c_str(), set.missions[pair.second].name.c_str(),
                   rotation_angle(better->reference_T_query.linear().transpose() * incumbent.linear()) * 180.0 / M_PI,
-                  100.0 * better->plan_score, 100.0 * better->incumbent_plan_score);
+                  judged.empty() ? plan_view_note(*better).c_str() : judged.c_str());
     const auto& unposed = o.unposed_station;
     if (pair.second < unposed.size() && unposed[pair.first] && unposed[pair.second])
       ctx.info(text);
@@ -183,6 +214,7 @@ std::vector<Closure> link_unplaced_missions(const MissionSet& set, const std::ve
                                             const std::vector<Closure>& closures, const JointAlignmentOptions& o,
                                             Context& ctx) {
   const size_t n = set.missions.size();
+  const std::vector<char> stations = station_missions(set);
   std::vector<Closure> all = closures, found;
   for (bool progress = true; progress;) {
     progress = false;
@@ -192,10 +224,11 @@ std::vector<Closure> link_unplaced_missions(const MissionSet& set, const std::ve
       ctx.throw_if_cancelled();
       std::optional<GlobalPlacement> best;
       size_t best_on = 0;
+      std::string judged, note;
       for (size_t a = 0; a < n; ++a) {
         if (!linked[a]) continue;
-        auto p = global_search(kf, a, m, o.global, o.verify, ctx.threads());
-        if (p && (!best || p->overlap > best->overlap)) best = std::move(p), best_on = a;
+        auto p = searched_placement(kf, a, m, stations, o, ctx, std::nullopt, note);
+        if (p && (!best || p->overlap > best->overlap)) best = std::move(p), best_on = a, judged = note;
       }
       if (!best) continue;
       char text[480];
@@ -205,7 +238,7 @@ std::vector<Closure> link_unplaced_missions(const MissionSet& set, const std::ve
                     "RMSE %.3f m (%.0f %% of its plan view on the other's); check its change map",
                     set.missions[m].name.c_str(), set.missions[best_on].name.c_str(), 100.0 * best->overlap,
                     best->rmse, 100.0 * best->plan_score);
-      ctx.warn(text);
+      ctx.warn(judged.empty() ? std::string(text) : text + ("; " + judged));
       all.insert(all.end(), best->closures.begin(), best->closures.end());
       found.insert(found.end(), best->closures.begin(), best->closures.end());
       progress = true;

@@ -1,6 +1,7 @@
 #include "seen_through.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -49,6 +50,83 @@ double SeenThrough::share_in_front(const Cloud& points, const Eigen::Isometry3d&
     if (q.norm() < nearest - std::max(0.5, 0.05 * double(nearest))) ++in_front;
   }
   return known ? double(in_front) / double(known) : 0.0;
+}
+
+PairConflicts::PairConflicts(const std::vector<Keyframe>& kf, size_t a, size_t b) : kf_(kf), a_(a) {
+  for (size_t k = 0; k < kf.size(); ++k)
+    if (kf[k].mission == a || kf[k].mission == b) keyframes_.push_back(k), seen_.emplace_back(kf[k].submap);
+}
+
+double PairConflicts::of(const Eigen::Isometry3d& a_T_b) const {
+  double sum = 0.0;
+  size_t shares = 0;
+  for (size_t i = 0; i < keyframes_.size(); ++i)
+    for (size_t j = 0; j < keyframes_.size(); ++j) {
+      const Keyframe &x = kf_[keyframes_[i]], &y = kf_[keyframes_[j]];
+      if (x.mission == y.mission) continue;
+      const Eigen::Isometry3d x_T_y = x.frame.inverse() * (x.mission == a_ ? a_T_b : a_T_b.inverse()) * y.frame;
+      sum += seen_[i].share_in_front(y.submap, x_T_y);
+      ++shares;
+    }
+  return shares ? sum / double(shares) : 0.0;
+}
+
+StationJudgement judge_station_placements(const std::vector<Keyframe>& kf, size_t a, size_t b,
+                                          const PlacementSearch& search, const GlobalSearchOptions& o,
+                                          const std::optional<Eigen::Isometry3d>& incumbent,
+                                          const std::optional<GlobalPlacement>& plan_view) {
+  StationJudgement out;
+  out.choice = plan_view;
+  const PairConflicts judge(kf, a, b);
+  std::vector<std::pair<double, const GlobalPlacement*>> scored;
+  for (const auto& p : search.verified)
+    if (p.overlap >= o.min_overlap) scored.emplace_back(judge.of(p.reference_T_query), &p);
+  if (scored.empty()) return out;
+  const auto [fewest, least] = *std::min_element(scored.begin(), scored.end(),
+                                                 [](const auto& x, const auto& y) { return x.first < y.first; });
+  auto agrees = [&](const GlobalPlacement* p, const Eigen::Isometry3d& t) {
+    return same_placement(p->reference_T_query, t, search.query_centre);
+  };
+  char text[240];
+  if (plan_view || incumbent) {
+    // The choice is judged as verified: the closures' placement only where
+    // the whole maps registered there too (a placement that puts the maps
+    // apart has nothing in front of anything).
+    const Eigen::Isometry3d chosen = plan_view ? plan_view->reference_T_query : *incumbent;
+    std::optional<double> now;
+    for (const auto& [c, p] : scored)
+      if (agrees(p, chosen) && (!now || c < *now)) now = c;
+    if (!now || agrees(least, chosen) || fewest >= 0.5 * *now) return out;
+    out.overruled = true;
+    out.choice.reset();
+    if (incumbent && agrees(least, *incumbent)) {
+      std::snprintf(text, sizeof text,
+                    "the closures' placement kept: the plan view's best puts %.1f %% of a station's points where the "
+                    "other mission's stations saw through, against %.1f %% under the closures'",
+                    100.0 * *now, 100.0 * fewest);
+    } else {
+      out.choice = *least;
+      std::snprintf(text, sizeof text,
+                    "it puts %.1f %% of a station's points where the other mission's stations saw through, against "
+                    "%.1f %% under the %s",
+                    100.0 * fewest, 100.0 * *now, plan_view ? "plan view's best" : "closures'");
+    }
+    out.note = text;
+    return out;
+  }
+  // Nothing chosen: the least conflicting placement, if it clearly is.
+  double rival = INFINITY;
+  for (const auto& [c, p] : scored)
+    if (!agrees(p, least->reference_T_query)) rival = std::min(rival, c);
+  if (!std::isfinite(rival) || fewest >= 0.5 * rival) return out;
+  out.overruled = true;
+  out.choice = *least;
+  std::snprintf(text, sizeof text,
+                "it puts %.1f %% of a station's points where the other mission's stations saw through, against %.1f "
+                "%% under the best rival placement",
+                100.0 * fewest, 100.0 * rival);
+  out.note = text;
+  return out;
 }
 
 }  // namespace lista::align

@@ -5,10 +5,13 @@
 // by it (station_vote.hpp). Internal to align.posegraph.
 #pragma once
 
+#include "global_search.hpp"
 #include "loop_closures.hpp"
 
 #include <Eigen/Geometry>
 
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace lista::align {
@@ -31,5 +34,39 @@ class SeenThrough {
   static constexpr int kColumns = 360, kRows = 180;
   std::vector<float> nearest_;  // m per bin, infinity where nothing returned
 };
+
+// How much a placement of mission b on mission a, both scanned from
+// stations, contradicts what their stations saw: the shares of each
+// station's points it puts where a station of the other mission saw
+// through, averaged over their station pairs both ways.
+class PairConflicts {
+ public:
+  PairConflicts(const std::vector<Keyframe>& keyframes, size_t a, size_t b);
+  double of(const Eigen::Isometry3d& a_T_b) const;
+
+ private:
+  const std::vector<Keyframe>& kf_;
+  size_t a_;
+  std::vector<size_t> keyframes_;  // of missions a and b
+  std::vector<SeenThrough> seen_;
+};
+
+// Between two missions scanned from stations the plan view can favour a
+// half-turned fit of a near-symmetric room; what the stations saw cannot
+// (station_vote.hpp). Of the verified placements (overlap >= min_overlap),
+// the one with the fewest conflicts (PairConflicts) overrules the plan
+// view's choice (`plan_view`; none: the incumbent's, judged only where a
+// verified placement agrees with it) when it has under half as many. With
+// neither a choice nor an incumbent, it is taken when it has under half as
+// many as every distinct rival.
+struct StationJudgement {
+  bool overruled = false;
+  std::optional<GlobalPlacement> choice;  // the placement to take; none: the incumbent's, or nothing
+  std::string note;                       // what was overruled and why, when it was
+};
+StationJudgement judge_station_placements(const std::vector<Keyframe>& keyframes, size_t a, size_t b,
+                                          const PlacementSearch& search, const GlobalSearchOptions& options,
+                                          const std::optional<Eigen::Isometry3d>& incumbent,
+                                          const std::optional<GlobalPlacement>& plan_view);
 
 }  // namespace lista::align

@@ -5,6 +5,7 @@
 #include "pose_graph.hpp"
 #include "scan_context.hpp"
 #include "scan_odometry.hpp"
+#include "seen_through.hpp"
 #include "station_links.hpp"
 #include "station_vote.hpp"
 #include "unposed_stations.hpp"
@@ -1291,6 +1292,55 @@ TEST(AlignPosegraph, UnposedStationsOfTwoMissionsAreLaidOutTogether) {
 
 // A station the layout leaves without any agreeing placement links to no
 // other: the error says it was outvoted, not that nothing was verified.
+// Two one-scan missions in the hall: of the placements the whole-map
+// search verified, a wrong one the plan view (or the closures) chose is
+// overruled by what the stations saw through, and a right one is kept.
+TEST(StationJudgement, WhatTheStationsSawOverrulesAWrongChoice) {
+  const Scene hall = make_hall(kHallX, kHallY, 40, 7);
+  const auto loop = loop_route(kHallX, kHallY, 4.0, 1.0, 0.0);
+  MissionSet set;
+  for (size_t i : {0, 17})
+    set.missions.push_back(make_mission("s" + std::to_string(i), hall, {loop[i]}, {Eigen::Isometry3d::Identity()},
+                                        uint32_t(i + 1), 64));
+  const auto kf = make_keyframes(set, KeyframeOptions{}, 2);
+  ASSERT_EQ(kf.size(), 2u);
+  const Eigen::Isometry3d truth = (kf[0].frame.inverse() * loop[0].inverse() * loop[17] * kf[1].frame);
+  auto right = [&](const Eigen::Isometry3d& a_T_b) {
+    const Eigen::Isometry3d err = truth.inverse() * a_T_b;
+    return err.translation().norm() < 0.1 && rotation_angle(err.linear()) < 0.5 * M_PI / 180;
+  };
+  const GlobalSearchOptions o;
+  const PlacementSearch search = verified_placements(kf, 0, 1, o, VerifyOptions{}, 2);
+  const GlobalPlacement* wrong = nullptr;
+  bool found_right = false;
+  for (const auto& p : search.verified) {
+    if (p.overlap < o.min_overlap) continue;
+    if (right(p.reference_T_query))
+      found_right = true;
+    else if (!wrong && !same_placement(p.reference_T_query, truth, search.query_centre))
+      wrong = &p;
+  }
+  ASSERT_TRUE(found_right);
+  ASSERT_TRUE(wrong);
+  const StationJudgement overruled = judge_station_placements(kf, 0, 1, search, o, std::nullopt, *wrong);
+  EXPECT_TRUE(overruled.overruled);
+  ASSERT_TRUE(overruled.choice);
+  EXPECT_TRUE(right(overruled.choice->reference_T_query));
+  EXPECT_NE(overruled.note.find("saw through"), std::string::npos) << overruled.note;
+  const StationJudgement wrong_closures =
+      judge_station_placements(kf, 0, 1, search, o, wrong->reference_T_query, std::nullopt);
+  EXPECT_TRUE(wrong_closures.overruled);
+  ASSERT_TRUE(wrong_closures.choice);
+  EXPECT_TRUE(right(wrong_closures.choice->reference_T_query));
+  const StationJudgement kept = judge_station_placements(kf, 0, 1, search, o, truth, std::nullopt);
+  EXPECT_FALSE(kept.overruled) << kept.note;
+  EXPECT_FALSE(kept.choice);
+  // Closures that put the maps apart see nothing in front of anything: no
+  // whole-map registration agrees with them, so they are not judged.
+  const StationJudgement apart = judge_station_placements(kf, 0, 1, search, o, offset(200, 0, 0, 0), std::nullopt);
+  EXPECT_FALSE(apart.overruled) << apart.note;
+}
+
 TEST(StationVote, AnOutvotedStationIsNamedAsSuch) {
   MissionSet set;
   for (const char* name : {"a", "b", "c"}) {
