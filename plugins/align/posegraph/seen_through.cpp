@@ -52,22 +52,29 @@ double SeenThrough::share_in_front(const Cloud& points, const Eigen::Isometry3d&
   return known ? double(in_front) / double(known) : 0.0;
 }
 
-PairConflicts::PairConflicts(const std::vector<Keyframe>& kf, size_t a, size_t b) : kf_(kf), a_(a) {
+double conflicts_between(const std::vector<Keyframe>& kf, const std::vector<size_t>& keyframes,
+                         const std::vector<SeenThrough>& seen, size_t a, size_t b, const Eigen::Isometry3d& a_T_b,
+                         size_t& shares) {
+  double sum = 0.0;
+  for (size_t i = 0; i < keyframes.size(); ++i)
+    for (size_t j = 0; j < keyframes.size(); ++j) {
+      const Keyframe &x = kf[keyframes[i]], &y = kf[keyframes[j]];
+      const bool forward = x.mission == a && y.mission == b, backward = x.mission == b && y.mission == a;
+      if (!forward && !backward) continue;
+      sum += seen[i].share_in_front(y.submap, x.frame.inverse() * (forward ? a_T_b : a_T_b.inverse()) * y.frame);
+      ++shares;
+    }
+  return sum;
+}
+
+PairConflicts::PairConflicts(const std::vector<Keyframe>& kf, size_t a, size_t b) : kf_(kf), a_(a), b_(b) {
   for (size_t k = 0; k < kf.size(); ++k)
     if (kf[k].mission == a || kf[k].mission == b) keyframes_.push_back(k), seen_.emplace_back(kf[k].submap);
 }
 
 double PairConflicts::of(const Eigen::Isometry3d& a_T_b) const {
-  double sum = 0.0;
   size_t shares = 0;
-  for (size_t i = 0; i < keyframes_.size(); ++i)
-    for (size_t j = 0; j < keyframes_.size(); ++j) {
-      const Keyframe &x = kf_[keyframes_[i]], &y = kf_[keyframes_[j]];
-      if (x.mission == y.mission) continue;
-      const Eigen::Isometry3d x_T_y = x.frame.inverse() * (x.mission == a_ ? a_T_b : a_T_b.inverse()) * y.frame;
-      sum += seen_[i].share_in_front(y.submap, x_T_y);
-      ++shares;
-    }
+  const double sum = conflicts_between(kf_, keyframes_, seen_, a_, b_, a_T_b, shares);
   return shares ? sum / double(shares) : 0.0;
 }
 

@@ -35,6 +35,14 @@ class SeenThrough {
   std::vector<float> nearest_;  // m per bin, infinity where nothing returned
 };
 
+// The shares of y's points that a_T_b (mission a to mission b) puts in
+// front of x's nearest returns, summed over every x of `keyframes` in one of
+// the two missions and y in the other (seen[i] is keyframes[i]'s);
+// `shares` counts the shares summed.
+double conflicts_between(const std::vector<Keyframe>& keyframes_all, const std::vector<size_t>& keyframes,
+                         const std::vector<SeenThrough>& seen, size_t a, size_t b, const Eigen::Isometry3d& a_T_b,
+                         size_t& shares);
+
 // How much a placement of mission b on mission a, both scanned from
 // stations, contradicts what their stations saw: the shares of each
 // station's points it puts where a station of the other mission saw
@@ -46,7 +54,7 @@ class PairConflicts {
 
  private:
   const std::vector<Keyframe>& kf_;
-  size_t a_;
+  size_t a_, b_;
   std::vector<size_t> keyframes_;  // of missions a and b
   std::vector<SeenThrough> seen_;
 };

@@ -143,16 +143,9 @@ class LayoutConflicts {
  private:
   double between(const Layout& layout, size_t a, size_t b, size_t* shares = nullptr) const {
     if (!layout.placed_together(a, b)) return 0.0;
-    const Eigen::Isometry3d a_T_b = layout.between(a, b);
-    double sum = 0.0;
-    for (size_t i = 0; i < keyframes_.size(); ++i)
-      for (size_t j = 0; j < keyframes_.size(); ++j) {
-        const Keyframe &x = kf_[keyframes_[i]], &y = kf_[keyframes_[j]];
-        const bool forward = x.mission == a && y.mission == b, backward = x.mission == b && y.mission == a;
-        if (!forward && !backward) continue;
-        sum += seen_[i].share_in_front(y.submap, x.frame.inverse() * (forward ? a_T_b : a_T_b.inverse()) * y.frame);
-        if (shares) ++*shares;
-      }
+    size_t n = 0;
+    const double sum = conflicts_between(kf_, keyframes_, seen_, a, b, layout.between(a, b), n);
+    if (shares) *shares += n;
     return sum;
   }
   const std::vector<Keyframe>& kf_;
