@@ -6,7 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <tuple>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace lista::segment::completion {
@@ -47,24 +47,27 @@ LocalCloud restrict_to(const LocalCloud& cloud, const std::vector<Box>& regions)
 }
 
 bool local_floor(const LocalCloud& cloud, const Box& region, double percentile, double min_clearance, Floor& floor) {
-  // Sorted whole below: the order the points come in does not matter.
-  std::vector<std::tuple<int, int, float>> cells;
+  // The lowest point of each 20-cm column, and every point's height (the
+  // order the points come in does not matter: only order statistics of
+  // both are read).
+  std::unordered_map<uint64_t, float> column_lowest;
+  std::vector<float> heights;
   cloud.for_each_in(region, [&](uint32_t i) {
     const Eigen::Vector3f& p = cloud.points.xyz[i];
-    cells.emplace_back(int(std::floor(p.x() * 5.f)), int(std::floor(p.y() * 5.f)), p.z());
+    const uint64_t column = (uint64_t(uint32_t(int(std::floor(p.x() * 5.f)))) << 32) |
+                            uint32_t(int(std::floor(p.y() * 5.f)));
+    const auto [it, fresh] = column_lowest.try_emplace(column, p.z());
+    if (!fresh) it->second = std::min(it->second, p.z());
+    heights.push_back(p.z());
   });
-  if (cells.empty()) return false;
-  std::sort(cells.begin(), cells.end());
+  if (heights.empty()) return false;
   std::vector<float> lowest;
-  for (size_t i = 0; i < cells.size(); ++i)
-    if (i == 0 || std::get<0>(cells[i]) != std::get<0>(cells[i - 1]) ||
-        std::get<1>(cells[i]) != std::get<1>(cells[i - 1]))
-      lowest.push_back(std::get<2>(cells[i]));
-  std::sort(lowest.begin(), lowest.end());
-  const float f0 = lowest[std::min(lowest.size() - 1, size_t(percentile * double(lowest.size())))];
+  lowest.reserve(column_lowest.size());
+  for (const auto& [column, z] : column_lowest) lowest.push_back(z);
+  const float f0 = geometry::kth_smallest(lowest, std::min(lowest.size() - 1, size_t(percentile * double(lowest.size()))));
   std::vector<float> band;
-  for (const auto& c : cells)
-    if (std::get<2>(c) >= f0 && std::get<2>(c) <= f0 + 0.06f) band.push_back(std::get<2>(c));
+  for (const float z : heights)
+    if (z >= f0 && z <= f0 + 0.06f) band.push_back(z);
   floor.z = geometry::median(band);
   for (auto& z : band) z = std::abs(z - floor.z);
   const float sigma = 1.4826f * geometry::median(band);
