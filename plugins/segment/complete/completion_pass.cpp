@@ -4,6 +4,7 @@
 #include "object_merges.hpp"
 
 #include <lista_geometry/object_geometry.hpp>
+#include <lista/parallel.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -106,7 +107,9 @@ void CompletionPass::gather_clouds() {
   }
   add_own_regions(regions, (c_.self_complete && c_.static_check) || c_.thin_height > 0.0);
   add_connected_regions(regions);
-  for (size_t m = 0; m < nm_; ++m) clouds_[m] = gather(*mission_of_[m], regions[m], float(c_.voxel), c_.threads);
+  // The missions side by side: sorting a cloud's voxel index is serial.
+  const int each = std::max(1, c_.threads / int(nm_));
+  parallel_for(nm_, c_.threads, [&](size_t m) { clouds_[m] = gather(*mission_of_[m], regions[m], float(c_.voxel), each); });
 }
 
 // The floor itself is no object: a cluster lying (floor_share of its
@@ -195,7 +198,7 @@ void CompletionPass::narrow_clouds(const std::vector<Pair>& pairs) {
     for (size_t k : {p.a, p.b}) regions[out_.objects[k].mission].push_back(p.floor_region);
   add_own_regions(regions, c_.self_complete && c_.static_check);
   add_connected_regions(regions);
-  for (size_t m = 0; m < nm_; ++m) clouds_[m] = restrict_to(clouds_[m], regions[m]);
+  parallel_for(nm_, c_.threads, [&](size_t m) { clouds_[m] = restrict_to(clouds_[m], regions[m]); });
   owned_.assign(nm_, {});
   for (size_t k = 0; k < out_.objects.size(); ++k) {
     const Object& o = out_.objects[k];
