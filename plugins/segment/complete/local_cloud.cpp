@@ -54,8 +54,7 @@ bool local_floor(const LocalCloud& cloud, const Box& region, double percentile, 
   std::vector<float> heights;
   cloud.for_each_in(region, [&](uint32_t i) {
     const Eigen::Vector3f& p = cloud.points.xyz[i];
-    const uint64_t column = (uint64_t(uint32_t(int(std::floor(p.x() * 5.f)))) << 32) |
-                            uint32_t(int(std::floor(p.y() * 5.f)));
+    const uint64_t column = voxel_key(Eigen::Vector3i(int(std::floor(p.x() * 5.f)), int(std::floor(p.y() * 5.f)), 0));
     const auto [it, fresh] = column_lowest.try_emplace(column, p.z());
     if (!fresh) it->second = std::min(it->second, p.z());
     heights.push_back(p.z());
