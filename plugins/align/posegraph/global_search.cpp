@@ -61,6 +61,7 @@ CellList cells_of(const std::vector<Eigen::Vector2d>& points, double yaw, double
 // cell within that many of an occupied one counts.
 class PlanGrid {
  public:
+  PlanGrid() = default;
   PlanGrid(const std::vector<Eigen::Vector2d>& points, double cell, int grow) {
     const CellList cells = cells_of(points, 0.0, cell);
     if (cells.empty()) return;
@@ -145,18 +146,24 @@ std::vector<Hypothesis> best_shifts(const PlanGrid& grid, const CellList& cells,
   return out;
 }
 
-// Both missions' plan views and the reference's fine grid (grown by one
-// cell), made once for the search and for scoring registered placements.
-struct PlanSearch {
-  PlanSearch(const std::vector<Keyframe>& keyframes, size_t reference, size_t query, const GlobalSearchOptions& o)
-      : ref(plan_view(keyframes, reference, o)), qry(plan_view(keyframes, query, o)), fine_grid(ref.points, o.cell, 1) {}
-  PlanView ref, qry;
+}  // namespace
+
+// A mission's plan view, its fine grid (grown by one cell, for scoring a
+// query on it) and its whole map prepared for registration.
+struct MissionMaps::Maps {
+  PlanView view;
   PlanGrid fine_grid;
+  PreparedCloud prepared;
+  size_t map_points = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the map's centroid
 };
 
-std::vector<GlobalPlacement> placements_of(const PlanSearch& search, const GlobalSearchOptions& o, int threads) {
-  const PlanView& ref = search.ref;
-  const PlanView& qry = search.qry;
+namespace {
+
+std::vector<GlobalPlacement> placements_of(const MissionMaps::Maps& reference, const MissionMaps::Maps& query,
+                                           const GlobalSearchOptions& o, int threads) {
+  const PlanView& ref = reference.view;
+  const PlanView& qry = query.view;
   if (ref.points.empty() || qry.points.empty()) return {};
   // Coarse cells: no finer than a map's extent over max_coarse_cells, which
   // bounds the work on a large site.
@@ -189,7 +196,7 @@ std::vector<GlobalPlacement> placements_of(const PlanSearch& search, const Globa
   }
   // Fine search around each: yaw in half-degree steps, shifts in fine cells,
   // a query cell counted when within one cell of the reference's.
-  const PlanGrid& fine_grid = search.fine_grid;
+  const PlanGrid& fine_grid = reference.fine_grid;
   const double yaw_fine = 0.5 * M_PI / 180.0;
   const int yaw_span = int(std::ceil(o.yaw_step / yaw_fine));
   const int reach = int(std::ceil((coarse + o.cell) / o.cell));
@@ -236,48 +243,71 @@ Eigen::Vector3d centroid(const Cloud& cloud) {
 
 }  // namespace
 
-std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& keyframes, size_t reference,
-                                                  size_t query, const GlobalSearchOptions& o, int threads) {
-  return placements_of(PlanSearch(keyframes, reference, query, o), o, threads);
+MissionMaps::MissionMaps(const std::vector<Keyframe>& keyframes, const GlobalSearchOptions& options,
+                         const VerifyOptions& verify)
+    : keyframes_(keyframes), options_(options), registration_(verify.registration) {
+  // The maps may cover different extents (a short mission on a long one),
+  // so the overlap that counts is the smaller map's, and the registration's
+  // early refusal, which asks for overlap both ways, is off.
+  registration_.min_coarse_overlap = 0.0;
 }
 
-PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
-                                    const GlobalSearchOptions& o, const VerifyOptions& verify, int threads,
+MissionMaps::~MissionMaps() = default;
+
+const MissionMaps::Maps& MissionMaps::of(size_t mission) {
+  auto& made = made_[mission];
+  if (!made) {
+    auto maps = std::make_unique<Maps>();
+    maps->view = plan_view(keyframes_, mission, options_);
+    maps->fine_grid = PlanGrid(maps->view.points, options_.cell, 1);
+    const Cloud map = mission_map(keyframes_, mission, registration_.voxel);
+    maps->map_points = map.size();
+    maps->centre = centroid(map);
+    maps->prepared = PreparedCloud(map, registration_);
+    made = std::move(maps);
+  }
+  return *made;
+}
+
+std::vector<GlobalPlacement> plan_view_placements(MissionMaps& maps, size_t reference, size_t query, int threads) {
+  return placements_of(maps.of(reference), maps.of(query), maps.options(), threads);
+}
+
+std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& keyframes, size_t reference,
+                                                  size_t query, const GlobalSearchOptions& o, int threads) {
+  MissionMaps maps(keyframes, o, VerifyOptions{});
+  return plan_view_placements(maps, reference, query, threads);
+}
+
+PlacementSearch verified_placements(MissionMaps& maps, size_t reference, size_t query,
+                                    std::vector<GlobalPlacement> placements, int threads,
                                     const std::optional<Eigen::Isometry3d>& incumbent) {
-  const PlanSearch search(keyframes, reference, query, o);
-  std::vector<GlobalPlacement> placements = placements_of(search, o, threads);
   PlacementSearch out;
   if (placements.empty()) return out;
+  const GlobalSearchOptions& o = maps.options();
+  const MissionMaps::Maps& ref = maps.of(reference);
+  const MissionMaps::Maps& qry = maps.of(query);
   double incumbent_plan_score = 0.0;
   // The incumbent competes as one more placement, registered the same way.
   if (incumbent) {
     GlobalPlacement p;
     p.reference_T_query = *incumbent;
     placements.push_back(p);
-    incumbent_plan_score = plan_agreement(search.fine_grid, search.qry.points, *incumbent, o.cell);
+    incumbent_plan_score = plan_agreement(ref.fine_grid, qry.view.points, *incumbent, o.cell);
   }
   // Whole map onto whole map: missions of a few scans share no two keyframes
-  // close enough for their submaps to overlap, while their maps do. The maps
-  // may cover different extents (a short mission on a long one), so the
-  // overlap that counts is the smaller map's, and the registration's early
-  // refusal, which asks for overlap both ways, is off.
-  RegistrationOptions registration = verify.registration;
-  registration.min_coarse_overlap = 0.0;
-  const Cloud reference_map = mission_map(keyframes, reference, registration.voxel);
-  const Cloud query_map = mission_map(keyframes, query, registration.voxel);
-  out.query_centre = centroid(query_map);
-  const PreparedCloud prepared_reference(reference_map, registration);
-  const PreparedCloud prepared_query(query_map, registration);
-  const bool query_smaller = query_map.size() <= reference_map.size();
+  // close enough for their submaps to overlap, while their maps do.
+  out.query_centre = qry.centre;
+  const bool query_smaller = qry.map_points <= ref.map_points;
   std::vector<std::optional<GlobalPlacement>> verified(placements.size());
   parallel_for(placements.size(), threads, [&](size_t i) {
     const RegistrationResult r =
-        register_prepared(prepared_query, prepared_reference, placements[i].reference_T_query, registration);
+        register_prepared(qry.prepared, ref.prepared, placements[i].reference_T_query, maps.registration());
     const double overlap = query_smaller ? r.overlap : r.reverse_overlap;
     if (!r.converged || r.inlier_rmse > o.max_rmse) return;
     GlobalPlacement p = placements[i];
     p.reference_T_query = r.transform;
-    p.plan_score = plan_agreement(search.fine_grid, search.qry.points, r.transform, o.cell);
+    p.plan_score = plan_agreement(ref.fine_grid, qry.view.points, r.transform, o.cell);
     p.overlap = overlap;
     p.rmse = r.inlier_rmse;
     p.incumbent = incumbent && i + 1 == placements.size();
@@ -287,6 +317,14 @@ PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size
   for (auto& p : verified)
     if (p) out.verified.push_back(std::move(*p));
   return out;
+}
+
+PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
+                                    const GlobalSearchOptions& o, const VerifyOptions& verify, int threads,
+                                    const std::optional<Eigen::Isometry3d>& incumbent) {
+  MissionMaps maps(keyframes, o, verify);
+  return verified_placements(maps, reference, query, plan_view_placements(maps, reference, query, threads), threads,
+                             incumbent);
 }
 
 bool same_placement(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, const Eigen::Vector3d& centre) {

@@ -13,6 +13,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -51,8 +53,29 @@ struct GlobalPlacement {
   std::vector<Closure> closures;  // keyframe pairs that carry it into the pose graph
 };
 
+// What the search needs of one mission (its plan view, its whole map
+// prepared for registration), made on first use and kept: stations laid
+// out together are each searched against many others.
+class MissionMaps {
+ public:
+  MissionMaps(const std::vector<Keyframe>& keyframes, const GlobalSearchOptions& options, const VerifyOptions& verify);
+  ~MissionMaps();
+  struct Maps;
+  const Maps& of(size_t mission);
+  const std::vector<Keyframe>& keyframes() const { return keyframes_; }
+  const GlobalSearchOptions& options() const { return options_; }
+  const RegistrationOptions& registration() const { return registration_; }
+
+ private:
+  const std::vector<Keyframe>& keyframes_;
+  GlobalSearchOptions options_;
+  RegistrationOptions registration_;
+  std::map<size_t, std::unique_ptr<const Maps>> made_;
+};
+
 // Plan-view candidates, best first (at most options.hypotheses), before
-// verification. Exposed for tests.
+// verification.
+std::vector<GlobalPlacement> plan_view_placements(MissionMaps& maps, size_t reference, size_t query, int threads);
 std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& keyframes, size_t reference,
                                                   size_t query, const GlobalSearchOptions& options, int threads);
 
@@ -66,6 +89,10 @@ struct PlacementSearch {
 };
 PlacementSearch verified_placements(const std::vector<Keyframe>& keyframes, size_t reference, size_t query,
                                     const GlobalSearchOptions& options, const VerifyOptions& verify, int threads,
+                                    const std::optional<Eigen::Isometry3d>& incumbent = std::nullopt);
+// The same from the pair's plan-view candidates (plan_view_placements').
+PlacementSearch verified_placements(MissionMaps& maps, size_t reference, size_t query,
+                                    std::vector<GlobalPlacement> candidates, int threads,
                                     const std::optional<Eigen::Isometry3d>& incumbent = std::nullopt);
 
 // Two map-to-map placements that put `centre` (in the query's frame) within

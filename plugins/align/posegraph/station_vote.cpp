@@ -180,6 +180,7 @@ StationVote vote_station_placements(const std::vector<Keyframe>& kf, const std::
     incumbent[key] = {c.rmse, r < q ? r_T_q : r_T_q.inverse()};
   }
   PairMap pairs;
+  MissionMaps maps(kf, o, verify);
   if (progress) progress->begin("whole-map searches between stations", list.size() * (list.size() - 1) / 2);
   for (size_t i = 0; i < list.size(); ++i)
     for (size_t j = i + 1; j < list.size(); ++j) {
@@ -188,7 +189,7 @@ StationVote vote_station_placements(const std::vector<Keyframe>& kf, const std::
       vote.decided.insert({a, b});
       const auto it = incumbent.find({a, b});
       PlacementSearch found =
-          verified_placements(kf, a, b, o, verify, threads,
+          verified_placements(maps, a, b, plan_view_placements(maps, a, b, threads), threads,
                               it == incumbent.end() ? std::nullopt : std::optional<Eigen::Isometry3d>(it->second.second));
       found.verified.erase(std::remove_if(found.verified.begin(), found.verified.end(),
                                           [&](const GlobalPlacement& p) { return p.overlap < o.min_overlap; }),
