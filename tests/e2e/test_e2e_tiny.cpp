@@ -809,7 +809,8 @@ TEST(StopAndGo, ThreeStationsAMissionWithAndWithoutPoses) {
   EXPECT_NE(without_log.find("poses.txt puts every scan at one place, so each is placed as a station of its own"),
             std::string::npos)
       << without_log;
-  EXPECT_NE(without_log.find("stations laid out together: the whole-map placements of 15 of 15 station pairs"),
+  EXPECT_NE(without_log.find("stations laid out together: of 15 station pairs, the 15 that fit best by plan view registered, and "
+                               "the whole-map placements of 15 of the 15 placed agree"),
             std::string::npos)
       << without_log;
   EXPECT_EQ(without_log.find("warning"), std::string::npos) << without_log;

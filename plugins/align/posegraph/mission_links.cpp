@@ -195,9 +195,10 @@ std::set<std::pair<size_t, size_t>> vote_on_stations(const MissionSet& set, cons
   }
   char text[480];
   std::snprintf(text, sizeof text,
-                "stations laid out together: the whole-map placements of %zu of %zu station pairs agree with the "
-                "layout; %.1f %% of a station's points stand where another's sensor saw through",
-                vote.kept, vote.pairs, 100.0 * vote.conflict);
+                "stations laid out together: of %zu station pairs, the %zu that fit best by plan view registered, "
+                "and the whole-map placements of %zu of the %zu placed agree with the layout; %.1f %% of a "
+                "station's points stand where another's sensor saw through",
+                vote.decided.size(), vote.registered, vote.kept, vote.pairs, 100.0 * vote.conflict);
   if (layout_is_a_guess(vote))
     ctx.warn(std::string(text) + ": most pairs disagree, so the layout is a guess (stations that see too little "
                                  "of each other?); give registered station poses in poses.txt");

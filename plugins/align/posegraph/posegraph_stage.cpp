@@ -193,7 +193,7 @@ class PoseGraphStage : public Stage {
 StageInfo posegraph_stage_info() {
   StageInfo s;
   s.name = "align.posegraph";
-  s.version = "1.13.0";
+  s.version = "1.14.0";
   s.summary = "Multi-mission alignment: Scan Context loop closures, GICP verification, joint pose graph (Ceres)";
   s.doc =
       "Aligns the missions into the first one's frame and corrects every scan's pose: Scan Context loop closures "

@@ -7,6 +7,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <tuple>
 
 namespace lista::align {
@@ -153,11 +154,42 @@ class LayoutConflicts {
   std::vector<SeenThrough> seen_;
 };
 
+// Each station's partners registered until this many verified a placement
+// (register_best_partners): enough that a wrong one is outvoted.
+constexpr size_t kPartners = 6;
+
 // Layouts are grown from at most this many seeds (the pairs' best
 // placements, best first): one right seed grows the right layout.
 constexpr size_t kSeeds = 32;
 
 }  // namespace
+
+std::set<std::pair<size_t, size_t>> register_best_partners(
+    const std::vector<size_t>& stations, const std::map<std::pair<size_t, size_t>, double>& fits, size_t partners,
+    const std::function<bool(const std::pair<size_t, size_t>&)>& register_pair, Progress* progress) {
+  std::set<std::pair<size_t, size_t>> registered, verified_pairs;
+  for (size_t c : stations) {
+    std::vector<std::pair<double, size_t>> ranked;  // (plan-view fit, partner)
+    for (size_t p : stations) {
+      const auto it = p == c ? fits.end() : fits.find(std::minmax(c, p));
+      if (it != fits.end()) ranked.emplace_back(it->second, p);
+    }
+    std::stable_sort(ranked.begin(), ranked.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    // At most twice `partners` tried: where the best-fitting fail, the
+    // station shares too little with the rest for more to help, and trying
+    // every one would be every pair again.
+    if (ranked.size() > 2 * partners) ranked.resize(2 * partners);
+    size_t verified = 0;
+    for (const auto& [fit, p] : ranked) {
+      if (verified >= partners) break;
+      const auto key = std::minmax(c, p);
+      if (registered.insert(key).second && register_pair(key)) verified_pairs.insert(key);
+      verified += verified_pairs.count(key);
+    }
+    if (progress) progress->advance();
+  }
+  return registered;
+}
 
 StationVote vote_station_placements(const std::vector<Keyframe>& kf, const std::vector<char>& stations,
                                     const std::vector<Closure>& incumbents, const GlobalSearchOptions& o,
@@ -179,25 +211,39 @@ StationVote vote_station_placements(const std::vector<Keyframe>& kf, const std::
     const Eigen::Isometry3d r_T_q = implied_map_transform(kf, c);
     incumbent[key] = {c.rmse, r < q ? r_T_q : r_T_q.inverse()};
   }
-  PairMap pairs;
+  // Every pair's plan views are correlated (cheap); registering the whole
+  // maps, most of the time, is kept for each station's best partners.
   MissionMaps maps(kf, o, verify);
-  if (progress) progress->begin("whole-map searches between stations", list.size() * (list.size() - 1) / 2);
+  std::map<std::pair<size_t, size_t>, std::vector<GlobalPlacement>> candidates;
+  if (progress) progress->begin("plan-view searches between stations", list.size() * (list.size() - 1) / 2);
   for (size_t i = 0; i < list.size(); ++i)
     for (size_t j = i + 1; j < list.size(); ++j) {
       throw_if_cancelled();
-      const size_t a = list[i], b = list[j];
-      vote.decided.insert({a, b});
-      const auto it = incumbent.find({a, b});
-      PlacementSearch found =
-          verified_placements(maps, a, b, plan_view_placements(maps, a, b, threads), threads,
-                              it == incumbent.end() ? std::nullopt : std::optional<Eigen::Isometry3d>(it->second.second));
-      found.verified.erase(std::remove_if(found.verified.begin(), found.verified.end(),
-                                          [&](const GlobalPlacement& p) { return p.overlap < o.min_overlap; }),
-                           found.verified.end());
-      if (!found.verified.empty()) pairs[{a, b}] = {std::move(found.verified), found.query_centre};
+      vote.decided.insert({list[i], list[j]});
+      candidates[{list[i], list[j]}] = plan_view_placements(maps, list[i], list[j], threads);
       if (progress) progress->advance();
     }
   if (progress) progress->end();
+  std::map<std::pair<size_t, size_t>, double> fits;
+  for (const auto& [key, found] : candidates)
+    if (!found.empty()) fits[key] = found.front().plan_score;
+  PairMap pairs;
+  if (progress) progress->begin("whole-map registrations between stations", list.size());
+  const auto registered = register_best_partners(list, fits, kPartners, [&](const std::pair<size_t, size_t>& key) {
+    throw_if_cancelled();
+    const auto it = incumbent.find(key);
+    PlacementSearch found =
+        verified_placements(maps, key.first, key.second, candidates[key], threads,
+                            it == incumbent.end() ? std::nullopt : std::optional<Eigen::Isometry3d>(it->second.second));
+    found.verified.erase(std::remove_if(found.verified.begin(), found.verified.end(),
+                                        [&](const GlobalPlacement& p) { return p.overlap < o.min_overlap; }),
+                         found.verified.end());
+    if (found.verified.empty()) return false;
+    pairs[key] = {std::move(found.verified), found.query_centre};
+    return true;
+  }, progress);
+  if (progress) progress->end();
+  vote.registered = registered.size();
   vote.pairs = pairs.size();
   if (pairs.empty()) return vote;
   // Layouts grown from the pairs' best placements; the one that puts the

@@ -1238,6 +1238,7 @@ TEST(StationVote, TheLayoutOverrulesAWrongPairFit) {
   const StationVote vote =
       vote_station_placements(kf, {1, 1, 1, 1}, {incumbent}, GlobalSearchOptions{}, VerifyOptions{}, 2, [] {});
   EXPECT_EQ(vote.decided.size(), 6u) << "every pair of stations";
+  EXPECT_EQ(vote.registered, 6u) << "each station's three partners: all";
   EXPECT_EQ(vote.pairs, 6u);
   EXPECT_EQ(vote.kept, 5u) << "all but (0, 2), which has no right placement";
   std::set<std::pair<size_t, size_t>> placed;
@@ -1263,6 +1264,39 @@ TEST(StationVote, TheLayoutOverrulesAWrongPairFit) {
   EXPECT_TRUE(vote_station_placements(kf, {1, 1, 0, 0}, {}, GlobalSearchOptions{}, VerifyOptions{}, 2, [] {})
                   .decided.empty())
       << "two stations make no triangle";
+}
+
+// Twenty stations along a 100 m corridor, 5 m apart: a pair fits by plan
+// view the better the nearer, and only stations within 15 m share enough to
+// register. Each station is registered with its nearest partners until six
+// verified or twelve were tried: far pairs are never registered, and where
+// the nearest fail (the corridor's ends) only the next few are tried.
+TEST(StationVote, EachStationRegistersItsBestPartnersOnly) {
+  std::vector<size_t> stations(20);
+  for (size_t i = 0; i < stations.size(); ++i) stations[i] = i;
+  std::map<std::pair<size_t, size_t>, double> fits;
+  for (size_t a = 0; a < stations.size(); ++a)
+    for (size_t b = a + 1; b < stations.size(); ++b) fits[{a, b}] = 1.0 / double(b - a);
+  std::vector<std::pair<size_t, size_t>> order;
+  const auto registered = register_best_partners(stations, fits, 6, [&](const std::pair<size_t, size_t>& key) {
+    order.push_back(key);
+    return key.second - key.first <= 3;
+  });
+  EXPECT_EQ(order.size(), registered.size()) << "each pair registered once";
+  EXPECT_LT(registered.size(), 120u) << "not every pair (190)";
+  for (const auto& [a, b] : registered) EXPECT_LE(b - a, 12u) << a << ", " << b << ": only near partners";
+  // Stations 3-16 have three verifying partners either side: nothing
+  // further between them.
+  for (size_t a = 3; a <= 16; ++a)
+    for (size_t b = a + 4; b <= 16; ++b) EXPECT_FALSE(registered.count({a, b})) << a << ", " << b;
+  for (size_t a = 0; a + 3 < stations.size(); ++a)
+    for (size_t d = 1; d <= 3; ++d) EXPECT_TRUE(registered.count({a, a + d})) << a << " + " << d;
+  EXPECT_EQ(order.front(), std::make_pair(size_t(0), size_t(1))) << "best fit first";
+  // Station 0 has only three verifying partners: its twelve best are tried.
+  for (size_t b = 1; b <= 12; ++b) EXPECT_TRUE(registered.count({0, b})) << b;
+  // A pair without a plan-view candidate never is.
+  fits.erase({0, 1});
+  EXPECT_FALSE(register_best_partners(stations, fits, 6, [](const auto&) { return false; }).count({0, 1}));
 }
 
 // Two missions of three stations each, without poses: each station is cut
