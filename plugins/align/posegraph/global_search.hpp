@@ -62,7 +62,6 @@ class MissionMaps {
   ~MissionMaps();
   struct Maps;
   const Maps& of(size_t mission);
-  const std::vector<Keyframe>& keyframes() const { return keyframes_; }
   const GlobalSearchOptions& options() const { return options_; }
   const RegistrationOptions& registration() const { return registration_; }
 
@@ -74,7 +73,7 @@ class MissionMaps {
 };
 
 // Plan-view candidates, best first (at most options.hypotheses), before
-// verification.
+// verification (the second for tests).
 std::vector<GlobalPlacement> plan_view_placements(MissionMaps& maps, size_t reference, size_t query, int threads);
 std::vector<GlobalPlacement> plan_view_placements(const std::vector<Keyframe>& keyframes, size_t reference,
                                                   size_t query, const GlobalSearchOptions& options, int threads);
