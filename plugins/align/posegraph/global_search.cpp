@@ -81,8 +81,8 @@ class PlanGrid {
            occupied_[size_t(y) * size_t(size_.x()) + size_t(x)];
   }
   // The occupied cells, row by row.
-  std::vector<Eigen::Vector2i> occupied() const {
-    std::vector<Eigen::Vector2i> out;
+  CellList occupied() const {
+    CellList out;
     for (int y = 0; y < size_.y(); ++y)
       for (int x = 0; x < size_.x(); ++x)
         if (occupied_[size_t(y) * size_t(size_.x()) + size_t(x)]) out.emplace_back(lo_.x() + x, lo_.y() + y);
@@ -128,7 +128,10 @@ double angle_between(double a, double b) { return std::abs(std::remainder(a - b,
 
 // Every shift of `cells` that puts its bounding box on the grid's, scored;
 // the best and the best clearly apart from it.
-std::vector<Hypothesis> best_shifts(const PlanGrid& grid, const CellList& cells, double yaw, double cell) {
+// `occupied`: the grid's occupied cells (PlanGrid::occupied), listed once
+// for every yaw.
+std::vector<Hypothesis> best_shifts(const PlanGrid& grid, const CellList& occupied, const CellList& cells, double yaw,
+                                    double cell) {
   if (cells.empty() || grid.empty()) return {};
   Eigen::Vector2i lo = cells.front(), hi = cells.front();
   for (const auto& c : cells) lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
@@ -142,7 +145,7 @@ std::vector<Hypothesis> best_shifts(const PlanGrid& grid, const CellList& cells,
   const Eigen::Vector2i first = grid.lo() - hi, last = grid.hi() - lo;
   const size_t width = size_t(last.x() - first.x() + 1);
   std::vector<uint32_t> hits(width * size_t(last.y() - first.y() + 1), 0);
-  for (const auto& g : grid.occupied())
+  for (const auto& g : occupied)
     for (const auto& c : cells) ++hits[size_t(g.y() - c.y() - first.y()) * width + size_t(g.x() - c.x() - first.x())];
   std::vector<Scored> all;
   all.reserve(hits.size());
@@ -192,11 +195,12 @@ std::vector<GlobalPlacement> placements_of(const MissionMaps::Maps& reference, c
   }
   const double coarse = std::max(o.coarse_cell, extent / std::max(1, o.max_coarse_cells));
   const PlanGrid coarse_grid(ref.points, coarse, 0);
+  const CellList occupied = coarse_grid.occupied();
   const int yaws = std::max(1, int(std::lround(2.0 * M_PI / o.yaw_step)));
   std::vector<std::vector<Hypothesis>> per_yaw(size_t(yaws), std::vector<Hypothesis>{});
   parallel_for(size_t(yaws), threads, [&](size_t i) {
     const double yaw = 2.0 * M_PI * double(i) / double(yaws);
-    per_yaw[i] = best_shifts(coarse_grid, cells_of(qry.points, yaw, coarse), yaw, coarse);
+    per_yaw[i] = best_shifts(coarse_grid, occupied, cells_of(qry.points, yaw, coarse), yaw, coarse);
   });
   std::vector<Hypothesis> all;
   for (const auto& list : per_yaw) all.insert(all.end(), list.begin(), list.end());
