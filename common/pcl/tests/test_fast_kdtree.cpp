@@ -1,5 +1,6 @@
-// FastKdTree must answer exactly as PCL's KdTreeFLANN (it replaces it inside
-// PCL's ICP/GICP, clustering and MLS) and work as their search method.
+// FastKdTree must answer exactly as PCL's KdTreeFLANN, points at equal
+// distance ranked by index (it replaces it inside PCL's ICP/GICP,
+// clustering and MLS), and work as their search method.
 #include <lista_pcl/fast_kdtree.hpp>
 
 #include <gtest/gtest.h>
@@ -7,7 +8,10 @@
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>
 
+#include <algorithm>
+#include <limits>
 #include <random>
+#include <utility>
 
 namespace {
 
@@ -103,6 +107,58 @@ TEST(FastKdTree, RadiusMatchesKdTreeFlann) {
     ASSERT_EQ(n, stock.radiusSearch(q, 0.2, si, sd));
     EXPECT_EQ(fi, si);
     EXPECT_EQ(fast.radiusSearch(q, 0.2, fi, fd, 3), std::min(n, 3));
+  }
+}
+
+// The squared distance as FastKdTree takes it (FLANN's: float, x, y, z).
+float squared(const pcl::PointXYZ& a, const pcl::PointXYZ& b) {
+  const float dx = a.x - b.x, dy = a.y - b.y, dz = a.z - b.z;
+  float d = dx * dx;
+  d += dy * dy;
+  d += dz * dz;
+  return d;
+}
+
+// Every point of `cloud` closer than `r2` to q, by distance, then index.
+std::vector<std::pair<float, int>> brute_force(const Cloud& cloud, const pcl::PointXYZ& q, float r2) {
+  std::vector<std::pair<float, int>> out;
+  for (size_t i = 0; i < cloud.size(); ++i)
+    if (const float d = squared(cloud[i], q); d < r2) out.emplace_back(d, static_cast<int>(i));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(FastKdTree, TiesRankByIndexWhateverTheTreeShape) {
+  // A grid with every point twice: every query meets ties, which are ranked
+  // by index, so the answer is the brute force's to the last index.
+  Cloud::Ptr grid(new Cloud);
+  for (int copy = 0; copy < 2; ++copy)
+    for (int x = 0; x < 8; ++x)
+      for (int y = 0; y < 6; ++y)
+        for (int z = 0; z < 5; ++z) grid->push_back(pcl::PointXYZ(0.1f * x, 0.1f * y, 0.1f * z));
+  lista::pcl_search::FastKdTree fast;
+  fast.setInputCloud(grid);
+  std::vector<pcl::PointXYZ> queries;
+  for (int i = 0; i < 40; ++i) queries.emplace_back(0.05f * (i % 9), 0.1f * (i % 7) - 0.05f * (i % 2), 0.1f * (i % 5));
+  for (const auto& q : queries) {
+    const auto all = brute_force(*grid, q, std::numeric_limits<float>::max());
+    pcl::Indices idx;
+    std::vector<float> d2;
+    for (int k : {1, 2, 7, 30}) {
+      ASSERT_EQ(fast.nearestKSearch(q, k, idx, d2), k);
+      for (size_t j = 0; j < static_cast<size_t>(k); ++j) {
+        EXPECT_EQ(idx[j], all[j].second) << "k " << k << " rank " << j;
+        EXPECT_EQ(d2[j], all[j].first);
+      }
+    }
+    float nearest = -1.0f;
+    EXPECT_EQ(fast.nearest(q, nearest), all[0].second);
+    const auto within = brute_force(*grid, q, 0.15f * 0.15f);
+    ASSERT_EQ(fast.radiusSearch(q, 0.15, idx, d2), static_cast<int>(within.size()));
+    for (size_t j = 0; j < within.size(); ++j) EXPECT_EQ(idx[j], within[j].second);
+    const int capped = std::min<int>(5, static_cast<int>(within.size()));
+    ASSERT_EQ(fast.radiusSearch(q, 0.15, idx, d2, 5), capped);
+    for (size_t j = 0; j < static_cast<size_t>(capped); ++j) EXPECT_EQ(idx[j], within[j].second);
   }
 }
 

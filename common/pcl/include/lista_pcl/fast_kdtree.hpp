@@ -1,13 +1,17 @@
 // A drop-in pcl::search::KdTree<PointXYZ> for code that searches one point
-// at a time (ICP correspondences, GICP covariances, fitness checks).
+// at a time (ICP correspondences, GICP covariances, local planes, fitness
+// checks).
 //
 // Why: PCL's precompiled KdTreeFLANN runs FLANN built with OpenMP, and FLANN
 // opens an OpenMP parallel region around every query, even a single point
 // with one thread: a 1-NN query on 5 000 points costs ~2.8 us instead of
-// ~0.35 us, and threads searching at once meet on libgomp's futexes. This
-// class owns its own FLANN index, instantiated in lista_pcl, which is
-// compiled without OpenMP. Same results as KdTreeFLANN (exact search,
-// sorted by distance). Hand it to PCL with setSearchMethodTarget/Source.
+// ~0.35 us, and threads searching at once meet on libgomp's futexes. FLANN's
+// search itself goes through virtual result sets. This class is its own
+// exact 3-D k-d tree with a search compiled per kind of question (k nearest,
+// nearest within a bound, within a radius). Answers are sorted by distance,
+// points at equal distance by their index in the cloud, so they do not
+// depend on how the tree split the points; distances are FLANN's (float, x
+// then y then z). Hand it to PCL with setSearchMethodTarget/Source.
 #pragma once
 
 #include <pcl/point_types.h>
