@@ -166,6 +166,7 @@ Eigen::Isometry3d gicp_gauss_newton(const Level& source, const Level& target, co
   const float max_sq = static_cast<float>(max_distance * max_distance);
   Eigen::Isometry3d t = guess;
   converged = false;
+  std::vector<int> last(src.size(), -1);  // each point's partner in the step before: the next search's bound
   for (int it = 0; it < max_iterations; ++it) {
     Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
@@ -176,7 +177,7 @@ Eigen::Isometry3d gicp_gauss_newton(const Level& source, const Level& target, co
       pcl::PointXYZ query;
       query.getVector3fMap() = q.cast<float>();
       float d2 = 0.0f;
-      const int j = target.tree->nearest(query, d2, max_sq);
+      const int j = last[i] = target.tree->nearest(query, d2, max_sq, last[i]);
       if (j < 0) continue;
       const Eigen::Matrix3d w = (tgt_cov[static_cast<size_t>(j)] + r * src_cov[i] * r.transpose()).inverse();
       const Eigen::Vector3d e = tgt[static_cast<size_t>(j)].getVector3fMap().cast<double>() - q;

@@ -268,10 +268,15 @@ int FastKdTree::radiusSearch(const pcl::PointXYZ& point, double radius, pcl::Ind
   return static_cast<int>(n);
 }
 
-int FastKdTree::nearest(const pcl::PointXYZ& point, float& sqr_distance, float max_sqr_distance) const {
+int FastKdTree::nearest(const pcl::PointXYZ& point, float& sqr_distance, float max_sqr_distance, int hint) const {
   if (index_->empty() || !searchable(point)) return -1;
   NearestWithin answer(max_sqr_distance);
   const float q[3] = {point.x, point.y, point.z};
+  if (hint >= 0) {
+    const pcl::PointXYZ& h = (*input_)[static_cast<size_t>(hint)];
+    const float at[3] = {h.x, h.y, h.z};
+    answer.offer(squared_distance(q, at), hint);
+  }
   index_->search(q, answer);
   if (answer.best().at < 0) return -1;
   sqr_distance = answer.best().d2;

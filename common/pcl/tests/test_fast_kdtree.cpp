@@ -96,6 +96,34 @@ TEST(FastKdTree, BoundedNearestIsTheNearestWithinTheBound) {
   EXPECT_EQ(fast.nearest(pcl::PointXYZ(1e20f, 0, 0), d2), -1);
 }
 
+TEST(FastKdTree, AHintBoundsTheSearchWithoutChangingTheAnswer) {
+  // Any indexed point as the hint, near or beyond the bound: the same
+  // nearest point (ties included: the grid below has every point twice).
+  Trees t(13);
+  Cloud::Ptr twice(new Cloud(*t.cloud));
+  *twice += *t.cloud;
+  lista::pcl_search::FastKdTree fast;
+  fast.setInputCloud(twice);
+  const Cloud::Ptr queries = random_cloud(300, 14);
+  std::mt19937 rng(15);
+  std::uniform_int_distribution<int> any(0, static_cast<int>(twice->size()) - 1);
+  size_t found = 0;
+  for (const auto& q : queries->points)
+    for (const float bound : {0.01f, std::numeric_limits<float>::max()}) {
+      float plain = -1.0f;
+      const int j = fast.nearest(q, plain, bound);
+      for (const int hint : {any(rng), j}) {
+        if (hint < 0) continue;
+        float hinted = -1.0f;
+        EXPECT_EQ(fast.nearest(q, hinted, bound, hint), j);
+        if (j >= 0) EXPECT_EQ(hinted, plain);
+      }
+      found += j >= 0;
+    }
+  EXPECT_GT(found, 350u);
+  EXPECT_LT(found, 600u);
+}
+
 TEST(FastKdTree, RadiusMatchesKdTreeFlann) {
   Trees t(3);
   auto& [cloud, fast, stock] = t;

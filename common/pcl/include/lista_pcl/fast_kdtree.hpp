@@ -46,8 +46,11 @@ class FastKdTree : public pcl::search::KdTree<pcl::PointXYZ> {
   // none, the tree is empty or the query too far out to search
   // (sqr_distance is then left as it was). The bound makes the search
   // cheaper, most of all for queries with no point near.
+  // `hint`: a point this tree gave as an answer before (an ICP iteration's
+  // correspondence, asked again in the next): its distance bounds the search
+  // from the start; the answer is the same.
   int nearest(const pcl::PointXYZ& point, float& sqr_distance,
-              float max_sqr_distance = std::numeric_limits<float>::max()) const;
+              float max_sqr_distance = std::numeric_limits<float>::max(), int hint = -1) const;
 
   // Bounds the 1-NN queries of nearestKSearch (k = 1) that PCL's ICP and
   // GICP make for correspondences: set to their max correspondence
