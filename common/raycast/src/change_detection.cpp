@@ -13,17 +13,6 @@
 
 namespace lista::raycast {
 
-void check_missions(const MissionSet& missions) {
-  if (missions.missions.size() < 2)
-    throw Error("volumetric differencing needs at least 2 missions, got " +
-                std::to_string(missions.missions.size()));
-  for (const Mission& m : missions.missions) {
-    if (m.scans.empty()) throw Error("mission '" + m.name + "' has no scans");
-    for (const Scan& s : m.scans)
-      if (!s.points) throw Error("mission '" + m.name + "': scan '" + s.file + "' has no points loaded");
-  }
-}
-
 PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfig& c) {
   // Most extreme P a mission of n scans can give a voxel (n updates at most).
   auto most = [&](size_t n) { return std::min(c.clamping_max, probability(float(n) * logodds(c.prob_hit))); };
@@ -366,29 +355,6 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   add_mission(out, stats, missions, n - 1, earlier_bits, config, threads);
   note_stations(missions, looks, config, thresholds, stats);
   return out;
-}
-
-void record_stats(Context& context, const MissionSet& missions, const std::vector<MapStats>& maps,
-                  const ChangeStats& changes) {
-  for (size_t m = 0; m < missions.missions.size(); ++m) {
-    const std::string k = missions.missions[m].name + ".";
-    if (m < maps.size()) {
-      context.record(k + "rays", static_cast<double>(maps[m].rays));
-      context.record(k + "voxel_visits", static_cast<double>(maps[m].voxel_visits));
-      context.record(k + "voxels_walked", static_cast<double>(maps[m].voxels_walked));
-      context.record(k + "occupied_voxels", static_cast<double>(maps[m].occupied_voxels));
-      context.record(k + "free_voxels", static_cast<double>(maps[m].free_voxels));
-    }
-    if (m < changes.changed_points.size()) {
-      context.record(k + "changed_points", static_cast<double>(changes.changed_points[m]));
-      context.record(k + "changed_voxels", static_cast<double>(changes.changed_voxels[m]));
-      context.record(k + "seen_free_points", static_cast<double>(changes.seen_free_points[m]));
-    }
-    if (m < changes.one_look_share.size()) context.record(k + "one_look_share", changes.one_look_share[m]);
-    if (m < changes.misfit.size()) context.record(k + "misfit", changes.misfit[m]);
-  }
-  for (const std::string& note : changes.notes) context.info(note);
-  for (const std::string& warning : changes.warnings) context.warn(warning);
 }
 
 }  // namespace lista::raycast

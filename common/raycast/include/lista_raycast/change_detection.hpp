@@ -5,6 +5,7 @@
 
 #include <lista/context.hpp>
 #include <lista/missions.hpp>
+#include <lista/stage.hpp>
 #include <lista_raycast/volumetric_config.hpp>
 #include <lista_raycast/voxel.hpp>
 
@@ -67,9 +68,6 @@ struct ChangeStats {
 double one_look_share(const Mission& mission, const OccupancyMap& map, const VolumetricConfig& config);
 inline constexpr double kStationShare = 0.5;
 
-// Throws lista::Error unless there are >= 2 missions, each with scans.
-void check_missions(const MissionSet& missions);
-
 // The change_threshold of each pair of consecutive missions (value[m]: m
 // and m+1). A voxel gets at most one update per scan, so with few scans P
 // stays near 0.5: one scan each gives at most prob_hit against at least
@@ -110,10 +108,17 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
                                       const VolumetricConfig& config, int threads,
                                       ChangeStats* stats = nullptr);
 
-// Context::record of the per-mission numbers, keys "<mission>.<what>"
-// (`<m>.misfit`: between m and the next mission), and the notes and
-// warnings said.
-void record_stats(Context& context, const MissionSet& missions, const std::vector<MapStats>& maps,
-                  const ChangeStats& changes);
+// What a volumetric stage does around its backend's maps, the same for
+// every backend: its StageInfo (the name, version and texts given; the
+// ports and volumetric_params), and its run: the missions checked, how each
+// pair is judged said, the changes detected with progress, the metrics
+// recorded. `build(m, threads, stats)` builds mission m's map. Maps are built
+// in mission order, at most two held (detect_changes_windowed), each with
+// every thread; with `side_by_side`, two missions' maps are built at once,
+// the threads shared (for a backend whose map building is serial).
+StageInfo volumetric_stage_info(std::string name, std::string version, std::string summary, std::string doc);
+using MapBuilder = std::function<std::unique_ptr<OccupancyMap>(size_t m, int threads, MapStats& stats)>;
+Outputs run_volumetric_stage(const Inputs& inputs, Context& ctx, const VolumetricConfig& config,
+                             const MapBuilder& build, bool side_by_side);
 
 }  // namespace lista::raycast
