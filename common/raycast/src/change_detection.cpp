@@ -1,5 +1,6 @@
 #include <lista_raycast/change_detection.hpp>
 
+#include <lista/parallel.hpp>
 #include <lista_geometry/stations.hpp>
 #include <lista_geometry/voxel_key.hpp>
 #include <lista_raycast/misfit.hpp>
@@ -9,6 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <map>
+#include <set>
 #include <omp.h>
 
 namespace lista::raycast {
@@ -52,13 +55,27 @@ PairThresholds pair_thresholds(const MissionSet& missions, const VolumetricConfi
 
 namespace {
 
+// The neighbourhood (voxels) a pair of missions is judged with: `overall`
+// (pair_neighbourhood of the pair's misfit), wider in the regions whose
+// own misfit needs more.
+struct PairReach {
+  int overall = 0;
+  std::map<Region, int> wider;
+  double region_size = 0.0;  // m, the side of `wider`'s squares
+  int at(const Eigen::Vector3d& p, const VolumetricConfig& config) const {
+    if (wider.empty()) return overall;
+    const auto it = wider.find(region_of(p, config, region_size));
+    return it == wider.end() ? overall : it->second;
+  }
+};
+
 struct Decider {
   const VolumetricConfig& c;
   float occupied_logodds;
   double threshold_previous, threshold_next;  // change_threshold of each pair (pair_thresholds)
   bool one_look_previous, one_look_next;  // both missions of the pair are stations (one_look_pair)
   float hit_once, miss_once;              // log-odds of one hit, of one miss
-  int reach_previous, reach_next;         // neighbourhood of each pair (pair_neighbourhood)
+  PairReach reach_previous, reach_next;   // neighbourhood of each pair
 
   // True if no voxel within r of v is occupied in `other`.
   bool clear_around(OccupancyReader& other, const Voxel& v, int r) const {
@@ -105,7 +122,7 @@ struct Decider {
     float l_own;
     if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return 0;
     const double p_own = probability(l_own);
-    auto against = [&](OccupancyReader* other, double threshold, bool one_look, int reach) {
+    auto against = [&](OccupancyReader* other, double threshold, bool one_look, const PairReach& reach) {
       float l_other;
       if (!other || !other->logodds(v, l_other)) return false;  // unobserved there: unknown, not change
       const bool looked_once = std::abs(l_own - hit_once) < 1e-4f && std::abs(l_other - miss_once) < 1e-4f;
@@ -113,7 +130,7 @@ struct Decider {
       // One hit against one miss, however it passed: the miss must have
       // gone through the surface.
       if (looked_once && !seen_behind(*other, v, p, origin)) return false;
-      return clear_around(*other, v, reach);
+      return clear_around(*other, v, reach.at(p, c));
     };
     const uint8_t bits =
         uint8_t((against(previous, threshold_previous, one_look_previous, reach_previous) ? changed_against_previous : 0) |
@@ -176,7 +193,7 @@ bool one_look_pair(const Looks& looks, const VolumetricConfig& config, size_t a,
 // `previous_map` and / or `next_map` (either may be null).
 void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_map,
                   const OccupancyMap* previous_map, const OccupancyMap* next_map, const VolumetricConfig& config,
-                  const PairThresholds& thresholds, const Looks& looks, const std::vector<int>& reach, int threads,
+                  const PairThresholds& thresholds, const Looks& looks, const std::vector<PairReach>& reach, int threads,
                   PointBits& bits) {
   const Mission& mission = missions.missions[m];
   const Decider decide{config, logodds(config.occupied_threshold),
@@ -185,8 +202,8 @@ void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_
                        m > 0 && one_look_pair(looks, config, m - 1, m),
                        m + 1 < missions.missions.size() && one_look_pair(looks, config, m, m + 1),
                        logodds(config.prob_hit), logodds(config.prob_miss),
-                       m > 0 ? reach[m - 1] : config.neighbourhood,
-                       m < reach.size() ? reach[m] : config.neighbourhood};
+                       m > 0 ? reach[m - 1] : PairReach{config.neighbourhood, {}, 0.0},
+                       m < reach.size() ? reach[m] : PairReach{config.neighbourhood, {}, 0.0}};
   const double inv_res = 1.0 / config.resolution;
 #pragma omp parallel num_threads(std::max(1, threads))
   {
@@ -276,24 +293,73 @@ void note_stations(const MissionSet& missions, const Looks& looks, const Volumet
   }
 }
 
-// The misfit of missions m and m+1 (the larger way round, in stats in
-// metres) and the neighbourhood they are judged with; a warning where it
-// had to widen.
-int fit_pair(const MissionSet& missions, size_t m, const OccupancyMap& map_m, const OccupancyMap& map_next,
-             const VolumetricConfig& config, ChangeStats* stats) {
+// The misfit of missions m and m+1 (the larger way round, overall in
+// stats in metres) and the neighbourhood they are judged with, overall and
+// by region; a warning where it had to widen.
+PairReach fit_pair(const MissionSet& missions, size_t m, const OccupancyMap& map_m, const OccupancyMap& map_next,
+                   const VolumetricConfig& config, int threads, ChangeStats* stats) {
   const Mission &a = missions.missions[m], &b = missions.missions[m + 1];
-  const double misfit = std::max(surface_misfit(a, map_next, config), surface_misfit(b, map_m, config));
-  const int reach = pair_neighbourhood(misfit, config.neighbourhood);
+  const double size = region_size(a, b, config);
+  SurfaceMisfit ab, ba;
+  parallel_for(2, threads, [&](size_t way) {
+    if (way == 0) ab = surface_misfit(a, map_next, config, size);
+    else ba = surface_misfit(b, map_m, config, size);
+  });
+  const double misfit = std::max(ab.overall, ba.overall);
+  PairReach reach{pair_neighbourhood(misfit, config.neighbourhood), {}, size};
+  std::map<Region, std::pair<int, double>> off;  // regions needing a wider reach: it, and their misfit
+  for (const SurfaceMisfit* way : {&ab, &ba})
+    for (const auto& [region, misfit_there] : way->regions) {
+      const int wider = pair_neighbourhood(misfit_there, reach.overall);
+      if (wider <= reach.overall) continue;
+      auto& [r, most] = off[region];
+      r = std::max(r, wider), most = std::max(most, misfit_there);
+    }
+  // A misfit spans more than a thing does: off regions count in groups
+  // of kMinGroup or more neighbouring ones (8-connected). One or two alone
+  // are as likely a thing moved by a few centimetres (a barrel turned on
+  // its spot, a cabinet nudged) that fills their walls, which is change.
+  constexpr size_t kMinGroup = 4;
+  double worst = 0.0;  // voxels, of the regions judged wider
+  Region worst_at{0, 0};
+  std::set<Region> seen;
+  for (const auto& [start, unused] : off) {
+    if (!seen.insert(start).second) continue;
+    std::vector<Region> group{start};
+    for (size_t k = 0; k < group.size(); ++k)
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy) {
+          const Region next{group[k].first + dx, group[k].second + dy};
+          if (off.count(next) && seen.insert(next).second) group.push_back(next);
+        }
+    if (group.size() < kMinGroup) continue;
+    for (const Region& region : group) {
+      const auto& [r, most] = off.at(region);
+      reach.wider[region] = r;
+      if (most > worst) worst = most, worst_at = region;
+    }
+  }
   if (!stats) return reach;
   stats->misfit[m] = misfit * config.resolution;
-  if (reach > config.neighbourhood) {
+  stats->misfit_regions[m] = reach.wider.size();
+  if (reach.overall > config.neighbourhood) {
     char text[480];
     std::snprintf(text, sizeof text,
                   "missions '%s' and '%s' hold the surfaces they share %.0f mm apart (median, along the surfaces' "
                   "normals; 8-17 mm on aligned test scenes): their alignment is off by about that much, so change within "
                   "%.2f m of what the other holds is not counted (neighbourhood %d voxels, not %d); check the "
                   "alignment", a.name.c_str(), b.name.c_str(), 1000.0 * misfit * config.resolution,
-                  reach * config.resolution, reach, config.neighbourhood);
+                  reach.overall * config.resolution, reach.overall, config.neighbourhood);
+    stats->warnings.emplace_back(text);
+  }
+  if (!reach.wider.empty()) {
+    char text[480];
+    std::snprintf(text, sizeof text,
+                  "missions '%s' and '%s' hold the surfaces they share apart in %zu region%s of %.0f m x %.0f m (up to "
+                  "%.0f mm, around x %.0f m, y %.0f m): their alignment is off there, so change there near what the "
+                  "other holds is not counted; check the alignment",
+                  a.name.c_str(), b.name.c_str(), reach.wider.size(), reach.wider.size() == 1 ? "" : "s", size, size,
+                  1000.0 * worst * config.resolution, (worst_at.first + 0.5) * size, (worst_at.second + 0.5) * size);
     stats->warnings.emplace_back(text);
   }
   return reach;
@@ -311,8 +377,8 @@ MissionPoints detect_changes(const MissionSet& missions, const std::vector<const
   Looks looks(missions);
   for (size_t m = 0; m < n; ++m) looks.share[m] = one_look_share(missions.missions[m], *maps[m], config);
   note_stations(missions, looks, config, thresholds, stats);
-  std::vector<int> reach;
-  for (size_t m = 0; m + 1 < n; ++m) reach.push_back(fit_pair(missions, m, *maps[m], *maps[m + 1], config, stats));
+  std::vector<PairReach> reach;
+  for (size_t m = 0; m + 1 < n; ++m) reach.push_back(fit_pair(missions, m, *maps[m], *maps[m + 1], config, threads, stats));
   for (size_t m = 0; m < n; ++m) {
     const Mission& mission = missions.missions[m];
     PointBits bits = no_bits(mission);
@@ -339,12 +405,12 @@ MissionPoints detect_changes_windowed(const MissionSet& missions,
   std::unique_ptr<OccupancyMap> earlier = build_map(0);
   looks.share[0] = one_look_share(missions.missions[0], *earlier, config);
   PointBits earlier_bits = no_bits(missions.missions[0]);
-  std::vector<int> reach;  // per pair, filled as both of its maps live
+  std::vector<PairReach> reach;  // per pair, filled as both of its maps live
   for (size_t m = 0; m + 1 < n; ++m) {
     std::unique_ptr<OccupancyMap> later = build_map(m + 1);
     looks.share[m + 1] = one_look_share(missions.missions[m + 1], *later, config);
     PointBits later_bits = no_bits(missions.missions[m + 1]);
-    reach.push_back(fit_pair(missions, m, *earlier, *later, config, stats));
+    reach.push_back(fit_pair(missions, m, *earlier, *later, config, threads, stats));
     mark_changes(missions, m, *earlier, nullptr, later.get(), config, thresholds, looks, reach, threads, earlier_bits);
     mark_changes(missions, m + 1, *later, earlier.get(), nullptr, config, thresholds, looks, reach, threads,
                  later_bits);

@@ -29,7 +29,7 @@ const ParamTable<VolumetricConfig>& param_table() {
            "a point's voxel changed when its occupancy probability exceeds that in a neighbouring mission by more than this (0.35: three updates in all, at least one in each mission)")
         .range(0.0, 1.0);
     t.bind("neighbourhood", &C::neighbourhood,
-           "radius in voxels (Chebyshev) that must hold no occupied voxel in the other mission; 0 compares the point's voxel only; a pair whose measured misfit needs more gets more")
+           "radius in voxels (Chebyshev) that must hold no occupied voxel in the other mission; 0 compares the point's voxel only; a pair (or a stretch of it) whose measured misfit needs more gets more")
         .range(0, 3)
         .unit("voxels");
     t.bind("hit_margin", &C::hit_margin,

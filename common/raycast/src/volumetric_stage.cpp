@@ -42,6 +42,7 @@ void record_stats(Context& context, const MissionSet& missions, const std::vecto
     }
     if (m < changes.one_look_share.size()) context.record(k + "one_look_share", changes.one_look_share[m]);
     if (m < changes.misfit.size()) context.record(k + "misfit", changes.misfit[m]);
+    if (m < changes.misfit_regions.size()) context.record(k + "misfit_regions", double(changes.misfit_regions[m]));
   }
   for (const std::string& note : changes.notes) context.info(note);
   for (const std::string& warning : changes.warnings) context.warn(warning);

@@ -16,7 +16,7 @@ namespace {
 
 StageInfo octomap_info() {
   return raycast::volumetric_stage_info(
-      "volumetric.octomap", "1.2.0",
+      "volumetric.octomap", "1.3.0",
       "Volumetric change by ray-cast occupancy grids (OctoMap), differenced between consecutive missions",
       "Volumetric change by ray-cast occupancy maps, one OctoMap OcTree per mission (the paper's backend): a "
       "point is changed when its voxel is occupied in its mission and observed free in a neighbouring one, and "

@@ -13,7 +13,7 @@ namespace {
 
 StageInfo openvdb_info() {
   return raycast::volumetric_stage_info(
-      "volumetric.openvdb", "1.2.0",
+      "volumetric.openvdb", "1.3.0",
       "Volumetric change by ray-cast occupancy grids (OpenVDB), differenced between consecutive missions",
       "Volumetric change by ray-cast occupancy maps, hit and miss counters in one OpenVDB grid per mission (for "
       "throughput): the same decision, dynamics and parameters as volumetric.octomap. "

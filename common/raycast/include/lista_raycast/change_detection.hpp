@@ -49,11 +49,13 @@ struct ChangeStats {
       : changed_points(missions, 0),
         changed_voxels(missions, 0),
         seen_free_points(missions, 0),
-        misfit(missions > 1 ? missions - 1 : 0, 0.0) {}
+        misfit(missions > 1 ? missions - 1 : 0, 0.0),
+        misfit_regions(misfit.size(), 0) {}
   std::vector<uint64_t> changed_points, changed_voxels;  // per mission
   std::vector<uint64_t> seen_free_points;                // of the changed points, per mission
   std::vector<double> one_look_share;                    // per mission (one_look_share)
   std::vector<double> misfit;                            // per pair m, m+1: surface_misfit, m
+  std::vector<uint64_t> misfit_regions;                  // per pair: regions judged wider for their misfit
   std::vector<std::string> notes;                        // pairs taken as stations
   std::vector<std::string> warnings;                     // pairs judged wider for their misfit
 };
