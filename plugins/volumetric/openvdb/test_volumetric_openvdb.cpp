@@ -74,6 +74,9 @@ TEST(VolumetricOpenVdb, FindsRemovedAndAddedBoxesOnly) {
   EXPECT_GT(metrics.at("B.voxel_visits"), metrics.at("B.rays"));
   EXPECT_EQ(metrics.at("A.changed_points"), static_cast<double>(ch.sets[0].size()));
   EXPECT_GT(metrics.at("B.changed_voxels"), 0.0);
+  // The pair's misfit, and no region of it judged wider: the scene is aligned.
+  EXPECT_LT(metrics.at("A.misfit"), 0.02);
+  EXPECT_EQ(metrics.at("A.misfit_regions"), 0.0);
 }
 
 TEST(VolumetricOpenVdb, OutputsOriginalPointsInCommonFrame) {
