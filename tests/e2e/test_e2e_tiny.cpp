@@ -531,13 +531,17 @@ TEST_F(TinyScene, AFailedAlignmentIsWarnedAbout) {
   // The report keeps it where a reader looks: report.json and the page's top.
   const std::filesystem::path run_out = dir_->path() / "shifted-out";
   const json warnings = json::parse(e2e::read_file(run_out / "report.json")).at("warnings");
-  ASSERT_EQ(warnings.size(), 3u) << warnings.dump();
+  ASSERT_EQ(warnings.size(), 4u) << warnings.dump();
   // First, in run order: A's scans do not register where its shifted poses
   // put them (its own mission named; B's are right); then the difference
-  // finds the two missions' surfaces apart, and says it did not count that.
+  // finds the two missions' surfaces apart, and further apart in some
+  // regions, and says it did not count that.
   EXPECT_EQ(warnings[0].get<std::string>().rfind("align: mission 'A': only ", 0), 0u) << warnings.dump();
   EXPECT_NE(warnings[1].get<std::string>().find("align: the aligned poses are "), std::string::npos) << warnings.dump();
   EXPECT_EQ(warnings[2].get<std::string>().rfind("diff: missions 'A' and 'B' hold the surfaces they share ", 0), 0u)
+      << warnings.dump();
+  EXPECT_EQ(warnings[3].get<std::string>().rfind("diff: missions 'A' and 'B' hold the surfaces they share apart in ", 0),
+            0u)
       << warnings.dump();
   EXPECT_NE(e2e::read_file(run_out / "report.html").find("Warnings during the run"), std::string::npos);
   // The unchanged scene aligns: no such warning.
