@@ -293,6 +293,29 @@ void note_stations(const MissionSet& missions, const Looks& looks, const Volumet
   }
 }
 
+// Of the regions `off`, those in groups of four or more neighbouring ones
+// (8-connected). A misfit spans more than a thing does: one or two alone
+// are as likely a thing moved by a few centimetres (a barrel turned on its
+// spot, a cabinet nudged) that fills their walls, which is change.
+template <class Value>
+std::vector<Region> in_groups(const std::map<Region, Value>& off) {
+  constexpr size_t kMinGroup = 4;
+  std::vector<Region> kept;
+  std::set<Region> seen;
+  for (const auto& [start, unused] : off) {
+    if (!seen.insert(start).second) continue;
+    std::vector<Region> group{start};
+    for (size_t k = 0; k < group.size(); ++k)
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy) {
+          const Region next{group[k].first + dx, group[k].second + dy};
+          if (off.count(next) && seen.insert(next).second) group.push_back(next);
+        }
+    if (group.size() >= kMinGroup) kept.insert(kept.end(), group.begin(), group.end());
+  }
+  return kept;
+}
+
 // The misfit of missions m and m+1 (the larger way round, overall in
 // stats in metres) and the neighbourhood they are judged with, overall and
 // by region; a warning where it had to widen.
@@ -315,29 +338,12 @@ PairReach fit_pair(const MissionSet& missions, size_t m, const OccupancyMap& map
       auto& [r, most] = off[region];
       r = std::max(r, wider), most = std::max(most, misfit_there);
     }
-  // A misfit spans more than a thing does: off regions count in groups
-  // of kMinGroup or more neighbouring ones (8-connected). One or two alone
-  // are as likely a thing moved by a few centimetres (a barrel turned on
-  // its spot, a cabinet nudged) that fills their walls, which is change.
-  constexpr size_t kMinGroup = 4;
   double worst = 0.0;  // voxels, of the regions judged wider
   Region worst_at{0, 0};
-  std::set<Region> seen;
-  for (const auto& [start, unused] : off) {
-    if (!seen.insert(start).second) continue;
-    std::vector<Region> group{start};
-    for (size_t k = 0; k < group.size(); ++k)
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy) {
-          const Region next{group[k].first + dx, group[k].second + dy};
-          if (off.count(next) && seen.insert(next).second) group.push_back(next);
-        }
-    if (group.size() < kMinGroup) continue;
-    for (const Region& region : group) {
-      const auto& [r, most] = off.at(region);
-      reach.wider[region] = r;
-      if (most > worst) worst = most, worst_at = region;
-    }
+  for (const Region& region : in_groups(off)) {
+    const auto& [r, most] = off.at(region);
+    reach.wider[region] = r;
+    if (most > worst) worst = most, worst_at = region;
   }
   if (!stats) return reach;
   stats->misfit[m] = misfit * config.resolution;
@@ -355,10 +361,10 @@ PairReach fit_pair(const MissionSet& missions, size_t m, const OccupancyMap& map
   if (!reach.wider.empty()) {
     char text[480];
     std::snprintf(text, sizeof text,
-                  "missions '%s' and '%s' hold the surfaces they share apart in %zu region%s of %.0f m x %.0f m (up to "
+                  "missions '%s' and '%s' hold the surfaces they share apart in %zu regions of %.0f m x %.0f m (up to "
                   "%.0f mm, around x %.0f m, y %.0f m): their alignment is off there, so change there near what the "
                   "other holds is not counted; check the alignment",
-                  a.name.c_str(), b.name.c_str(), reach.wider.size(), reach.wider.size() == 1 ? "" : "s", size, size,
+                  a.name.c_str(), b.name.c_str(), reach.wider.size(), size, size,
                   1000.0 * worst * config.resolution, (worst_at.first + 0.5) * size, (worst_at.second + 0.5) * size);
     stats->warnings.emplace_back(text);
   }

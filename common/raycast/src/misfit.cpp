@@ -15,7 +15,7 @@ namespace lista::raycast {
 namespace {
 constexpr int kWindow = 2;               // voxels around a point searched for the other's surface
 constexpr size_t kSamples = 8192;        // points of the mission measured for the pair's misfit
-constexpr size_t kRegionSamples = 256;   // and at least this many of each region's, for the region's
+constexpr size_t kRegionSamples = 256;   // and about this many of each region's, for the region's
 constexpr size_t kMinPerKind = 50;       // fewer walls (or floors) than this: that kind is not measured
 constexpr double kMaxFlatness = 0.3;     // smallest / middle spread of a plane's voxels
 constexpr double kFloorNormalZ = 0.7;    // |n.z| above this: a floor or a ceiling, else a wall

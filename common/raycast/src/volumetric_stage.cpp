@@ -76,7 +76,7 @@ Outputs run_volumetric_stage(const Inputs& inputs, Context& ctx, const Volumetri
   ctx.progress().begin("ray casting", scans);
   ChangeStats changes;
   MissionPoints out;
-  if (side_by_side && n <= 2) {
+  if (side_by_side && n == 2) {
     std::vector<std::unique_ptr<OccupancyMap>> maps(n);
     const int outer = std::max(1, std::min(ctx.threads(), static_cast<int>(n)));
     const int inner = std::max(1, ctx.threads() / outer);
