@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 #include <omp.h>
@@ -113,28 +114,47 @@ struct Decider {
     return false;
   }
 
+  // What voxel v alone decides, the same for every point in it: the pairs
+  // (ChangedAgainst bits) against which v may be change, and which of them
+  // rest on one look each. No bit: no point of v is changed.
+  struct VoxelVerdict {
+    uint8_t open = 0, looked_once = 0;
+  };
+  VoxelVerdict at_voxel(OccupancyReader& own, OccupancyReader* previous, OccupancyReader* next,
+                        const Voxel& v) const {
+    VoxelVerdict verdict;
+    float l_own;
+    if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return verdict;
+    const double p_own = probability(l_own);
+    auto against = [&](OccupancyReader* other, double threshold, bool one_look, uint8_t bit) {
+      float l_other;
+      if (!other || !other->logodds(v, l_other)) return;  // unobserved there: unknown, not change
+      const bool looked_once = std::abs(l_own - hit_once) < 1e-4f && std::abs(l_other - miss_once) < 1e-4f;
+      if (p_own - probability(l_other) <= threshold && !(one_look && looked_once)) return;
+      verdict.open |= bit;
+      if (looked_once) verdict.looked_once |= bit;
+    };
+    against(previous, threshold_previous, one_look_previous, changed_against_previous);
+    against(next, threshold_next, one_look_next, changed_against_next);
+    return verdict;
+  }
+
   // The ChangedAgainst bits of point p (index units; its voxel v, its
   // scan's sensor at `origin`) of the own map against the previous and the
-  // next mission's (either may be null); 0 = not changed.
-  uint8_t changed(OccupancyReader& own, OccupancyReader* previous, OccupancyReader* next, const Eigen::Vector3d& p,
-                  const Eigen::Vector3d& origin) const {
-    const Voxel v = voxel_of(p);
-    float l_own;
-    if (!own.logodds(v, l_own) || l_own <= occupied_logodds) return 0;
-    const double p_own = probability(l_own);
-    auto against = [&](OccupancyReader* other, double threshold, bool one_look, const PairReach& reach) {
-      float l_other;
-      if (!other || !other->logodds(v, l_other)) return false;  // unobserved there: unknown, not change
-      const bool looked_once = std::abs(l_own - hit_once) < 1e-4f && std::abs(l_other - miss_once) < 1e-4f;
-      if (p_own - probability(l_other) <= threshold && !(one_look && looked_once)) return false;
+  // next mission's (either may be null), where at_voxel left pairs open;
+  // 0 = not changed.
+  uint8_t changed(const VoxelVerdict& verdict, OccupancyReader& own, OccupancyReader* previous, OccupancyReader* next,
+                  const Voxel& v, const Eigen::Vector3d& p, const Eigen::Vector3d& origin) const {
+    auto against = [&](OccupancyReader* other, const PairReach& reach, uint8_t bit) {
+      if (!(verdict.open & bit)) return false;
       // One hit against one miss, however it passed: the miss must have
       // gone through the surface.
-      if (looked_once && !seen_behind(*other, v, p, origin)) return false;
+      if ((verdict.looked_once & bit) && !seen_behind(*other, v, p, origin)) return false;
       return clear_around(*other, v, reach.at(p, c));
     };
     const uint8_t bits =
-        uint8_t((against(previous, threshold_previous, one_look_previous, reach_previous) ? changed_against_previous : 0) |
-                (against(next, threshold_next, one_look_next, reach_next) ? changed_against_next : 0));
+        uint8_t((against(previous, reach_previous, changed_against_previous) ? changed_against_previous : 0) |
+                (against(next, reach_next, changed_against_next) ? changed_against_next : 0));
     return bits && own.seen_free(v) ? uint8_t(bits | seen_free_in_own_mission) : bits;
   }
 };
@@ -216,8 +236,15 @@ void mark_changes(const MissionSet& missions, size_t m, const OccupancyMap& own_
       const Eigen::Affine3d to_index = Eigen::Scaling(inv_res) * mission.sensor_to_common(static_cast<size_t>(i));
       const Eigen::Vector3d origin = to_index.translation();
       std::vector<uint8_t>& b = bits[static_cast<size_t>(i)];
-      for (size_t j = 0; j < pts.size(); ++j)
-        b[j] |= decide.changed(*own, previous.get(), next.get(), to_index * pts.xyz[j].cast<double>(), origin);
+      // Neighbouring returns often share a voxel: its verdict is asked once.
+      Voxel last(std::numeric_limits<int>::min(), 0, 0);
+      Decider::VoxelVerdict verdict;
+      for (size_t j = 0; j < pts.size(); ++j) {
+        const Eigen::Vector3d p = to_index * pts.xyz[j].cast<double>();
+        const Voxel v = voxel_of(p);
+        if (v != last) verdict = decide.at_voxel(*own, previous.get(), next.get(), v), last = v;
+        if (verdict.open) b[j] |= decide.changed(verdict, *own, previous.get(), next.get(), v, p, origin);
+      }
     }
   }
 }

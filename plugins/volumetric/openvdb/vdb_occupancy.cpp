@@ -169,7 +169,13 @@ void update_counters(openvdb::Int32Grid::Accessor& acc, const openvdb::MaskTree&
     if (bits.isOff()) continue;
     CountLeaf* d = counter_leaf(acc, leaf->origin(), budget);
     int32_t* data = d->buffer().data();
-    for (auto it = bits.beginOn(); it; ++it) data[it.pos()] = update(data[it.pos()]);
+    // Word by word, lowest set bit first: NodeMask's iterator searches for
+    // each next bit anew.
+    for (int w = 0; w < openvdb::util::NodeMask<3>::WORD_COUNT; ++w)
+      for (uint64_t word = bits.template getWord<uint64_t>(w); word; word &= word - 1) {
+        int32_t& value = data[w * 64 + __builtin_ctzll(word)];
+        value = update(value);
+      }
     d->getValueMask() |= bits;
   }
 }
