@@ -6,6 +6,7 @@
 #include <lista_geometry/order_statistics.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <tuple>
 #include <unordered_map>
@@ -112,19 +113,20 @@ std::vector<Eigen::Vector3f> turned(const std::vector<Eigen::Vector3f>& pts, dou
 // levels (a point in a host point's own cell counts twice, so that of the
 // poses within the tolerance the tightest wins: a 0.6 x 0.5 crate turned by
 // 90 degrees also fits within 8 cm). Stops early, with score 0, once it can
-// no longer fit `must` points or beat `best`.
+// no longer fit `must` points, beat `best` or reach `elsewhere` (the best
+// another search found: a tie with it may still come first).
 struct Score {
   size_t fitting = 0, score = 0;
 };
 Score score_at(const std::vector<Eigen::Vector3f>& q, const Eigen::Vector2f& u, const Grid& g, size_t must,
-               size_t best) {
+               size_t best, size_t elsewhere) {
   Score s;
   for (size_t i = 0; i < q.size(); ++i) {
     const int l = g.level({q[i].x() + u.x(), q[i].y() + u.y(), q[i].z()});
     s.fitting += l > 0;
     s.score += size_t(l);
     const size_t left = q.size() - i - 1;
-    if (s.fitting + left < must || s.score + 2 * left <= best) return {};
+    if (s.fitting + left < must || s.score + 2 * left <= best || s.score + 2 * left < elsewhere) return {};
   }
   return s;
 }
@@ -134,15 +136,20 @@ struct Fit {
   Placement pose;
 };
 
-// The best placement of `t` in the host whose box is [lo, hi] and whose
-// points `g` holds: a grid search over yaw and centre, refined once at half
-// the steps; only placements where `must` points fit count. Ties keep the
-// first found.
-Fit best_fit(const Template& t, const Grid& g, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
-             const CarveConfig& c, size_t must) {
-  Fit best;
-  const float step = float(c.voxel), tol = float(c.tolerance);
-  auto search = [&](double yaw, const Eigen::Vector2f& from, const Eigen::Vector2f& to, float s) {
+// A template's search in one host (box [lo, hi], points in `g`); only
+// placements where `must` points fit count.
+struct FitSearch {
+  const Template& t;
+  const Grid& g;
+  Eigen::Vector3f lo, hi;
+  const CarveConfig& c;
+  size_t must;
+
+  // Centres from `from` to `to` in steps of `s` at `yaw`, in x then y
+  // order, into `best` where they beat it (ties keep the first found).
+  void search(double yaw, const Eigen::Vector2f& from, const Eigen::Vector2f& to, float s, Fit& best,
+              const std::atomic<size_t>& elsewhere) const {
+    const float tol = float(c.tolerance);
     const std::vector<Eigen::Vector3f> q = turned(t.samples, yaw);
     Eigen::Vector2f qlo(INFINITY, INFINITY), qhi(-INFINITY, -INFINITY);
     for (const auto& p : q) qlo = qlo.cwiseMin(p.head<2>()), qhi = qhi.cwiseMax(p.head<2>());
@@ -154,19 +161,39 @@ Fit best_fit(const Template& t, const Grid& g, const Eigen::Vector3f& lo, const 
     for (int i = 0; i <= nx; ++i)
       for (int j = 0; j <= ny; ++j) {
         const float x = ulo.x() + float(i) * s, y = ulo.y() + float(j) * s;
-        const Score sc = score_at(q, {x, y}, g, must, best.score);
+        const Score sc = score_at(q, {x, y}, g, must, best.score, elsewhere.load(std::memory_order_relaxed));
         if (sc.score > best.score) best = {sc.fitting, sc.score, {yaw, {x, y}}};
       }
-  };
-  const double yaw_step = c.yaw_step * M_PI / 180.0;
-  const Eigen::Vector2f everywhere_lo = Eigen::Vector2f::Constant(-INFINITY), everywhere_hi = -everywhere_lo;
-  const int yaws = int(std::lround(2.0 * M_PI / yaw_step));
-  for (int k = 0; k < yaws; ++k) search(k * yaw_step, everywhere_lo, everywhere_hi, step);
+  }
+};
+
+double yaw_step_of(const CarveConfig& c) { return c.yaw_step * M_PI / 180.0; }
+int yaw_count(const CarveConfig& c) { return int(std::lround(2.0 * M_PI / yaw_step_of(c))); }
+
+// The coarse search at the k-th yaw, over every centre.
+Fit coarse_fit(const FitSearch& f, int k, std::atomic<size_t>& best_elsewhere) {
+  Fit best;
+  const Eigen::Vector2f everywhere = Eigen::Vector2f::Constant(INFINITY);
+  f.search(k * yaw_step_of(f.c), -everywhere, everywhere, float(f.c.voxel), best, best_elsewhere);
+  for (size_t seen = best_elsewhere.load(); best.score > seen && !best_elsewhere.compare_exchange_weak(seen, best.score);) {
+  }
+  return best;
+}
+
+// The best of the coarse fits (the first of equals, in yaw order), refined
+// once at half the steps around it; none where nothing fitted.
+Fit refined_fit(const FitSearch& f, const std::vector<Fit>& coarse) {
+  Fit best;
+  for (const Fit& fit : coarse)
+    if (fit.score > best.score) best = fit;
   if (best.score == 0) return {};
-  const Placement coarse = best.pose;
+  const Placement pose = best.pose;
+  const float step = float(f.c.voxel);
+  const double yaw_step = yaw_step_of(f.c);
+  const std::atomic<size_t> none{0};
   for (double dy : {-0.5, 0.0, 0.5})
-    search(coarse.yaw + dy * yaw_step, coarse.centre - Eigen::Vector2f::Constant(step),
-           coarse.centre + Eigen::Vector2f::Constant(step), 0.5f * step);
+    f.search(pose.yaw + dy * yaw_step, pose.centre - Eigen::Vector2f::Constant(step),
+             pose.centre + Eigen::Vector2f::Constant(step), 0.5f * step, best, none);
   return best;
 }
 
@@ -347,23 +374,44 @@ ObjectSet carve_objects(const ObjectSet& in, const CarveConfig& c, CarveStats* s
   std::vector<size_t> hosts;
   for (size_t h = 0; h < n; ++h)
     if (!of_host[h].empty()) hosts.push_back(h);
-  parallel_for(hosts.size(), std::max(1, c.threads), [&](size_t k) {
-    if (c.cancelled && c.cancelled()) return;
-    const Object& H = in.objects[hosts[k]];
+  // Hosts one at a time; their candidates' coarse searches in parallel
+  // over yaws (one host with many candidates, the usual case outdoors,
+  // would hold a single thread), each yaw into its own slot.
+  const int yaws = yaw_count(c);
+  for (size_t h : hosts) {
+    if (c.cancelled && c.cancelled()) break;
+    const Object& H = in.objects[h];
     const Eigen::Vector3f grow = Eigen::Vector3f::Constant(tol);
     Grid g(H.bbox_min - grow, H.bbox_max + grow, voxel, tol);
     for (const auto& p : H.points.xyz) g.mark(p);
-    for (size_t i : of_host[hosts[k]]) {
+    const std::vector<size_t>& mine = of_host[h];
+    std::vector<Template> templates;
+    std::vector<FitSearch> searches;
+    templates.reserve(mine.size());
+    for (size_t i : mine) {
       Candidate& cd = cands[i];
-      const Template t = make_template(in.objects[cd.tmpl], voxel, cd.dz);
-      cd.samples = t.samples.size();
-      cd.centre = t.centre;
-      if (t.samples.empty()) continue;
-      const size_t must = size_t(std::ceil(c.min_fit * double(t.samples.size())));
-      cd.fit = best_fit(t, g, H.bbox_min, H.bbox_max, c, must);
-      if (cd.fit.score > 0 && top_fit(t, g, cd.fit.pose, voxel) < c.min_fit) cd.fit = {};
+      templates.push_back(make_template(in.objects[cd.tmpl], voxel, cd.dz));
+      cd.samples = templates.back().samples.size();
+      cd.centre = templates.back().centre;
     }
-  });
+    for (size_t k = 0; k < mine.size(); ++k)
+      searches.push_back({templates[k], g, H.bbox_min, H.bbox_max, c,
+                          size_t(std::ceil(c.min_fit * double(templates[k].samples.size())))});
+    std::vector<std::atomic<size_t>> best_of(mine.size());
+    std::vector<Fit> coarse(mine.size() * size_t(yaws));
+    parallel_for(coarse.size(), std::max(1, c.threads), [&](size_t k) {
+      const size_t i = k / size_t(yaws);
+      if (templates[i].samples.empty() || (c.cancelled && c.cancelled())) return;
+      coarse[k] = coarse_fit(searches[i], int(k % size_t(yaws)), best_of[i]);
+    });
+    parallel_for(mine.size(), std::max(1, c.threads), [&](size_t i) {
+      if (templates[i].samples.empty()) return;
+      Candidate& cd = cands[mine[i]];
+      const std::vector<Fit> yaws_of(coarse.begin() + long(i * size_t(yaws)), coarse.begin() + long((i + 1) * size_t(yaws)));
+      cd.fit = refined_fit(searches[i], yaws_of);
+      if (cd.fit.score > 0 && top_fit(templates[i], g, cd.fit.pose, voxel) < c.min_fit) cd.fit = {};
+    });
+  }
   if (c.cancelled && c.cancelled()) return out;
 
   // 3-4. Best fits first; each object in at most one carve.
