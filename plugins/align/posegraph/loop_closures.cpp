@@ -225,7 +225,8 @@ Eigen::Isometry3d implied_map_transform(const std::vector<Keyframe>& keyframes, 
 constexpr size_t kScoredPerHypothesis = 8;
 
 std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes, const std::vector<Closure>& closures,
-                                         const ConsistencyOptions& o, std::vector<AmbiguousPlacement>* ambiguous) {
+                                         const ConsistencyOptions& o, std::vector<AmbiguousPlacement>* ambiguous,
+                                         int threads) {
   std::map<std::pair<size_t, size_t>, std::vector<size_t>> by_pair;
   for (size_t i = 0; i < closures.size(); ++i)
     by_pair[{keyframes[closures[i].reference].mission, keyframes[closures[i].query].mission}].push_back(i);
@@ -272,16 +273,24 @@ std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
         // missions drift, the voted fit's best-backed closure can place the
         // far end of the map worse than a half-turned rival does. Votes are
         // overruled only by a rival that beats the best the voted fit shows.
-        auto agreement = [&](size_t i) { return on_reference(pair.second, maps[i]); };
+        std::vector<size_t> scored_members;
+        for (size_t j = 0; j < list.size(); ++j)
+          if (j != best && agree(best, j)) scored_members.push_back(j);
+        const size_t step =
+            std::max<size_t>(1, (scored_members.size() + kScoredPerHypothesis - 1) / kScoredPerHypothesis);
+        // Each placement's agreement measured once, all of them side by side.
+        std::vector<size_t> measured{best};
+        for (size_t k = 0; k < scored_members.size(); k += step) measured.push_back(scored_members[k]);
+        measured.insert(measured.end(), rivals.begin(), rivals.end());
+        std::vector<double> agreements(measured.size());
+        parallel_for(measured.size(), threads,
+                     [&](size_t k) { agreements[k] = on_reference(pair.second, maps[measured[k]]); });
+        auto agreement = [&](size_t i) {
+          return agreements[size_t(std::find(measured.begin(), measured.end(), i) - measured.begin())];
+        };
         double best_agreement = agreement(best);
-        {
-          std::vector<size_t> members;
-          for (size_t j = 0; j < list.size(); ++j)
-            if (j != best && agree(best, j)) members.push_back(j);
-          const size_t step = std::max<size_t>(1, (members.size() + kScoredPerHypothesis - 1) / kScoredPerHypothesis);
-          for (size_t k = 0; k < members.size(); k += step)
-            best_agreement = std::max(best_agreement, agreement(members[k]));
-        }
+        for (size_t k = 0; k < scored_members.size(); k += step)
+          best_agreement = std::max(best_agreement, agreement(scored_members[k]));
         std::vector<std::pair<size_t, double>> scored{{best, best_agreement}};
         for (size_t r : rivals) {
           const double a = agreement(r);

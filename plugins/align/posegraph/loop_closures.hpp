@@ -113,11 +113,12 @@ struct AmbiguousPlacement {
 };
 
 // Per mission pair, keeps the closures that agree with the best-supported
-// one, or with a rival that the whole maps clearly favour. Pairs where a
-// rival came close go to `ambiguous` (if given).
+// one, or with a rival that the whole maps clearly favour (the maps'
+// agreement under each measured on `threads`). Pairs where a rival came
+// close go to `ambiguous` (if given).
 std::vector<Closure> consistent_closures(const std::vector<Keyframe>& keyframes,
                                          const std::vector<Closure>& closures,
                                          const ConsistencyOptions& options,
-                                         std::vector<AmbiguousPlacement>* ambiguous = nullptr);
+                                         std::vector<AmbiguousPlacement>* ambiguous = nullptr, int threads = 1);
 
 }  // namespace lista::align

@@ -274,7 +274,7 @@ MissionClosures find_mission_closures(const MissionSet& set, const JointAlignmen
   std::vector<Closure> verified = verify_candidates(kf, candidates, {}, o.verify, threads);
   report.verified = verified.size();
   std::vector<AmbiguousPlacement> ambiguous;
-  std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency, &ambiguous);
+  std::vector<Closure> closures = consistent_closures(kf, verified, o.consistency, &ambiguous, threads);
   report.consistent = closures.size();
   if (o.global_search) {
     const auto decided = vote_on_stations(set, kf, closures, verified, o, ctx, report);
