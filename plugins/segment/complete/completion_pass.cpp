@@ -26,6 +26,18 @@ Box CompletionPass::own_floor_region(const Object& o) const {
   return Box{o.bbox_min, o.bbox_max}.grown(margin_ + 0.75f, 1.5f, margin_);
 }
 
+std::vector<std::optional<Floor>> CompletionPass::own_floors(const std::function<bool(const Object&)>& wanted) const {
+  std::vector<std::optional<Floor>> floors(out_.objects.size());
+  parallel_for(floors.size(), c_.threads, [&](size_t k) {
+    const Object& o = out_.objects[k];
+    Floor f;
+    if (!o.points.empty() && wanted(o) &&
+        local_floor(clouds_[o.mission], own_floor_region(o), c_.floor_percentile, c_.floor_clearance, f))
+      floors[k] = f;
+  });
+  return floors;
+}
+
 Box CompletionPass::pair_region(const Object& a, const Object& b) {
   Box r;
   for (const Object* o : {&a, &b}) r.extend(Box{o->bbox_min, o->bbox_max});
@@ -120,11 +132,11 @@ void CompletionPass::gather_clouds() {
 void CompletionPass::drop_floor_objects() {
   if (c_.floor_share <= 0.0) return;
   std::vector<Object> kept;
-  for (auto& o : out_.objects) {
-    Floor f;
-    if (!o.points.empty() && local_floor(clouds_[o.mission], own_floor_region(o), c_.floor_percentile,
-                                         c_.floor_clearance, f)) {
-      const float top = std::min(f.clear_z, f.z + kFloorObjectHeight);
+  const std::vector<std::optional<Floor>> floors = own_floors([](const Object&) { return true; });
+  for (size_t k = 0; k < out_.objects.size(); ++k) {
+    Object& o = out_.objects[k];
+    if (const auto& f = floors[k]) {
+      const float top = std::min(f->clear_z, f->z + kFloorObjectHeight);
       size_t low = 0;
       for (const auto& p : o.points.xyz) low += p.z() < top;
       if (double(low) >= c_.floor_share * double(o.points.size())) {
@@ -222,11 +234,13 @@ void CompletionPass::join_connected_objects(const std::vector<char>& paired) {
 // (the object touches a wall or other furniture).
 void CompletionPass::self_complete() {
   if (!c_.self_complete) return;
-  for (auto& o : out_.objects) {
-    if (o.points.empty()) continue;
+  // Each object's floor is of its box before it grows: measured up front.
+  const std::vector<std::optional<Floor>> floors = own_floors([](const Object&) { return true; });
+  for (size_t k = 0; k < out_.objects.size(); ++k) {
+    Object& o = out_.objects[k];
+    if (!floors[k]) continue;
     const LocalCloud& cloud = clouds_[o.mission];
-    Floor f;
-    if (!local_floor(cloud, own_floor_region(o), c_.floor_percentile, c_.floor_clearance, f)) continue;
+    const Floor& f = *floors[k];
     Box r = Box{o.bbox_min, o.bbox_max}.grown(margin_, margin_, margin_);
     const bool on_floor = o.bbox_min.z() - f.z <= kOnFloorGap;
     if (on_floor) r.lo.z() = f.clear_z;
@@ -291,19 +305,22 @@ void CompletionPass::absorb_nested_objects() {
 // around this pass's pairs, and remeasured it moves by microns (13 of exp3
 // seed 24's 28 floors, up to 0.14 mm) for no reason.
 void CompletionPass::set_floors(const FloorsCameWith& came_with) {
-  for (auto& o : out_.objects) {
-    if (o.points.empty()) continue;
+  auto came_with_floor = [&](const Object& o) {
     const auto kept = came_with.find({o.mission, point_key(o.points.scan[0], o.points.index[0])});
-    if (kept != came_with.end() && kept->second.first == o.points.size()) {
+    return kept != came_with.end() && kept->second.first == o.points.size() ? kept : came_with.end();
+  };
+  const std::vector<std::optional<Floor>> floors =
+      own_floors([&](const Object& o) { return came_with_floor(o) == came_with.end(); });
+  for (size_t k = 0; k < out_.objects.size(); ++k) {
+    Object& o = out_.objects[k];
+    if (o.points.empty()) continue;
+    if (const auto kept = came_with_floor(o); kept != came_with.end()) {
       o.floor_z = kept->second.second;
       ++st_.floors;
       continue;
     }
-    Floor f;
-    if (!local_floor(clouds_[o.mission], own_floor_region(o), c_.floor_percentile, c_.floor_clearance, f))
-      continue;
-    if (o.bbox_min.z() - f.z > kOnFloorGap) continue;
-    o.floor_z = f.z;
+    if (!floors[k] || o.bbox_min.z() - floors[k]->z > kOnFloorGap) continue;
+    o.floor_z = floors[k]->z;
     ++st_.floors;
   }
 }

@@ -9,7 +9,9 @@
 #include <lista/objects.hpp>
 
 #include <cstddef>
+#include <functional>
 #include <map>
+#include <optional>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -57,6 +59,9 @@ class CompletionPass {
   struct PairSides;
 
   Box own_floor_region(const Object& o) const;
+  // The local floor under each object `wanted` (none where it has none),
+  // measured side by side.
+  std::vector<std::optional<Floor>> own_floors(const std::function<bool(const Object&)>& wanted) const;
   static Box pair_region(const Object& a, const Object& b);
   // (gap in voxels, centroid distance, gap, i, j) across consecutive missions, nearest first.
   std::vector<std::tuple<float, float, float, size_t, size_t>> candidate_pairs() const;
