@@ -175,7 +175,8 @@ Fit coarse_fit(const FitSearch& f, int k, std::atomic<size_t>& best_elsewhere) {
   Fit best;
   const Eigen::Vector2f everywhere = Eigen::Vector2f::Constant(INFINITY);
   f.search(k * yaw_step_of(f.c), -everywhere, everywhere, float(f.c.voxel), best, best_elsewhere);
-  for (size_t seen = best_elsewhere.load(); best.score > seen && !best_elsewhere.compare_exchange_weak(seen, best.score);) {
+  size_t seen = best_elsewhere.load();
+  while (best.score > seen && !best_elsewhere.compare_exchange_weak(seen, best.score)) {
   }
   return best;
 }
@@ -407,8 +408,8 @@ ObjectSet carve_objects(const ObjectSet& in, const CarveConfig& c, CarveStats* s
     parallel_for(mine.size(), std::max(1, c.threads), [&](size_t i) {
       if (templates[i].samples.empty()) return;
       Candidate& cd = cands[mine[i]];
-      const std::vector<Fit> yaws_of(coarse.begin() + long(i * size_t(yaws)), coarse.begin() + long((i + 1) * size_t(yaws)));
-      cd.fit = refined_fit(searches[i], yaws_of);
+      const auto first = coarse.begin() + long(i * size_t(yaws));
+      cd.fit = refined_fit(searches[i], std::vector<Fit>(first, first + yaws));
       if (cd.fit.score > 0 && top_fit(templates[i], g, cd.fit.pose, voxel) < c.min_fit) cd.fit = {};
     });
   }
