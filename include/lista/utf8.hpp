@@ -8,8 +8,11 @@
 namespace lista {
 
 // Offset of the first byte of `s` that does not belong to a well-formed
-// UTF-8 sequence (a stray continuation byte, a truncated sequence, an
-// overlong two-byte lead, a lead past U+10FFFF); npos when `s` is UTF-8.
+// UTF-8 sequence (RFC 3629: a stray continuation byte, a truncated
+// sequence, an overlong form, a surrogate, a code point past U+10FFFF);
+// npos when `s` is UTF-8. The same ranges as toml11's lexer, whose own
+// error path for a bad sequence inside a multi-line string reads past its
+// buffer: a file this passes, toml11 reads as UTF-8 too.
 inline size_t utf8_error_at(std::string_view s) {
   for (size_t i = 0; i < s.size();) {
     const unsigned char c = static_cast<unsigned char>(s[i]);
@@ -21,6 +24,11 @@ inline size_t utf8_error_at(std::string_view s) {
     if (len == 0 || i + len > s.size()) return i;
     for (size_t k = 1; k < len; ++k)
       if ((static_cast<unsigned char>(s[i + k]) >> 6) != 0x2) return i;
+    // The second byte's range where the lead alone does not settle it.
+    const unsigned char second = len > 1 ? static_cast<unsigned char>(s[i + 1]) : 0x80;
+    if ((c == 0xE0 && second < 0xA0) || (c == 0xED && second > 0x9F) || (c == 0xF0 && second < 0x90) ||
+        (c == 0xF4 && second > 0x8F))
+      return i;
     i += len;
   }
   return std::string_view::npos;
